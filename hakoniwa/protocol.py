@@ -61,6 +61,7 @@ class Unity:
     TOUCH = 32  # i32, 0/1
     MOTOR_COUNTS = 36  # 4 x i32, encoder degrees for ports A..D
     SNAPSHOT_TIME = 56  # i64, simulation time [us] the sensor values above belong to
+    TEST_SEQ = 64  # i32, number of the test in progress; a waiting Athrill starts when it sees its own
     # Test automation (paper Table 1).
     EVENT = 528  # i32, Event
     GOAL_TIME_HI = 532  # u32, goal time [us], upper 32 bits
@@ -82,6 +83,7 @@ class Athrill:
     END = 516  # i32, end flag
 
 
+NEVER_WAKES = (1 << 63) - 1  # NEXT_WAKE of a robot task that has returned: no wake-up is ever due
 PARAM_END = DATA_SIZE
 N_MOTOR_PORTS = 4
 

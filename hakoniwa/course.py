@@ -1,0 +1,149 @@
+"""A course as data: a floor image, walls, ordered checkpoints, a start pose and a time limit.
+
+A course lives in a folder with `course.toml` and the floor image it names, so a user adds a course by
+copying a folder, not by writing code. The color sensor reads the floor the way Unity's does: the point
+below the sensor is looked up in the floor image (bilinearly, as a texture sampler would).
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+COURSES_DIR = Path(__file__).parent / "courses"
+DEFAULT_COURSE = "oval"
+
+
+class CourseError(ValueError):
+    """A course folder or its course.toml is unusable; the message names the problem."""
+
+
+@dataclass(frozen=True)
+class Box:
+    """An axis-aligned box on the floor: centre (x, y) and half sizes, in metres."""
+
+    name: str
+    x: float
+    y: float
+    hx: float
+    hy: float
+
+    def contains(self, x: float, y: float) -> bool:
+        return abs(x - self.x) <= self.hx and abs(y - self.y) <= self.hy
+
+
+@dataclass(frozen=True)
+class Pose:
+    x: float
+    y: float
+    yaw_deg: float
+
+
+@dataclass(frozen=True)
+class Course:
+    name: str
+    folder: Path
+    floor: np.ndarray  # reflect value (float32) per pixel, row 0 at the top of the image
+    meters_per_pixel: float
+    origin: tuple[float, float]  # world (x, y) of the image's bottom-left corner
+    walls: tuple[Box, ...]
+    wall_height: float
+    checkpoints: tuple[Box, ...]
+    start: Pose
+    time_limit_us: int
+
+    @property
+    def extent(self) -> tuple[float, float, float, float]:
+        """(xmin, xmax, ymin, ymax) of the floor image in world metres."""
+        h, w = self.floor.shape
+        x0, y0 = self.origin
+        return x0, x0 + w * self.meters_per_pixel, y0, y0 + h * self.meters_per_pixel
+
+    def reflect_at(self, x: float, y: float) -> float:
+        """Bilinear lookup of the floor under world point (x, y); off the image reads as the image border."""
+        h, w = self.floor.shape
+        u = (x - self.origin[0]) / self.meters_per_pixel - 0.5
+        v = (h - 1) - ((y - self.origin[1]) / self.meters_per_pixel - 0.5)
+        u = min(max(u, 0.0), w - 1.0)
+        v = min(max(v, 0.0), h - 1.0)
+        i0, j0 = int(v), int(u)
+        i1, j1 = min(i0 + 1, h - 1), min(j0 + 1, w - 1)
+        fv, fu = v - i0, u - j0
+        f = self.floor
+        top = f[i0, j0] * (1 - fu) + f[i0, j1] * fu
+        bottom = f[i1, j0] * (1 - fu) + f[i1, j1] * fu
+        return float(top * (1 - fv) + bottom * fv)
+
+
+def _number(table: dict, key: str, where: str) -> float:
+    if key not in table:
+        raise CourseError(f"{where}: missing '{key}'")
+    value = table[key]
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise CourseError(f"{where}: '{key}' must be a number, got {value!r}")
+    return float(value)
+
+
+def _box(table: dict, where: str) -> Box:
+    hx, hy = _number(table, "hx", where), _number(table, "hy", where)
+    if hx <= 0 or hy <= 0:
+        raise CourseError(f"{where}: half sizes must be positive")
+    return Box(str(table.get("name", where)), _number(table, "x", where), _number(table, "y", where), hx, hy)
+
+
+def load_course(name_or_path: str | Path = DEFAULT_COURSE) -> Course:
+    """Load a built-in course by name, or a course folder (or its course.toml) by path."""
+    path = Path(name_or_path)
+    if not path.exists() and (COURSES_DIR / str(name_or_path)).is_dir():
+        path = COURSES_DIR / str(name_or_path)
+    if path.is_dir():
+        path = path / "course.toml"
+    if not path.is_file():
+        known = ", ".join(sorted(p.name for p in COURSES_DIR.iterdir() if p.is_dir()))
+        raise CourseError(f"no course at {name_or_path} (built-in courses: {known})")
+    try:
+        spec = tomllib.loads(path.read_text())
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as e:
+        raise CourseError(f"{path}: not valid TOML: {e}") from None
+    where = path.name
+    image_path = path.parent / str(spec.get("floor_image", ""))
+    if not image_path.is_file():
+        raise CourseError(f"{where}: floor_image {spec.get('floor_image')!r} not found")
+    white, black = _number(spec, "reflect_white", where), _number(spec, "reflect_black", where)
+    from PIL import Image, UnidentifiedImageError
+
+    try:
+        with Image.open(image_path) as img:
+            luminance = np.asarray(img.convert("L"), dtype=np.float32) / 255.0
+    except (UnidentifiedImageError, OSError) as e:
+        raise CourseError(f"{image_path.name}: not a readable image: {e}") from None
+    mpp = _number(spec, "meters_per_pixel", where)
+    origin = spec.get("origin")
+    if not (isinstance(origin, list) and len(origin) == 2):
+        raise CourseError(f"{where}: 'origin' must be [x, y]")
+    start = spec.get("start")
+    if not isinstance(start, dict):
+        raise CourseError(f"{where}: missing [start]")
+    walls = tuple(_box(w, f"{where} wall {i}") for i, w in enumerate(spec.get("wall", [])))
+    checkpoints = tuple(_box(c, f"{where} checkpoint {i}") for i, c in enumerate(spec.get("checkpoint", [])))
+    if not checkpoints:
+        raise CourseError(f"{where}: a course needs at least one [[checkpoint]]")
+    limit = _number(spec, "time_limit_s", where)
+    if limit <= 0 or mpp <= 0:
+        raise CourseError(f"{where}: time_limit_s and meters_per_pixel must be positive")
+    return Course(
+        name=str(spec.get("name", path.parent.name)),
+        folder=path.parent,
+        floor=(black + (white - black) * luminance).astype(np.float32),
+        meters_per_pixel=mpp,
+        origin=(float(origin[0]), float(origin[1])),
+        walls=walls,
+        wall_height=float(spec.get("wall_height", 0.1)),
+        checkpoints=checkpoints,
+        start=Pose(_number(start, "x", where), _number(start, "y", where), _number(start, "yaw_deg", where)),
+        time_limit_us=round(limit * 1_000_000),
+    )

@@ -1,0 +1,41 @@
+"""The lap test: checkpoints passed in order, wall contact and the time limit, turned into one Event.
+
+This is the task half of the dm_control split: it looks at the world at each event-check tick and never
+moves anything. Checkpoints are the paper's transparent squares; only the next one in order counts, so
+driving backwards over the finish line first does not shorten a lap.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from hakoniwa.course import Course
+from hakoniwa.protocol import Event
+from hakoniwa.world import World
+
+
+@dataclass
+class LapTask:
+    course: Course
+    next_checkpoint: int = 0
+    passed_us: list[int] = field(default_factory=list)
+
+    def reset(self) -> None:
+        self.next_checkpoint = 0
+        self.passed_us.clear()
+
+    def check(self, world: World, time_us: int) -> Event:
+        """The event at `time_us` (Event.NONE while the test goes on). Wall contact wins over a goal seen at
+        the same tick: a robot that crashes into the wall at the line has not finished cleanly."""
+        if world.touching_wall():
+            return Event.HIT_WALL
+        x, y, _ = world.pose()
+        checkpoints = self.course.checkpoints
+        if checkpoints[self.next_checkpoint].contains(x, y):
+            self.passed_us.append(time_us)
+            self.next_checkpoint += 1
+            if self.next_checkpoint == len(checkpoints):
+                return Event.GOAL
+        if time_us >= self.course.time_limit_us:
+            return Event.TIME_OVER
+        return Event.NONE

@@ -1,0 +1,78 @@
+"""Simulation time constants and the tick-quantized scheduler.
+
+Time is an integer number of microseconds everywhere, so that no float drift can make two runs of the same
+trial differ. The scheduler follows rcssserver's StandardTimer: a stream with period P fires at the first
+tick whose elapsed time reaches P x count, so a 37.5 ms stream on a 10 ms tick fires at 40, 80, 120, 150,
+190, 230, 270 and 300 ms of every 300 ms.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+US_PER_MS = 1_000
+US_PER_S = 1_000_000
+
+PHYSICS_STEP_US = 1_000  # the paper's Unity simulation precision, 0.001 s
+CONTROL_PERIOD_US = 100_000  # tslp_tsk(100000) in Fig. 7
+ALLOWED_TIME_DIFF_US = 20_000  # the largest Unity-Athrill time difference the paper allows
+EVENT_CHECK_PERIOD_US = 10_000  # goal, wall and time-limit checks
+TRACE_PERIOD_US = 50_000  # trajectory samples
+
+
+@dataclass
+class Stream:
+    name: str
+    period_us: int
+    callback: Callable[[int], None]
+    start_us: int = 0
+    count: int = 1  # the next firing is due at start + period x count
+
+    def due_us(self) -> int:
+        return self.start_us + self.period_us * self.count
+
+
+@dataclass
+class Scheduler:
+    """Runs periodic streams on a fixed tick. `next_tick()` tells the caller how far it may batch work."""
+
+    tick_us: int
+    now_us: int = 0
+    streams: list[Stream] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        if self.tick_us <= 0:
+            raise ValueError("tick must be positive")
+
+    def add(self, name: str, period_us: int, callback: Callable[[int], None]) -> Stream:
+        if period_us <= 0:
+            raise ValueError(f"stream {name!r}: period must be positive")
+        stream = Stream(name, period_us, callback, start_us=self.now_us)
+        self.streams.append(stream)
+        return stream
+
+    def quantize(self, time_us: int) -> int:
+        """The first tick at or after `time_us`: when something due at `time_us` actually happens."""
+        return -(-time_us // self.tick_us) * self.tick_us
+
+    def next_tick(self) -> int:
+        """The next tick at which any stream fires (at least one tick ahead)."""
+        due = min((self.quantize(s.due_us()) for s in self.streams), default=self.now_us + self.tick_us)
+        return max(due, self.now_us + self.tick_us)
+
+    def advance_to(self, time_us: int) -> None:
+        """Move to tick `time_us` and fire every stream that is due there, in the order they were added."""
+        if time_us % self.tick_us:
+            raise ValueError(f"{time_us} us is not on the {self.tick_us} us tick")
+        self.now_us = time_us
+        for stream in self.streams:
+            if self.now_us >= stream.due_us():  # at most once a tick, like rcssserver's timer
+                stream.count += 1
+                stream.callback(self.now_us)
+
+    def reset(self) -> None:
+        self.now_us = 0
+        for stream in self.streams:
+            stream.start_us = 0
+            stream.count = 1

@@ -1,0 +1,154 @@
+"""The MuJoCo world: course geometry plus robot, stepped in fixed 1 ms steps.
+
+This is the physics half of the dm_control split: it knows bodies, motors and sensors, not checkpoints or
+events (that is `task.py`). Sensors are computed on demand, at the instants Athrill wakes up, so that the
+hot loop is MuJoCo's own C stepping.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from hakoniwa import robot
+from hakoniwa.course import Course
+from hakoniwa.timebase import PHYSICS_STEP_US, US_PER_S
+
+
+def build_mjcf(course: Course) -> str:
+    xmin, xmax, ymin, ymax = course.extent
+    cx, cy = (xmin + xmax) / 2, (ymin + ymax) / 2
+    hz = course.wall_height / 2
+    walls = "\n".join(
+        f'<geom name="wall_{w.name}" type="box" size="{w.hx} {w.hy} {hz}" pos="{w.x} {w.y} {hz}" rgba=".6 .6 .7 1"/>'
+        for w in course.walls
+    )
+    # Checkpoints are transparent, non-colliding volumes: they never block the robot or the ultrasonic ray.
+    checkpoints = "\n".join(
+        f'<site name="cp_{c.name}" type="box" size="{c.hx} {c.hy} 0.001" pos="{c.x} {c.y} 0.001" rgba="0 1 0 .2"/>'
+        for c in course.checkpoints
+    )
+    s = course.start
+    # Walls live in one static body so that a single contact sensor can watch robot-wall contact inside
+    # MuJoCo's own step; reading it costs nothing compared with scanning the contact list in Python.
+    return f"""
+<mujoco model="hakoniwa-{course.name}">
+  <option timestep="{PHYSICS_STEP_US / US_PER_S}" integrator="implicitfast"/>
+  <default><geom friction="1 0.005 0.0001"/></default>
+  <worldbody>
+    <geom name="floor" type="plane" size="{(xmax - xmin) / 2} {(ymax - ymin) / 2} 0.1" pos="{cx} {cy} 0" rgba="1 1 1 1"/>
+    <body name="walls">
+    {walls}
+    </body>
+    {checkpoints}
+    {robot.robot_mjcf(s.x, s.y, s.yaw_deg)}
+  </worldbody>
+  <actuator>{robot.actuators_mjcf()}
+  </actuator>
+  <sensor>
+    <contact name="wall_contact" subtree1="robot" body2="walls" data="found" reduce="mindist"/>
+  </sensor>
+</mujoco>"""
+
+
+@dataclass(frozen=True)
+class Sensors:
+    """What the robot's sensors read at one instant, in EV3RT units."""
+
+    reflect: int
+    ambient: int
+    rgb: tuple[int, int, int]
+    ultrasonic_cm: int
+    gyro_angle_deg: int
+    gyro_rate_dps: int
+    touch: int
+    motor_counts: tuple[int, int]  # left, right wheel encoder [deg]
+
+
+class World:
+    def __init__(self, course: Course) -> None:
+        self.course = course
+        self.model = mujoco.MjModel.from_xml_string(build_mjcf(course))
+        self.data = mujoco.MjData(self.model)
+        m = self.model
+        self._robot_body = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "robot")
+        self._color_site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, "color_sensor")
+        self._sonar_site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, "ultrasonic")
+        self._wheel_qpos = [m.jnt_qposadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, n)]
+                            for n in ("wheel_left", "wheel_right")]
+        self._wall_contact = m.sensor_adr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SENSOR, "wall_contact")]
+        mujoco.mj_forward(m, self.data)
+        self._initial = self._snapshot()
+
+    # -- state ---------------------------------------------------------------------------------------
+    def _snapshot(self) -> tuple[np.ndarray, ...]:
+        d = self.data
+        return d.qpos.copy(), d.qvel.copy(), d.act.copy(), d.ctrl.copy()
+
+    def reset(self) -> None:
+        """Back to the state saved at start-up (the paper saves Robot and env once and restores them)."""
+        mujoco.mj_resetData(self.model, self.data)
+        qpos, qvel, act, ctrl = self._initial
+        d = self.data
+        d.qpos[:], d.qvel[:], d.act[:], d.ctrl[:] = qpos, qvel, act, ctrl
+        mujoco.mj_forward(self.model, d)
+
+    @property
+    def time_us(self) -> int:
+        return round(self.data.time * US_PER_S)
+
+    def step(self, n: int) -> None:
+        mujoco.mj_step(self.model, self.data, nstep=n)
+
+    # -- actuators -----------------------------------------------------------------------------------
+    def set_motor_power(self, left: int, right: int) -> None:
+        """Motor power in percent, -100..100, as EV3RT takes it."""
+        scale = robot.MAX_WHEEL_SPEED / 100.0
+        self.data.ctrl[0] = max(-100, min(100, left)) * scale
+        self.data.ctrl[1] = max(-100, min(100, right)) * scale
+
+    # -- geometry ------------------------------------------------------------------------------------
+    def pose(self) -> tuple[float, float, float]:
+        """Axle centre (x, y) and heading [rad], counter-clockwise from +x."""
+        q = self.data.qpos
+        w, z = q[3], q[6]
+        x_, y_ = q[4], q[5]
+        yaw = math.atan2(2 * (w * z + x_ * y_), 1 - 2 * (y_ * y_ + z * z))
+        return float(q[0]), float(q[1]), yaw
+
+    def touching_wall(self) -> bool:
+        return self.data.sensordata[self._wall_contact] > 0
+
+    # -- sensors -------------------------------------------------------------------------------------
+    def sensors(self) -> Sensors:
+        d = self.data
+        sx, sy = d.site_xpos[self._color_site][:2]
+        reflect = self.course.reflect_at(float(sx), float(sy))
+        _, _, yaw = self.pose()
+        yaw_rate = float(d.qvel[5])
+        left, right = (math.degrees(d.qpos[a]) for a in self._wheel_qpos)
+        grey = round(reflect * 255 / 100)
+        return Sensors(
+            reflect=round(reflect),
+            ambient=0,
+            rgb=(grey, grey, grey),
+            ultrasonic_cm=self._ultrasonic_cm(yaw),
+            # EV3's gyro counts clockwise seen from above; the world's yaw is counter-clockwise.
+            gyro_angle_deg=-round(math.degrees(yaw)),
+            gyro_rate_dps=-round(math.degrees(yaw_rate)),
+            touch=int(self.touching_wall()),
+            motor_counts=(round(left), round(right)),
+        )
+
+    def _ultrasonic_cm(self, yaw: float) -> int:
+        d = self.data
+        origin = d.site_xpos[self._sonar_site].astype(np.float64)
+        direction = np.array([math.cos(yaw), math.sin(yaw), 0.0])
+        geomid = np.zeros(1, dtype=np.int32)
+        dist = mujoco.mj_ray(self.model, d, origin, direction, None, 1, self._robot_body, geomid)
+        if dist < 0:
+            return robot.ULTRASONIC_MAX_CM
+        return min(robot.ULTRASONIC_MAX_CM, round(dist * 100))

@@ -1,0 +1,74 @@
+"""The controller's side of one test: write parameters, raise start, wait for the event, lower start.
+
+This is the only module of the controller that touches the mapped files, and it touches only what the
+paper gives the controller: the parameter area and the event/goal-time words of unity_mmap.bin, and the
+start/end flags of athrill_mmap.bin.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Mapping
+
+from hakoniwa.protocol import (PARAM_END, Athrill, Event, MappedFile, ProtocolError, Unity, goal_time_from_words,
+                               open_athrill, open_unity)
+from testctl.result import TestResult
+from hakoniwa.liveness import pid_alive
+
+POLL_S = 0.0005
+
+
+class PhysicsGone(RuntimeError):
+    """The physics process stopped answering; no further test can run in this run directory."""
+
+
+class TrialRunner:
+    def __init__(self, run_dir: Path, *, test_timeout_s: float = 600.0) -> None:
+        self.run_dir = Path(run_dir)
+        self.test_timeout_s = test_timeout_s
+        self.unity: MappedFile = open_unity(self.run_dir)
+        self.athrill: MappedFile = open_athrill(self.run_dir)
+        self._physics_pid = self.unity.pid
+
+    def write_params(self, params: Mapping[int, float]) -> None:
+        for offset, value in params.items():
+            if not (Unity.PARAMS <= offset <= PARAM_END - 4 and offset % 4 == 0):
+                raise ProtocolError(f"parameter offset {offset} is outside the parameter area")
+            self.unity.write_f32(offset, float(value))
+
+    def run_test(self, params: Mapping[int, float]) -> TestResult:
+        """One test with `params` ({data offset: value}); blocks until the physics process reports an event
+        and has reset for the next test."""
+        start = time.monotonic()
+        self._wait(lambda: self.unity.read_i32(Unity.EVENT) == Event.NONE, "reset before the test")
+        self.write_params(params)
+        self.athrill.write_i32(Athrill.START, 1)
+        self._wait(lambda: self.unity.read_i32(Unity.EVENT) != Event.NONE, "an event")
+        event = Event(self.unity.read_i32(Unity.EVENT))
+        goal_us = goal_time_from_words(self.unity.read_u32(Unity.GOAL_TIME_HI),
+                                       self.unity.read_u32(Unity.GOAL_TIME_LO))
+        self.athrill.write_i32(Athrill.START, 0)
+        self._wait(lambda: self.unity.read_i32(Unity.EVENT) == Event.NONE, "the reset after the test")
+        return TestResult(event, goal_us if event == Event.GOAL else 0, time.monotonic() - start)
+
+    def end(self) -> None:
+        """end = 1: the physics process exits."""
+        self.athrill.write_i32(Athrill.END, 1)
+
+    def _wait(self, condition, what: str) -> None:
+        deadline = time.monotonic() + self.test_timeout_s
+        polls = 0
+        while not condition():
+            time.sleep(POLL_S)
+            polls += 1
+            if polls % 200 == 0:
+                if not pid_alive(self._physics_pid):
+                    raise PhysicsGone(f"physics process {self._physics_pid} is gone (waiting for {what})")
+                if time.monotonic() > deadline:
+                    raise PhysicsGone(f"no {what} within {self.test_timeout_s:.0f} s")
+
+    def close(self) -> None:
+        self.unity.close()
+        self.athrill.close()
+
