@@ -9,17 +9,26 @@ either process happens to run.
 
 from __future__ import annotations
 
-import time
-
 from hakoniwa.protocol import NEVER_WAKES, Athrill, MappedFile, Unity
-from hakoniwa.liveness import pid_alive
 from hakoniwa.timebase import PHYSICS_STEP_US
+from hakoniwa.waiting import pid_alive, wait_for
 
-ORPHAN_CHECK_S = 1.0  # how often a waiting Athrill checks that the physics process is still alive
+TEST_WAIT_SPIN_S = 0.0  # a spare Athrill waits a whole test: it naps from the start, leaving the CPU alone
+TEST_WAIT_NAP_S = 0.0005
 
 
 class KernelExit(Exception):
-    """The physics process is gone; Athrill has nothing left to do."""
+    """The physics process is gone, or this Athrill's test will never run; nothing left to do."""
+
+
+def _watch(unity: MappedFile):
+    physics_pid = unity.pid
+
+    def check() -> None:
+        if not pid_alive(physics_pid):
+            raise KernelExit(f"physics process {physics_pid} is gone")
+
+    return check
 
 
 class Kernel:
@@ -27,7 +36,7 @@ class Kernel:
         self.unity = unity
         self.athrill = athrill
         self.now_us = unity.read_i64(Unity.SNAPSHOT_TIME)
-        self._physics_pid = unity.pid
+        self._check_physics = _watch(unity)
 
     def sleep(self, duration_us: int) -> None:
         """tslp_tsk: sleep at least `duration_us`, rounded up to whole physics steps."""
@@ -36,7 +45,8 @@ class Kernel:
         steps = -(-duration_us // PHYSICS_STEP_US)
         wake = self.now_us + steps * PHYSICS_STEP_US
         self._publish(wake)
-        self._wait_for_snapshot(wake)
+        read = self.unity.read_i64
+        wait_for(lambda: read(Unity.SNAPSHOT_TIME) >= wake, self._check_physics)
         self.now_us = wake
 
     def finish(self) -> None:
@@ -47,21 +57,6 @@ class Kernel:
         self.athrill.write_i64(Athrill.NEXT_WAKE, wake_us)
         self.athrill.stamp(self.now_us)
 
-    def _wait_for_snapshot(self, wake_us: int) -> None:
-        unity = self.unity
-        spins = 0
-        next_check = time.monotonic() + ORPHAN_CHECK_S
-        while unity.read_i64(Unity.SNAPSHOT_TIME) < wake_us:
-            spins += 1
-            if spins < 200:
-                continue
-            time.sleep(0.0001)
-            if time.monotonic() > next_check:
-                next_check = time.monotonic() + ORPHAN_CHECK_S
-                if not pid_alive(self._physics_pid):
-                    raise KernelExit(f"physics process {self._physics_pid} is gone")
-
-
 
 def wait_for_test(unity: MappedFile, test_seq: int) -> None:
     """Block until the physics process starts test `test_seq`.
@@ -69,13 +64,12 @@ def wait_for_test(unity: MappedFile, test_seq: int) -> None:
     The physics process launches the next test's Athrill while the current test still runs, so that its
     start-up cost overlaps useful work; that process must not touch anything until its own test begins.
     """
-    physics_pid = unity.pid
-    next_check = time.monotonic() + ORPHAN_CHECK_S
-    while (current := unity.read_i32(Unity.TEST_SEQ)) != test_seq:
-        if current > test_seq:
+    check_physics = _watch(unity)
+
+    def check() -> None:
+        check_physics()
+        if (current := unity.read_i32(Unity.TEST_SEQ)) > test_seq:
             raise KernelExit(f"test {test_seq} will not run (physics is at test {current})")
-        time.sleep(0.0002)
-        if time.monotonic() > next_check:
-            next_check = time.monotonic() + ORPHAN_CHECK_S
-            if not pid_alive(physics_pid):
-                raise KernelExit(f"physics process {physics_pid} is gone")
+
+    wait_for(lambda: unity.read_i32(Unity.TEST_SEQ) == test_seq, check, spin_s=TEST_WAIT_SPIN_S,
+             nap_s=TEST_WAIT_NAP_S)

@@ -59,3 +59,7 @@ def trial(kp: float, ki: float, kd: float, power: float, course: str, run_dir: P
     else:
         lap = f"{result['lap_time_s']:.3f} s" if result["lap_time_s"] is not None else "-"
         click.echo(f"event: {result['event']}  lap time: {lap}")
+
+
+if __name__ == "__main__":
+    main()

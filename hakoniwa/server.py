@@ -19,6 +19,7 @@ from hakoniwa import robot
 from hakoniwa.course import Course
 from hakoniwa.protocol import (Athrill, Event, MappedFile, Unity, goal_time_words, open_athrill, open_unity)
 from hakoniwa.task import LapTask
+from hakoniwa.waiting import wait_for
 from hakoniwa.timebase import (ALLOWED_TIME_DIFF_US, EVENT_CHECK_PERIOD_US, PHYSICS_STEP_US, TRACE_PERIOD_US,
                                Scheduler)
 from hakoniwa.world import World
@@ -36,6 +37,10 @@ class TestOutcome:
     event: Event
     time_us: int
     wall_s: float
+
+
+class AthrillLost(Exception):
+    """Athrill died or stopped answering: the test ends as a crash."""
 
 
 class AthrillLauncher:
@@ -122,14 +127,17 @@ class PhysicsServer:
         wake-up time, or None if it died, went silent, or broke the time protocol."""
         a = self.athrill
         deadline = time.monotonic() + self.athrill_timeout_s
-        spins = 0
-        while a.seq == last_seq:
-            spins += 1
-            if spins < 500:
-                continue
-            time.sleep(0.00005)
-            if spins % 64 == 0 and (proc.poll() is not None or time.monotonic() > deadline):
-                return None
+
+        def check() -> None:
+            if proc.poll() is not None:
+                raise AthrillLost(f"athrill exited with code {proc.returncode}")
+            if time.monotonic() > deadline:
+                raise AthrillLost(f"athrill silent for {self.athrill_timeout_s} s")
+
+        try:
+            wait_for(lambda: a.seq != last_seq, check)
+        except AthrillLost:
+            return None
         next_wake = a.read_i64(Athrill.NEXT_WAKE)
         if abs(a.time_us - now_us) > ALLOWED_TIME_DIFF_US or next_wake <= now_us:
             return None

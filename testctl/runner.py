@@ -9,12 +9,12 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
-from typing import Mapping
+from typing import Callable, Mapping
 
 from hakoniwa.protocol import (PARAM_END, Athrill, Event, MappedFile, ProtocolError, Unity, goal_time_from_words,
                                open_athrill, open_unity)
 from testctl.result import TestResult
-from hakoniwa.liveness import pid_alive
+from hakoniwa.waiting import pid_alive, wait_for
 
 POLL_S = 0.0005
 
@@ -56,17 +56,16 @@ class TrialRunner:
         """end = 1: the physics process exits."""
         self.athrill.write_i32(Athrill.END, 1)
 
-    def _wait(self, condition, what: str) -> None:
+    def _wait(self, condition: Callable[[], bool], what: str) -> None:
         deadline = time.monotonic() + self.test_timeout_s
-        polls = 0
-        while not condition():
-            time.sleep(POLL_S)
-            polls += 1
-            if polls % 200 == 0:
-                if not pid_alive(self._physics_pid):
-                    raise PhysicsGone(f"physics process {self._physics_pid} is gone (waiting for {what})")
-                if time.monotonic() > deadline:
-                    raise PhysicsGone(f"no {what} within {self.test_timeout_s:.0f} s")
+
+        def check() -> None:
+            if not pid_alive(self._physics_pid):
+                raise PhysicsGone(f"physics process {self._physics_pid} is gone (waiting for {what})")
+            if time.monotonic() > deadline:
+                raise PhysicsGone(f"no {what} within {self.test_timeout_s:.0f} s")
+
+        wait_for(condition, check, spin_s=0.0, nap_s=POLL_S)
 
     def close(self) -> None:
         self.unity.close()

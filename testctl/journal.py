@@ -1,0 +1,162 @@
+"""The campaign journal: one JSON line per finished test, written as soon as the test is known.
+
+A campaign of 100 parameter sets takes hours on the bench, and the user may kill it at any moment; the
+journal is what makes that cheap. Each line is flushed and fsynced before the next test starts, so a kill
+loses at most the test that was running. A kill in the middle of a write leaves a torn last line; loading
+drops it (and truncates it away before appending), while damage anywhere else is an error, since it means
+the file is not what we wrote. The first line is a header (space and options) written atomically with the
+file, so `--resume` can refuse to continue a campaign under different settings.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Mapping
+from dataclasses import dataclass
+from datetime import datetime, timezone
+from pathlib import Path
+from typing import IO, Any
+
+from hakoniwa.protocol import Event
+from testctl.result import TestResult
+
+JOURNAL_FILE = "journal.jsonl"
+FORMAT = 1
+_KIND = "hakoniwa-campaign-journal"
+
+
+class JournalError(RuntimeError):
+    """The journal cannot be used: missing, damaged, or written for different settings."""
+
+
+@dataclass(frozen=True)
+class TestRecord:
+    """One finished test of one parameter set (`rep` counts from 1 and includes crashed attempts)."""
+
+    __test__ = False  # not a pytest class
+
+    set_index: int
+    phase: str
+    params: Mapping[str, float]
+    rep: int
+    result: TestResult
+    timestamp: str
+
+    def to_json(self) -> str:
+        return json.dumps(
+            {
+                "set": self.set_index,
+                "phase": self.phase,
+                "params": dict(self.params),
+                "rep": self.rep,
+                "event": self.result.event.name,
+                "goal_time_us": self.result.goal_time_us,
+                "lap_time_s": self.result.lap_time_s,
+                "wall_s": self.result.wall_s,
+                "time": self.timestamp,
+            }
+        )
+
+    @classmethod
+    def from_json(cls, line: str) -> TestRecord:
+        d = json.loads(line)
+        result = TestResult(Event[d["event"]], int(d["goal_time_us"]), float(d["wall_s"]))
+        params = {str(k): float(v) for k, v in d["params"].items()}
+        return cls(int(d["set"]), str(d["phase"]), params, int(d["rep"]), result, str(d["time"]))
+
+
+def now_timestamp() -> str:
+    return datetime.now(timezone.utc).isoformat(timespec="milliseconds")
+
+
+class Journal:
+    """An open journal: its header, the records already in it, and an append handle."""
+
+    def __init__(self, path: Path, header: dict[str, Any], records: list[TestRecord], fh: IO[bytes]) -> None:
+        self.path = path
+        self.header = header
+        self.records = records
+        self._fh = fh
+
+    @classmethod
+    def create(cls, path: Path, header: Mapping[str, Any]) -> Journal:
+        """Start a new journal; an existing one is never overwritten (that would lose a campaign)."""
+        path = Path(path)
+        if path.exists():
+            raise JournalError(f"{path} already exists; use --resume to continue that campaign")
+        full = {"kind": _KIND, "format": FORMAT, **header}
+        tmp = path.with_name(path.name + ".tmp")
+        with open(tmp, "wb") as f:
+            f.write(_line(json.dumps(full)))
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+        return cls(path, full, [], open(path, "ab"))
+
+    @classmethod
+    def open(cls, path: Path) -> Journal:
+        """Open an existing journal for appending, cutting off a torn last line first."""
+        path = Path(path)
+        header, records, good_len = _parse(path)
+        fh = open(path, "r+b")
+        fh.truncate(good_len)
+        fh.seek(good_len)
+        return cls(path, header, records, fh)
+
+    def append(self, record: TestRecord) -> None:
+        self._fh.write(_line(record.to_json()))
+        self._fh.flush()
+        os.fsync(self._fh.fileno())
+        self.records.append(record)
+
+    def close(self) -> None:
+        self._fh.close()
+
+    def __enter__(self) -> Journal:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def read_journal(path: Path) -> tuple[dict[str, Any], list[TestRecord]]:
+    """Header and records, without changing the file (a torn last line is ignored)."""
+    header, records, _ = _parse(Path(path))
+    return header, records
+
+
+def _line(text: str) -> bytes:
+    return text.encode("utf-8") + b"\n"
+
+
+def _parse(path: Path) -> tuple[dict[str, Any], list[TestRecord], int]:
+    """Header, records, and the byte length of the intact part of the file."""
+    try:
+        data = path.read_bytes()
+    except FileNotFoundError:
+        raise JournalError(f"{path}: no journal here") from None
+    lines = data.split(b"\n")  # the last element is b"" for a file that ends with a newline
+    if len(lines) < 2:
+        raise JournalError(f"{path}: no header line")
+    try:
+        header = json.loads(lines[0])
+    except ValueError:
+        raise JournalError(f"{path}: the header line is not JSON") from None
+    if not isinstance(header, dict) or header.get("kind") != _KIND:
+        raise JournalError(f"{path}: not a campaign journal")
+    if header.get("format") != FORMAT:
+        raise JournalError(f"{path}: journal format {header.get('format')}, expected {FORMAT}")
+    records: list[TestRecord] = []
+    good_len = len(lines[0]) + 1
+    body = lines[1:]
+    # The last element follows the final newline: b"" for an intact file, else a line torn by a kill.
+    for i, raw in enumerate(body[:-1]):
+        try:
+            records.append(TestRecord.from_json(raw.decode("utf-8")))
+        except (ValueError, KeyError, TypeError, AttributeError):
+            if i == len(body) - 2:  # a damaged last line: the tail of an interrupted write
+                break
+            raise JournalError(f"{path}: line {i + 2} is damaged") from None
+        good_len += len(raw) + 1
+    return header, records, good_len

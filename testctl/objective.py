@@ -1,0 +1,76 @@
+"""Turning repeated tests of one parameter set into the number the optimizer minimizes.
+
+Paper, section 4.1: the same parameters may succeed or fail depending on the load of the machine, so each set
+is tested repeatedly; whichever of success or failure reaches 3 first decides the set (at most 5 tests). A
+successful set scores the mean lap time of its successes, a failed one the 60 s time limit. Here that rule is
+generalized to `repeats` tests with a strict majority `repeats // 2 + 1` needed for success.
+
+A CRASH (Athrill died or went silent: a bench fault) says nothing about the parameters, unlike a wall hit or
+a time-out, so it is not counted and the test is repeated. Parameters that make the robot program crash every
+time (a NaN, a division by zero in the app) would then be retried forever, so only the first `max_crashes`
+crashes of a set are forgiven; each later one counts as a failure of the parameters.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from hakoniwa.protocol import Event
+from testctl.result import TestResult
+
+PENALTY_S = 60.0  # the course's time limit; what a failed set scores
+_FAILURES = (Event.TIME_OVER, Event.HIT_WALL)
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """The state of one parameter set after some tests. `value` is None until the set is decided."""
+
+    successes: int
+    failures: int  # including crashes beyond the allowance
+    crashes: int  # all crashes, forgiven or not
+    laps: tuple[float, ...]
+    decided: bool
+    success: bool
+    value: float | None
+
+
+@dataclass(frozen=True)
+class RepetitionRule:
+    """First to `needed` of at most `repeats` counted tests; CRASH retried up to `max_crashes` times."""
+
+    repeats: int = 5
+    max_crashes: int = 3
+    penalty_s: float = PENALTY_S
+
+    def __post_init__(self) -> None:
+        if self.repeats < 1:
+            raise ValueError(f"repeats must be at least 1, got {self.repeats}")
+        if self.max_crashes < 0:
+            raise ValueError(f"max_crashes must be at least 0, got {self.max_crashes}")
+
+    @property
+    def needed(self) -> int:
+        return self.repeats // 2 + 1
+
+    def judge(self, results: Sequence[TestResult]) -> Verdict:
+        successes = failures = crashes = 0
+        laps: list[float] = []
+        for r in results:
+            if r.event == Event.GOAL:
+                assert r.lap_time_s is not None
+                successes += 1
+                laps.append(r.lap_time_s)
+            elif r.event == Event.CRASH:
+                crashes += 1
+                failures += crashes > self.max_crashes
+            elif r.event in _FAILURES:
+                failures += 1
+            else:
+                raise ValueError(f"{r.event.name} is not the outcome of a finished test")
+        success = successes >= self.needed
+        # Failed once success can no longer be reached within `repeats` counted tests.
+        failed = failures > self.repeats - self.needed
+        value = (sum(laps) / len(laps) if success else self.penalty_s) if success or failed else None
+        return Verdict(successes, failures, crashes, tuple(laps), success or failed, success, value)

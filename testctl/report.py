@@ -1,0 +1,150 @@
+"""What a campaign leaves for people: results.csv, best.json, and the paper's Fig. 8 and Fig. 9 as PNGs.
+
+Everything here is computed from the campaign summary, so a report can be rewritten from a journal at any
+time (`Campaign(..., resume=True).run()` on a finished campaign runs no test and returns the summary).
+Figures are drawn on a bare `matplotlib.figure.Figure` (Agg), never through pyplot's global state, so this
+works headless and inside a long-running process.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from itertools import accumulate
+from pathlib import Path
+from typing import Any
+
+from matplotlib.figure import Figure
+from matplotlib.ticker import MaxNLocator
+
+from testctl.campaign import PHASE_INIT, CampaignSummary, SetResult
+from testctl.objective import PENALTY_S
+
+RESULTS_CSV = "results.csv"
+BEST_JSON = "best.json"
+FIG8_PNG = "fig8.png"
+FIG9_PNG = "fig9.png"
+# The paper's colours for Kp, Ki, Kd (Fig. 8); further parameters take matplotlib's cycle.
+_PARAM_COLOURS = ("red", "blue", "green")
+
+
+def write_report(out_dir: Path, summary: CampaignSummary) -> list[Path]:
+    """Write all four files into `out_dir` and return their paths."""
+    out_dir = Path(out_dir)
+    paths = [out_dir / RESULTS_CSV, out_dir / BEST_JSON, out_dir / FIG8_PNG, out_dir / FIG9_PNG]
+    write_results_csv(paths[0], summary)
+    paths[1].write_text(json.dumps(best_dict(summary), indent=2) + "\n")
+    plot_fig8(paths[2], summary)
+    plot_fig9(paths[3], summary)
+    return paths
+
+
+def best_so_far(sets: tuple[SetResult, ...]) -> list[float]:
+    """The lowest objective value up to and including each set (Fig. 9, bottom)."""
+    return list(accumulate((s.value for s in sets), min))
+
+
+def l1_changes(sets: tuple[SetResult, ...]) -> list[float]:
+    """|x_i - x_(i-1)|_1 for each set after the first (Fig. 9, top): how far the search still moves."""
+    return [sum(abs(a - b) for a, b in zip(cur.x, prev.x)) for prev, cur in zip(sets, sets[1:])]
+
+
+def write_results_csv(path: Path, summary: CampaignSummary) -> None:
+    """One row per decided parameter set."""
+    names = summary.config.space.names
+    best = best_so_far(summary.sets)
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(
+            ["set", "phase", *names, "tests", "successes", "failures", "crashes", "success", "objective_s",
+             "best_so_far_s", "wall_s"]
+        )
+        for s, b in zip(summary.sets, best):
+            v = s.verdict
+            w.writerow(
+                [s.index, s.phase, *(repr(c) for c in s.x), len(s.tests), v.successes, v.failures, v.crashes,
+                 int(v.success), repr(s.value), repr(b), f"{s.wall_s:.3f}"]
+            )
+
+
+def best_dict(summary: CampaignSummary) -> dict[str, Any]:
+    """best.json: the best set's parameters (searched and fixed, by name and by data offset) and lap."""
+    space = summary.config.space
+    best = summary.best
+    return {
+        "success": best is not None,
+        "set": best.index if best else None,
+        "params": space.to_named(best.x) if best else None,
+        "fixed": {f.name: f.value for f in space.fixed},
+        "offsets": {str(k): v for k, v in space.to_offsets(best.x).items()} if best else None,
+        "lap_time_s": best.value if best else None,
+        "laps_s": list(best.verdict.laps) if best else None,
+        "n_sets": len(summary.sets),
+        "n_tests": summary.n_tests,
+        "test_wall_s": round(summary.test_wall_s, 3),
+        "seed": summary.config.seed,
+        "optimizer": summary.config.optimizer,
+    }
+
+
+def format_summary(summary: CampaignSummary) -> str:
+    """The lines `hako run` prints at the end."""
+    best = summary.best
+    if best is None:
+        best_line = "best: no parameter set succeeded"
+    else:
+        params = ", ".join(f"{k}={v:.3f}" for k, v in summary.config.space.to_named(best.x).items())
+        best_line = f"best: [{params}] lap {best.value:.2f} s (set {best.index})"
+    return "\n".join(
+        [
+            best_line,
+            f"sets: {len(summary.sets)}, tests: {summary.n_tests} ({summary.tests_run} this run)",
+            f"wall time: {summary.wall_s:.1f} s this run, {summary.test_wall_s:.1f} s in tests overall",
+        ]
+    )
+
+
+def _iteration_axes(fig: Figure, summary: CampaignSummary, top: str, bottom: str) -> tuple[Any, Any]:
+    """Two stacked axes over the set number (1-based, as 'iteration' in the paper), initial design shaded."""
+    ax_top, ax_bottom = fig.subplots(2, 1, sharex=True)
+    n_init = sum(s.phase == PHASE_INIT for s in summary.sets)
+    for ax, label in ((ax_top, top), (ax_bottom, bottom)):
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+        if n_init:
+            ax.axvspan(0.5, n_init + 0.5, color="0.9", zorder=0)
+    ax_bottom.set_xlabel("iteration (parameter set)")
+    ax_bottom.xaxis.set_major_locator(MaxNLocator(integer=True))
+    return ax_top, ax_bottom
+
+
+def plot_fig8(path: Path, summary: CampaignSummary) -> None:
+    """Fig. 8: the searched values per iteration (Kp red, Ki blue, Kd green) and the lap time per iteration
+    (failed sets drawn as crosses at the penalty)."""
+    fig = Figure(figsize=(8, 6), layout="constrained")
+    ax_params, ax_lap = _iteration_axes(fig, summary, "parameter value", "lap time [s]")
+    its = [s.index + 1 for s in summary.sets]
+    for i, name in enumerate(summary.config.space.names):
+        colour = _PARAM_COLOURS[i] if i < len(_PARAM_COLOURS) else f"C{i}"
+        ax_params.plot(its, [s.x[i] for s in summary.sets], ".-", color=colour, label=name, lw=1)
+    ax_params.legend(loc="upper left", bbox_to_anchor=(1.01, 1))
+    ok = [s for s in summary.sets if s.verdict.success]
+    failed = [s for s in summary.sets if not s.verdict.success]
+    ax_lap.plot(its, [s.value for s in summary.sets], "-", color="0.6", lw=0.8)
+    ax_lap.plot([s.index + 1 for s in ok], [s.value for s in ok], "o", color="black", ms=4, label="success")
+    ax_lap.plot([s.index + 1 for s in failed], [s.value for s in failed], "x", color="red", label="failure")
+    ax_lap.axhline(PENALTY_S, color="red", ls=":", lw=0.8)
+    ax_lap.legend(loc="upper left", bbox_to_anchor=(1.01, 1))
+    fig.suptitle("Search values of the control parameters and lap time")
+    fig.savefig(path, dpi=100)
+
+
+def plot_fig9(path: Path, summary: CampaignSummary) -> None:
+    """Fig. 9: the total parameter change |dx|_1 per iteration and the best objective so far."""
+    fig = Figure(figsize=(8, 6), layout="constrained")
+    ax_change, ax_best = _iteration_axes(fig, summary, "|Δx|₁", "best lap so far [s]")
+    its = [s.index + 1 for s in summary.sets]
+    ax_change.plot(its[1:], l1_changes(summary.sets), ".-", color="purple", lw=1)
+    ax_best.step(its, best_so_far(summary.sets), where="post", color="black")
+    fig.suptitle("Total parameter change and best solution so far")
+    fig.savefig(path, dpi=100)

@@ -1,0 +1,46 @@
+"""Starting a real physics process for a test, and talking to it as the test controller does."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import time
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Iterator
+
+from hakoniwa.launch import physics_command
+from hakoniwa.protocol import ProtocolError, Unity
+from testctl.runner import TrialRunner
+
+PAPER = {Unity.KP: 1.539, Unity.KI: 4.267, Unity.KD: 4.511, Unity.MOTOR_POWER: 15.0}
+ZERO = {Unity.KP: 0.0, Unity.KI: 0.0, Unity.KD: 0.0, Unity.MOTOR_POWER: 15.0}
+
+
+def connect(run_dir: Path, proc: subprocess.Popen, timeout_s: float = 60.0) -> TrialRunner:
+    deadline = time.monotonic() + timeout_s
+    while True:
+        try:
+            return TrialRunner(run_dir)
+        except ProtocolError:
+            if proc.poll() is not None or time.monotonic() > deadline:
+                raise
+            time.sleep(0.05)
+
+
+@contextmanager
+def physics(run_dir: Path, *, extra_env: dict[str, str] | None = None, app: str = "line_trace",
+            athrill_timeout_s: float = 10.0) -> Iterator[tuple[subprocess.Popen, TrialRunner]]:
+    """A physics process serving `run_dir` with no controller of its own: the test is the controller."""
+    env = dict(os.environ, **(extra_env or {}))
+    proc = subprocess.Popen(physics_command(run_dir, "oval", [], app=app, athrill_timeout_s=athrill_timeout_s),
+                            env=env)
+    try:
+        runner = connect(run_dir, proc)
+        yield proc, runner
+        runner.end()
+        assert proc.wait(timeout=30) == 0
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()

@@ -1,0 +1,122 @@
+"""End-to-end: the three processes over real mapped files in a temporary run directory."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from hakoniwa.launch import physics_command
+from hakoniwa.protocol import Athrill, Event, Unity
+from hakoniwa.rundir import LOCK_FILE
+from bench_fixtures import PAPER, ZERO, physics
+
+
+def test_paper_gains_finish_a_lap_and_zero_gains_do_not(tmp_path):
+    with physics(tmp_path) as (_, runner):
+        good = runner.run_test(PAPER)
+        bad = runner.run_test(ZERO)
+        again = runner.run_test(PAPER)
+    assert good.event == Event.GOAL
+    assert 20 <= good.lap_time_s <= 60  # tens of seconds, like the paper's 32 s
+    assert bad.event in (Event.HIT_WALL, Event.TIME_OVER)
+    assert bad.goal_time_us == 0
+    # A reset between tests restores everything: the same parameters give the same microsecond.
+    assert (again.event, again.goal_time_us) == (good.event, good.goal_time_us)
+    assert (tmp_path / "trajectory.csv").read_text().count("\n") > 100
+
+
+def wait_until(cond, timeout_s: float, what: str) -> None:
+    deadline = time.monotonic() + timeout_s
+    while not cond():
+        assert time.monotonic() < deadline, f"timed out waiting for {what}"
+        time.sleep(0.005)
+
+
+def test_athrill_killed_mid_test_is_a_crash_and_the_bench_stays_usable(tmp_path):
+    with physics(tmp_path) as (_, runner):
+        runner.write_params(PAPER)
+        runner.athrill.write_i32(Athrill.START, 1)
+        wait_until(lambda: runner.unity.time_us >= 2_000_000, 30, "two simulated seconds")
+        os.kill(runner.athrill.pid, signal.SIGKILL)
+        killed_at = time.monotonic()
+        wait_until(lambda: runner.unity.read_i32(Unity.EVENT) != Event.NONE, 10, "an event")
+        assert time.monotonic() - killed_at < 2.0  # noticed through the process, not the long timeout
+        assert runner.unity.read_i32(Unity.EVENT) == Event.CRASH  # not HIT_WALL
+        runner.athrill.write_i32(Athrill.START, 0)
+        wait_until(lambda: runner.unity.read_i32(Unity.EVENT) == Event.NONE, 10, "the reset")
+        assert runner.run_test(PAPER).event == Event.GOAL
+
+
+SILENT_APP = '''
+def main_task(api):
+    api.tslp_tsk(100_000)
+    while True:  # a program that never sleeps again: simulated time cannot advance
+        pass
+'''
+
+
+def test_silent_athrill_is_a_crash_within_the_timeout(tmp_path):
+    apps = tmp_path / "apps"
+    apps.mkdir()
+    (apps / "silent_app.py").write_text(SILENT_APP)
+    run_dir = tmp_path / "run"
+    env = {"PYTHONPATH": os.pathsep.join([str(apps), os.environ.get("PYTHONPATH", "")])}
+    with physics(run_dir, extra_env=env, app="silent_app:main_task", athrill_timeout_s=1.0) as (_, runner):
+        result = runner.run_test(PAPER)
+    assert result.event == Event.CRASH
+    assert result.wall_s < 5.0
+
+
+def test_a_run_directory_serves_one_run_at_a_time(tmp_path):
+    with physics(tmp_path):
+        second = subprocess.run(physics_command(tmp_path, "oval", []), capture_output=True, text=True, timeout=60)
+    assert second.returncode != 0
+    assert "in use by another run" in second.stderr
+    assert "Traceback" not in second.stderr
+
+
+def test_leftovers_of_a_crashed_run_do_not_confuse_a_new_one(tmp_path):
+    (tmp_path / "unity_mmap.bin").write_bytes(b"garbage from a crashed run")
+    (tmp_path / "athrill_mmap.bin").write_bytes(b"\xff" * 5000)
+    (tmp_path / LOCK_FILE).write_text("99999\n")  # a stale lock file, no live holder
+    with physics(tmp_path) as (_, runner):
+        assert runner.run_test(PAPER).event == Event.GOAL
+
+
+def hako_trial_json(*extra: str, env=None) -> dict:
+    out = subprocess.run([sys.executable, "-m", "hakoniwa.cli", "trial", "--json", *extra], capture_output=True,
+                         text=True, timeout=300, env=env)
+    assert out.returncode == 0, out.stderr
+    return json.loads(out.stdout)
+
+
+def test_hako_trial_cli_prints_event_and_lap_time(tmp_path):
+    png = tmp_path / "path.png"
+    result = hako_trial_json("--trajectory", str(png))
+    assert result["event"] == "GOAL" and result["lap_time_s"] > 0
+    assert png.stat().st_size > 10_000
+
+
+def test_hako_trial_rejects_bad_course():
+    out = subprocess.run([sys.executable, "-m", "hakoniwa.cli", "trial", "--course", "/nonexistent"],
+                         capture_output=True, text=True, timeout=60)
+    assert out.returncode != 0
+    assert "no course at /nonexistent" in out.stderr and "Traceback" not in out.stderr
+
+
+@pytest.mark.slow
+def test_same_trial_same_json_even_under_cpu_load():
+    quiet = hako_trial_json("--kp", "2.2", "--ki", "0.4", "--kd", "1.6")
+    burners = [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(2)]
+    try:
+        loaded = hako_trial_json("--kp", "2.2", "--ki", "0.4", "--kd", "1.6")
+    finally:
+        for b in burners:
+            b.kill()
+            b.wait()
+    assert quiet == loaded
+    assert quiet["event"] == "GOAL"

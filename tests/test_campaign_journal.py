@@ -1,0 +1,80 @@
+"""The JSON-lines journal: durable appends, torn-tail tolerance, refusal of damaged files."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from campaign_doubles import result
+from hakoniwa.protocol import Event
+from testctl.journal import Journal, JournalError, TestRecord, read_journal
+
+HEADER = {"space": {"param": []}, "options": {}}
+
+
+def record(i: int, event: Event = Event.GOAL) -> TestRecord:
+    return TestRecord(i // 3, "init", {"Kp": 0.1 * i, "Ki": 1 / 3}, i % 3 + 1, result(event, 30.5 + i), "t")
+
+
+def write(path: Path, n: int) -> list[TestRecord]:
+    records = [record(i, Event.GOAL if i % 2 else Event.HIT_WALL) for i in range(n)]
+    with Journal.create(path, HEADER) as j:
+        for r in records:
+            j.append(r)
+    return records
+
+
+def test_round_trip_is_exact(tmp_path: Path) -> None:
+    path = tmp_path / "j.jsonl"
+    records = write(path, 5)
+    header, loaded = read_journal(path)
+    assert loaded == records
+    assert header["options"] == {} and header["format"] == 1
+    assert loaded[1].result.lap_time_s == 31.5
+
+
+def test_create_never_overwrites(tmp_path: Path) -> None:
+    path = tmp_path / "j.jsonl"
+    write(path, 1)
+    with pytest.raises(JournalError, match="--resume"):
+        Journal.create(path, HEADER)
+
+
+@pytest.mark.parametrize("tail", [b'{"set": 1, "pha', b"\x00\x00\x00", b'{"set": 1}\n', b"\n"])
+def test_torn_last_line_is_dropped_and_cut_before_appending(tmp_path: Path, tail: bytes) -> None:
+    path = tmp_path / "j.jsonl"
+    records = write(path, 4)
+    with open(path, "ab") as f:
+        f.write(tail)
+    assert read_journal(path)[1] == records
+    with Journal.open(path) as j:
+        assert j.records == records
+        j.append(record(9))
+    assert read_journal(path)[1] == [*records, record(9)]
+
+
+def test_damage_before_the_last_line_is_an_error(tmp_path: Path) -> None:
+    path = tmp_path / "j.jsonl"
+    write(path, 4)
+    lines = path.read_bytes().split(b"\n")
+    lines[2] = lines[2][:10]
+    path.write_bytes(b"\n".join(lines))
+    with pytest.raises(JournalError, match="line 3 is damaged"):
+        read_journal(path)
+
+
+@pytest.mark.parametrize(
+    "content, problem",
+    [(b"", "no header"), (b"not json\n", "header line is not JSON"), (b'{"kind": "x"}\n', "not a campaign journal")],
+)
+def test_bad_header(tmp_path: Path, content: bytes, problem: str) -> None:
+    path = tmp_path / "j.jsonl"
+    path.write_bytes(content)
+    with pytest.raises(JournalError, match=problem):
+        read_journal(path)
+
+
+def test_missing_journal(tmp_path: Path) -> None:
+    with pytest.raises(JournalError, match="no journal"):
+        Journal.open(tmp_path / "j.jsonl")

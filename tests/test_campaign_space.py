@@ -1,0 +1,85 @@
+"""Parameter spaces: the paper's default, the example file, and one-line errors for bad files."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from hakoniwa.protocol import Unity
+from testctl.space import ParameterSpace, SpaceError
+
+EXAMPLE = Path(__file__).resolve().parent.parent / "docs" / "space-example.toml"
+
+GOOD = """
+[[param]]
+name = "Kp"
+offset = 540
+low = 0
+high = 5
+
+[[fixed]]
+name = "motor_power"
+offset = 552
+value = 15
+"""
+
+
+def test_default_is_the_papers_experiment() -> None:
+    space = ParameterSpace.default()
+    assert space.names == ("Kp", "Ki", "Kd")
+    assert all((p.low, p.high) == (0.0, 5.0) for p in space.params)
+    assert space.to_offsets([1.0, 2.0, 3.0]) == {
+        Unity.KP: 1.0, Unity.KI: 2.0, Unity.KD: 3.0, Unity.MOTOR_POWER: 15.0
+    }
+
+
+def test_example_file_loads_and_round_trips(tmp_path: Path) -> None:
+    space = ParameterSpace.load(EXAMPLE)
+    assert space.names == ("Kp", "Ki", "Kd", "threshold")
+    assert ParameterSpace.from_dict(space.to_dict()) == space
+    x = (1.0, 2.0, 3.0, 70.0)
+    assert space.from_named(space.to_named(x)) == x
+
+
+def test_good_file(tmp_path: Path) -> None:
+    path = tmp_path / "s.toml"
+    path.write_text(GOOD)
+    space = ParameterSpace.load(path)
+    assert space.to_offsets([2.5]) == {540: 2.5, 552: 15.0}
+
+
+@pytest.mark.parametrize(
+    "text, problem",
+    [
+        ("[[param]\nname=", "not valid TOML"),
+        (GOOD.replace('name = "Kp"\n', ""), "missing or non-string 'name'"),
+        (GOOD.replace("low = 0\n", ""), "missing or non-numeric 'low'"),
+        (GOOD.replace("offset = 540\n", ""), "missing or non-integer 'offset'"),
+        (GOOD.replace("value = 15\n", 'value = "15"\n'), "non-numeric 'value'"),
+        (GOOD.replace("high = 5", "high = 0"), "low 0.0 must be below high 0.0"),
+        (GOOD.replace("offset = 540", "offset = 536"), "outside the parameter area 540..1020"),
+        (GOOD.replace("offset = 540", "offset = 1024"), "outside the parameter area"),
+        (GOOD.replace("offset = 540", "offset = 542"), "not 4-byte aligned"),
+        (GOOD.replace("offset = 552", "offset = 540"), "share offset 540"),
+        (GOOD.replace('"motor_power"', '"Kp"'), "'Kp' is used twice"),
+        (GOOD.replace("high = 5", "high = 5\nhihg = 6"), "unknown key(s): hihg"),
+        (GOOD + "\n[extra]\n", "unknown top-level key(s): extra"),
+        ("param = 3\n", "array of tables"),
+        ("", "no searched parameter"),
+    ],
+)
+def test_bad_file_raises_one_line_space_error(tmp_path: Path, text: str, problem: str) -> None:
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    with pytest.raises(SpaceError) as info:
+        ParameterSpace.load(path)
+    message = str(info.value)
+    assert problem in message
+    assert "\n" not in message
+    assert message.startswith(str(path))
+
+
+def test_missing_file(tmp_path: Path) -> None:
+    with pytest.raises(SpaceError, match="cannot read"):
+        ParameterSpace.load(tmp_path / "nope.toml")
