@@ -11,6 +11,7 @@ import click
 from hakoniwa.course import CourseError, load_course
 from hakoniwa.launch import controller_command, physics_command, run_physics
 from hakoniwa.server import TRAJECTORY_FILE
+from testctl.options import campaign_options, forward, plan
 
 
 @click.group()
@@ -59,6 +60,25 @@ def trial(kp: float, ki: float, kd: float, power: float, course: str, run_dir: P
     else:
         lap = f"{result['lap_time_s']:.3f} s" if result["lap_time_s"] is not None else "-"
         click.echo(f"event: {result['event']}  lap time: {lap}")
+
+
+@main.command()
+@click.option("--course", default="oval", show_default=True, help="Built-in course name or course folder.")
+@campaign_options
+def run(course: str, **options) -> None:
+    """Search the line tracer's parameters by Bayesian optimization, as in the paper: 5 random sets, then
+    --trials sets proposed by GPyOpt (EI); each set tested until 3 successes or 3 failures; the objective is
+    the mean lap time (60 s for a failure). Every test is journaled; kill and --resume at any time."""
+    try:
+        load_course(course)
+    except CourseError as e:
+        raise click.ClickException(str(e)) from None
+    p = plan(**options)
+    p.out_dir.mkdir(parents=True, exist_ok=True)
+    args = forward({**options, "out": None if p.resume else p.out_dir})
+    code = run_physics(physics_command(p.out_dir / "run", course, controller_command("campaign", *args)))
+    if code:
+        raise SystemExit(code)
 
 
 if __name__ == "__main__":

@@ -2,9 +2,22 @@
 
 from __future__ import annotations
 
+import ctypes
+import signal
 import subprocess
 import sys
 from pathlib import Path
+
+_PR_SET_PDEATHSIG = 1
+
+
+def die_with_parent() -> None:
+    """preexec_fn: have the kernel kill this child when its parent dies, so that killing `hako` (even with
+    SIGKILL) takes the physics process and the controller with it instead of leaving them running."""
+    try:
+        ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGTERM)
+    except (OSError, AttributeError):  # not Linux: children merely outlive a killed parent
+        pass
 
 
 def physics_command(run_dir: Path, course: str, controller: list[str], *, app: str = "line_trace",
@@ -20,7 +33,7 @@ def controller_command(*args: str) -> list[str]:
 def run_physics(cmd: list[str]) -> int:
     """Run the physics process in the foreground; Ctrl-C reaches it (and its children) through the
     process group, so it is simply waited for."""
-    proc = subprocess.Popen(cmd)
+    proc = subprocess.Popen(cmd, preexec_fn=die_with_parent)
     try:
         return proc.wait()
     except KeyboardInterrupt:

@@ -11,10 +11,12 @@ from pathlib import Path
 import click
 
 from hakoniwa.course import CourseError, load_course
+from hakoniwa.launch import die_with_parent
 from hakoniwa.rundir import RunDirBusy, RunDirLock
 from hakoniwa.server import PhysicsServer
 
 RUN_DIR_ENV = "HAKO_RUN_DIR"
+COURSE_ENV = "HAKO_COURSE"
 
 
 @click.command(context_settings={"ignore_unknown_options": True})
@@ -27,7 +29,7 @@ RUN_DIR_ENV = "HAKO_RUN_DIR"
 @click.argument("controller", nargs=-1, type=click.UNPROCESSED)
 def main(run_dir: Path, course: str, app: str, athrill_timeout: float, controller: tuple[str, ...]) -> None:
     """Serve tests on COURSE until the end flag is set; CONTROLLER (after --) is started once the files exist
-    and gets the run directory in $HAKO_RUN_DIR."""
+    and gets the run directory in $HAKO_RUN_DIR and the course folder in $HAKO_COURSE."""
     try:
         world_course = load_course(course)
         lock = RunDirLock(run_dir)
@@ -38,9 +40,10 @@ def main(run_dir: Path, course: str, app: str, athrill_timeout: float, controlle
         server = PhysicsServer(run_dir, world_course, app=app, athrill_timeout_s=athrill_timeout)
         proc = None
         if controller:
-            env = dict(os.environ, **{RUN_DIR_ENV: str(run_dir.resolve())})
+            env = dict(os.environ, **{RUN_DIR_ENV: str(run_dir.resolve()),
+                                      COURSE_ENV: str(world_course.folder.resolve())})
             try:
-                proc = subprocess.Popen(list(controller), env=env)
+                proc = subprocess.Popen(list(controller), env=env, preexec_fn=die_with_parent)
             except OSError as e:
                 raise click.ClickException(f"cannot start controller {controller[0]!r}: {e}") from None
         code = server.serve(proc)
