@@ -1,0 +1,88 @@
+"""`hako run` end to end: the campaign over the real three-process bench."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from testctl.journal import JOURNAL_FILE, read_journal
+
+
+def hako(*args: str, timeout: float = 600) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "hakoniwa.cli", *args], capture_output=True, text=True,
+                          timeout=timeout)
+
+
+def test_smoke_campaign_writes_every_result_file(tmp_path):
+    out = tmp_path / "smoke"
+    r = hako("run", "--smoke", "--out", str(out))
+    assert r.returncode == 0, r.stderr
+    assert "best:" in r.stdout
+    for name in ("journal.jsonl", "results.csv", "best.json", "fig8.png", "fig9.png", "best_trajectory.png"):
+        assert (out / name).stat().st_size > 0, name
+    best = json.loads((out / "best.json").read_text())
+    _, records = read_journal(out / JOURNAL_FILE)
+    assert len(records) == best["n_tests"] == 4  # 2 initial + 2 iterations, 1 test each
+    assert best["success"] and 20 < best["lap_time_s"] < 60
+
+
+@pytest.mark.parametrize("content, message", [
+    ("this is = = not toml", "TOML"),
+    ('[[param]]\nname = "Kp"\noffset = 540\nlow = 5.0\nhigh = 1.0\n', "low"),
+    ('[[param]]\nname = "Kp"\noffset = 12\nlow = 0.0\nhigh = 1.0\n', "offset"),
+])
+def test_bad_space_file_is_a_one_line_error(tmp_path, content, message):
+    space = tmp_path / "space.toml"
+    space.write_text(content)
+    r = hako("run", "--space", str(space), "--out", str(tmp_path / "o"), timeout=120)
+    assert r.returncode != 0
+    assert message in r.stderr and "Traceback" not in r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "o" / JOURNAL_FILE).exists()
+
+
+def test_resume_refuses_other_settings(tmp_path):
+    r = hako("run", "--resume", str(tmp_path / "nothing-here"), timeout=120)
+    assert r.returncode != 0 and "Traceback" not in r.stderr
+
+
+def set_tests(records):
+    return [(r.set_index, r.rep, tuple(sorted(r.params.items())), r.result.event, r.result.goal_time_us)
+            for r in records]
+
+
+@pytest.mark.slow
+def test_sigkill_mid_campaign_then_resume_loses_and_repeats_nothing(tmp_path):
+    args = ["--optimizer", "random", "--init-points", "2", "--trials", "4", "--repeats", "3", "--seed", "7"]
+    killed = tmp_path / "killed"
+    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", *args, "--out", str(killed)],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    journal = killed / JOURNAL_FILE
+    deadline = time.monotonic() + 300
+    while not (journal.exists() and journal.read_text().count("\n") >= 1 + 3):  # header + 3 tests: mid-set
+        assert proc.poll() is None and time.monotonic() < deadline
+        time.sleep(0.05)
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.wait()
+    _, before = read_journal(journal)
+    assert 3 <= len(before) < 12
+
+    deadline = time.monotonic() + 30  # the physics process and the controller die with `hako`
+    while True:
+        r = hako("run", "--resume", str(killed))
+        if "in use by another run" not in r.stderr or time.monotonic() > deadline:
+            break
+        time.sleep(0.5)
+    assert r.returncode == 0, r.stderr
+
+    whole = tmp_path / "whole"
+    assert hako("run", *args, "--out", str(whole)).returncode == 0
+    _, resumed = read_journal(journal)
+    _, uninterrupted = read_journal(whole / JOURNAL_FILE)
+    assert set_tests(resumed[: len(before)]) == set_tests(before)  # nothing finished was lost
+    assert set_tests(resumed) == set_tests(uninterrupted)  # nothing repeated, nothing skipped
+    assert len(resumed) == 12  # deterministic bench: each of 6 sets is decided by 2 equal tests of 3
