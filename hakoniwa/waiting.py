@@ -12,7 +12,7 @@ import os
 import time
 from typing import Callable
 
-SPIN_S = 0.005  # busy-wait this long before napping
+SPIN_S = 0.002  # busy-wait this long before napping
 NAP_S = 0.00005
 CHECK_EVERY_S = 0.02  # how often `on_idle` runs while waiting
 
