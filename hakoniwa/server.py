@@ -26,6 +26,7 @@ from hakoniwa.world import World
 
 TRAJECTORY_FILE = "trajectory.csv"
 ATHRILL_LOG = "athrill.log"
+PHYSICS_LOG = "physics.log"  # one line per test: what the physics process saw
 IDLE_POLL_S = 0.0005
 
 
@@ -101,6 +102,7 @@ class PhysicsServer:
         self._trajectory: list[tuple[int, float, float, float]] = []
         self.tests_run = 0
         self._athrill_proc: subprocess.Popen | None = None
+        self._log = open(self.run_dir / PHYSICS_LOG, "a")
 
     # -- streams -------------------------------------------------------------------------------------
     def _check_events(self, now_us: int) -> None:
@@ -154,7 +156,7 @@ class PhysicsServer:
         self._publish_sensors(0)
         last_seq = self.athrill.seq
         self.unity.write_i32(Unity.TEST_SEQ, seq)
-        proc = self.launcher.take(seq)
+        proc = self._athrill_proc = self.launcher.take(seq)
         self._trace(0)
         now = 0
         next_wake = self._await_athrill(proc, last_seq, now)
@@ -172,11 +174,13 @@ class PhysicsServer:
                 next_wake = self._await_athrill(proc, last_seq, now)
         if next_wake is None:
             self._event, self._event_us = Event.CRASH, now
-        self._finish(proc)
-        return TestOutcome(seq, self._event, self._event_us, time.monotonic() - wall_start)
+        self._finish()
+        outcome = TestOutcome(seq, self._event, self._event_us, time.monotonic() - wall_start)
+        self._log.write(f"test {seq}: {outcome.event.name} at {outcome.time_us} us, wall {outcome.wall_s:.3f} s\n")
+        self._log.flush()
+        return outcome
 
-    def _finish(self, proc: subprocess.Popen) -> None:
-        self._athrill_proc = proc
+    def _finish(self) -> None:
         hi, lo = goal_time_words(self._event_us if self._event == Event.GOAL else 0)
         self.unity.write_u32(Unity.GOAL_TIME_HI, hi)
         self.unity.write_u32(Unity.GOAL_TIME_LO, lo)
@@ -230,3 +234,4 @@ class PhysicsServer:
             if self._athrill_proc is not None:
                 _kill(self._athrill_proc)
             self.launcher.close()
+            self._log.close()

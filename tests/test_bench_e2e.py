@@ -120,3 +120,17 @@ def test_same_trial_same_json_even_under_cpu_load():
             b.wait()
     assert quiet == loaded
     assert quiet["event"] == "GOAL"
+
+
+def test_controller_notices_a_dead_physics_process(tmp_path):
+    from testctl.runner import PhysicsGone
+
+    with pytest.raises(PhysicsGone, match="is gone"):
+        with physics(tmp_path) as (proc, runner):
+            proc.kill()
+            proc.wait()
+            start = time.monotonic()
+            try:
+                runner.run_test(PAPER)
+            finally:
+                assert time.monotonic() - start < 5
