@@ -9,14 +9,19 @@ either process happens to run.
 
 from __future__ import annotations
 
+import time
+
 from hakoniwa.protocol import NEVER_WAKES, Athrill, MappedFile, Unity
 from hakoniwa.timebase import PHYSICS_STEP_US
 from hakoniwa.waiting import pid_alive, wait_for
 
-# Athrill waits a whole control period (about 2 ms of wall time) for each snapshot: spinning through it would
-# take a core from the physics process on a busy machine, so it naps from the start and pays ~0.1 ms a wake-up.
-SNAPSHOT_WAIT_SPIN_S = 0.0
-TEST_WAIT_NAP_S = 0.0005  # a spare Athrill waits a whole test
+# Athrill waits a whole control period (a millisecond or two of wall time) for each snapshot. Spinning through
+# it would take a core from the physics process on a busy machine, and napping alone costs ~0.15 ms of latency
+# per wake-up, ten times a simulated second; so it naps through the first part of the wait, as long as the
+# last wait took, and spins only around the moment the snapshot is due.
+SNAPSHOT_SPIN_FROM = 0.8  # of the previous wait's duration
+SNAPSHOT_SPIN_S = 0.001
+TEST_WAIT_NAP_S = 0.005  # a spare Athrill waits a whole test, mostly for nothing
 
 
 class KernelExit(Exception):
@@ -39,6 +44,7 @@ class Kernel:
         self.athrill = athrill
         self.now_us = unity.read_i64(Unity.SNAPSHOT_TIME)
         self._check_physics = _watch(unity)
+        self._last_wait_s = 0.0
 
     def sleep(self, duration_us: int) -> None:
         """tslp_tsk: sleep at least `duration_us`, rounded up to whole physics steps."""
@@ -48,7 +54,10 @@ class Kernel:
         wake = self.now_us + steps * PHYSICS_STEP_US
         self._publish(wake)
         read = self.unity.read_i64
-        wait_for(lambda: read(Unity.SNAPSHOT_TIME) >= wake, self._check_physics, spin_s=SNAPSHOT_WAIT_SPIN_S)
+        start = time.perf_counter()
+        wait_for(lambda: read(Unity.SNAPSHOT_TIME) >= wake, self._check_physics, spin_s=SNAPSHOT_SPIN_S,
+                 spin_from_s=SNAPSHOT_SPIN_FROM * self._last_wait_s)
+        self._last_wait_s = time.perf_counter() - start
         self.now_us = wake
 
     def finish(self) -> None:

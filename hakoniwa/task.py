@@ -29,7 +29,7 @@ class LapTask:
         the same tick: a robot that crashes into the wall at the line has not finished cleanly."""
         if world.touching_wall():
             return Event.HIT_WALL
-        x, y, _ = world.pose()
+        x, y = world.position()
         checkpoints = self.course.checkpoints
         if checkpoints[self.next_checkpoint].contains(x, y):
             self.passed_us.append(time_us)
