@@ -28,8 +28,10 @@ from testctl.objective import RepetitionRule
 CHECKPOINTS = (20, 40, 105)
 
 
-def campaign(out: Path, *args: str) -> float:
-    """Run (or resume) one campaign; return the wall seconds this call spent."""
+def campaign(out: Path, *args: str) -> float | None:
+    """Run (or resume) one campaign; return the wall seconds it took, or None if it had finished before."""
+    if (out / "best.json").exists():
+        return None
     start = time.monotonic()
     cmd = [sys.executable, "-m", "hakoniwa.cli", "run"]
     cmd += ["--resume", str(out)] if (out / JOURNAL_FILE).exists() else [*args, "--out", str(out)]
@@ -79,10 +81,9 @@ def main(work: Path, seeds: str, reference_sets: int, skip_full: bool, jobs: int
     full_line = ""
     if not skip_full:
         full = work / "paper-trials100"
-        done_before = (full / "best.json").exists()
         wall = campaign(full, "--trials", "100", "--seed", "0")
         best = json.loads((full / "best.json").read_text())
-        timed = "reused, see best.json" if done_before else f"{wall / 60:.1f} min wall"
+        timed = "reused from an earlier run" if wall is None else f"{wall / 60:.1f} min wall"
         full_line = (f"full `hako run --trials 100` (EI, 5 + 100 sets, first to 3 of 5): {timed}; "
                      f"{best['n_tests']} tests; best lap {best['lap_time_s']:.2f} s at "
                      + ", ".join(f"{k}={v:.3f}" for k, v in best["params"].items()))
@@ -90,9 +91,12 @@ def main(work: Path, seeds: str, reference_sets: int, skip_full: bool, jobs: int
     with ThreadPoolExecutor(max_workers=jobs) as pool:  # the longest (the reference) first
         walls = dict(zip([j[0] for j in jobs_list], pool.map(lambda j: campaign(j[1], *j[2]), jobs_list)))
 
+    def wall_text(label: str) -> str:
+        return "reused" if walls[label] is None else f"{walls[label]:.0f}s"
+
     ref_best = min(set_values(ref))
     print(f"reference: best lap of a {reference_sets}-set random search: {ref_best:.2f} s "
-          f"({walls[f'random {reference_sets} sets'] / 60:.1f} min)")
+          f"(wall {wall_text(f'random {reference_sets} sets')})")
     print(f"{'optimizer':<10}{'seed':>5}" + "".join(f"{'best@' + str(n):>11}" for n in CHECKPOINTS) + f"{'wall':>9}")
     at40: dict[str, list[float]] = {"gpyopt": [], "random": []}
     for label, out, _ in jobs_list[1:]:
@@ -100,7 +104,7 @@ def main(work: Path, seeds: str, reference_sets: int, skip_full: bool, jobs: int
         values = set_values(out)
         bests = [best_after(values, n) for n in CHECKPOINTS]
         at40[opt].append(bests[1])
-        print(f"{opt:<10}{seed:>5}" + "".join(f"{b:>11.2f}" for b in bests) + f"{walls[label]:>8.0f}s")
+        print(f"{opt:<10}{seed:>5}" + "".join(f"{b:>11.2f}" for b in bests) + f"{wall_text(label):>9}")
     for opt, vals in at40.items():
         med = statistics.median(vals)
         print(f"median best after 40 sets, {opt}: {med:.2f} s = {100 * (med / ref_best - 1):+.2f}% vs reference")
