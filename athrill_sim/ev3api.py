@@ -102,6 +102,13 @@ class Ev3Api:
         self.bus.write_i32(ATHRILL_GUEST_BASE + Athrill.MOTOR_POWER + 4 * port, power)
         return E_OK
 
+    def ev3_led_set_color(self, color: int) -> int:
+        """LED_OFF 0, LED_RED 1, LED_GREEN 2, LED_ORANGE 3; the physics process may show it."""
+        if color not in range(4):
+            return E_PAR
+        self.bus.write_i32(ATHRILL_GUEST_BASE + Athrill.LED, color)
+        return E_OK
+
     def ev3_motor_stop(self, port: int, brake: bool = True) -> int:
         return self.ev3_motor_set_power(port, 0)
 

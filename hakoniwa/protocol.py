@@ -85,7 +85,6 @@ class Athrill:
 
 NEVER_WAKES = (1 << 63) - 1  # NEXT_WAKE of a robot task that has returned: no wake-up is ever due
 PARAM_END = DATA_SIZE
-N_MOTOR_PORTS = 4
 
 
 def guest_to_data_offset(addr: int) -> tuple[str, int]:

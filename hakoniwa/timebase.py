@@ -11,7 +11,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Callable
 
-US_PER_MS = 1_000
 US_PER_S = 1_000_000
 
 PHYSICS_STEP_US = 1_000  # the paper's Unity simulation precision, 0.001 s

@@ -53,15 +53,7 @@ def trial_rate(tests: int, params: dict[int, float]) -> tuple[float, list]:
         run_dir = Path(tmp)
         proc = subprocess.Popen(physics_command(run_dir, "oval", []))
         try:
-            deadline = time.monotonic() + 60
-            while True:
-                try:
-                    runner = TrialRunner(run_dir)
-                    break
-                except Exception:
-                    if time.monotonic() > deadline or proc.poll() is not None:
-                        raise
-                    time.sleep(0.05)
+            runner = TrialRunner.attach(run_dir, proc)
             runner.run_test(params)  # warm-up: first spare Athrill, caches
             results = [runner.run_test(params) for _ in range(tests)]
             runner.end()

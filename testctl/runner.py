@@ -7,6 +7,7 @@ start/end flags of athrill_mmap.bin.
 
 from __future__ import annotations
 
+import subprocess
 import time
 from pathlib import Path
 from typing import Callable, Mapping
@@ -24,6 +25,18 @@ class PhysicsGone(RuntimeError):
 
 
 class TrialRunner:
+    @classmethod
+    def attach(cls, run_dir: Path, physics: subprocess.Popen, timeout_s: float = 60.0) -> "TrialRunner":
+        """Connect to a physics process that is still starting: its files appear once its world is built."""
+        deadline = time.monotonic() + timeout_s
+        while True:
+            try:
+                return cls(run_dir)
+            except ProtocolError:
+                if physics.poll() is not None or time.monotonic() > deadline:
+                    raise
+                time.sleep(0.05)
+
     def __init__(self, run_dir: Path, *, test_timeout_s: float = 600.0) -> None:
         self.run_dir = Path(run_dir)
         self.test_timeout_s = test_timeout_s

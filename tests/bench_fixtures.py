@@ -4,28 +4,16 @@ from __future__ import annotations
 
 import os
 import subprocess
-import time
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Iterator
 
 from hakoniwa.launch import physics_command
-from hakoniwa.protocol import ProtocolError, Unity
+from hakoniwa.protocol import Unity
 from testctl.runner import TrialRunner
 
 PAPER = {Unity.KP: 1.539, Unity.KI: 4.267, Unity.KD: 4.511, Unity.MOTOR_POWER: 15.0}
 ZERO = {Unity.KP: 0.0, Unity.KI: 0.0, Unity.KD: 0.0, Unity.MOTOR_POWER: 15.0}
-
-
-def connect(run_dir: Path, proc: subprocess.Popen, timeout_s: float = 60.0) -> TrialRunner:
-    deadline = time.monotonic() + timeout_s
-    while True:
-        try:
-            return TrialRunner(run_dir)
-        except ProtocolError:
-            if proc.poll() is not None or time.monotonic() > deadline:
-                raise
-            time.sleep(0.05)
 
 
 @contextmanager
@@ -36,7 +24,7 @@ def physics(run_dir: Path, *, extra_env: dict[str, str] | None = None, app: str 
     proc = subprocess.Popen(physics_command(run_dir, "oval", [], app=app, athrill_timeout_s=athrill_timeout_s),
                             env=env)
     try:
-        runner = connect(run_dir, proc)
+        runner = TrialRunner.attach(run_dir, proc)
         yield proc, runner
         runner.end()
         assert proc.wait(timeout=30) == 0

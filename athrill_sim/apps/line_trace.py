@@ -7,13 +7,13 @@ C code dereferences its pointers; the test controller writes them into unity_mma
 from __future__ import annotations
 
 from hakoniwa.protocol import UNITY_GUEST_BASE, Unity
+from hakoniwa.timebase import CONTROL_PERIOD_US
 from athrill_sim.ev3api import COLOR_SENSOR_PORT, EV3_PORT_B, EV3_PORT_C, Ev3Api
 
 WHITE = 100
 BLACK = 50
 LEFT_MOTOR = EV3_PORT_C
 RIGHT_MOTOR = EV3_PORT_B
-PERIOD_US = 100_000  # tslp_tsk(100000): 100 ms
 
 Kp = UNITY_GUEST_BASE + Unity.KP
 Ki = UNITY_GUEST_BASE + Unity.KI
@@ -38,4 +38,4 @@ def main_task(api: Ev3Api) -> None:
         steer = read(Kp) * error + read(Ki) * integral + read(Kd) * (error - lasterror)
         motor_steer(api, LEFT_MOTOR, RIGHT_MOTOR, read(MOTOR_POWER), steer)
         lasterror = error
-        api.tslp_tsk(PERIOD_US)
+        api.tslp_tsk(CONTROL_PERIOD_US)  # tslp_tsk(100000): 100 ms
