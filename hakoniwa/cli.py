@@ -8,9 +8,10 @@ from pathlib import Path
 
 import click
 
-from hakoniwa.course import CourseError, load_course
+from hakoniwa.course import Course, CourseError, load_course
 from hakoniwa.launch import controller_command, physics_command, run_physics
 from hakoniwa.server import TRAJECTORY_FILE
+from testctl import paper
 from testctl.options import campaign_options, forward, plan
 
 
@@ -21,11 +22,18 @@ def main() -> None:
     processes over memory-mapped files."""
 
 
+def _course(name: str) -> Course:
+    try:
+        return load_course(name)
+    except CourseError as e:
+        raise click.ClickException(str(e)) from None
+
+
 @main.command()
-@click.option("--kp", type=float, default=1.539, show_default=True, help="Proportional gain.")
-@click.option("--ki", type=float, default=4.267, show_default=True, help="Integral gain.")
-@click.option("--kd", type=float, default=4.511, show_default=True, help="Derivative gain.")
-@click.option("--power", type=float, default=15.0, show_default=True, help="Base motor power [%].")
+@click.option("--kp", type=float, default=paper.BEST_GAINS[0], show_default=True, help="Proportional gain.")
+@click.option("--ki", type=float, default=paper.BEST_GAINS[1], show_default=True, help="Integral gain.")
+@click.option("--kd", type=float, default=paper.BEST_GAINS[2], show_default=True, help="Derivative gain.")
+@click.option("--power", type=float, default=paper.MOTOR_POWER, show_default=True, help="Base motor power [%].")
 @click.option("--course", default="oval", show_default=True, help="Built-in course name or course folder.")
 @click.option("--run-dir", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Keep the run's files here (default: a temporary folder).")
@@ -35,10 +43,7 @@ def main() -> None:
 def trial(kp: float, ki: float, kd: float, power: float, course: str, run_dir: Path | None, as_json: bool,
           trajectory: Path | None) -> None:
     """Run one test of the line tracer with the given PID gains and print the event and lap time."""
-    try:
-        course_obj = load_course(course)
-    except CourseError as e:
-        raise click.ClickException(str(e)) from None
+    course_obj = _course(course)
     with tempfile.TemporaryDirectory(prefix="hako-") as tmp:
         rd = run_dir or Path(tmp)
         out = rd / "result.json"
@@ -69,10 +74,7 @@ def run(course: str, **options) -> None:
     """Search the line tracer's parameters by Bayesian optimization, as in the paper: 5 random sets, then
     --trials sets proposed by GPyOpt (EI); each set tested until 3 successes or 3 failures; the objective is
     the mean lap time (60 s for a failure). Every test is journaled; kill and --resume at any time."""
-    try:
-        load_course(course)
-    except CourseError as e:
-        raise click.ClickException(str(e)) from None
+    _course(course)  # fail here, before any process starts
     p = plan(**options)
     p.out_dir.mkdir(parents=True, exist_ok=True)
     args = forward({**options, "out": None if p.resume else p.out_dir})

@@ -180,12 +180,15 @@ class PhysicsServer:
         self._log.flush()
         return outcome
 
-    def _finish(self) -> None:
-        hi, lo = goal_time_words(self._event_us if self._event == Event.GOAL else 0)
+    def _publish_event(self, event: Event, time_us: int) -> None:
+        hi, lo = goal_time_words(time_us if event == Event.GOAL else 0)
         self.unity.write_u32(Unity.GOAL_TIME_HI, hi)
         self.unity.write_u32(Unity.GOAL_TIME_LO, lo)
-        self.unity.write_i32(Unity.EVENT, int(self._event))  # last: the controller reads the time after it
-        self.unity.stamp(self._event_us)
+        self.unity.write_i32(Unity.EVENT, int(event))  # last: the controller reads the time after it
+        self.unity.stamp(time_us)
+
+    def _finish(self) -> None:
+        self._publish_event(self._event, self._event_us)
         self._write_trajectory()
         self.tests_run += 1
 
@@ -205,10 +208,7 @@ class PhysicsServer:
         self.world.reset()
         self.task.reset()
         self.scheduler.reset()
-        self.unity.write_i32(Unity.EVENT, int(Event.NONE))
-        self.unity.write_u32(Unity.GOAL_TIME_HI, 0)
-        self.unity.write_u32(Unity.GOAL_TIME_LO, 0)
-        self.unity.stamp(0)
+        self._publish_event(Event.NONE, 0)
 
     # -- the process loop ----------------------------------------------------------------------------
     def serve(self, controller: subprocess.Popen | None = None) -> int:

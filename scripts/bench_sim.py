@@ -20,11 +20,11 @@ import mujoco
 
 from hakoniwa.course import load_course
 from hakoniwa.launch import physics_command
-from hakoniwa.protocol import Unity
 from hakoniwa.world import World
+from testctl.paper import BEST_GAINS, line_trace_params
 from testctl.runner import TrialRunner
 
-PAPER = {Unity.KP: 1.539, Unity.KI: 4.267, Unity.KD: 4.511, Unity.MOTOR_POWER: 15.0}
+PAPER = line_trace_params(*BEST_GAINS)
 
 
 def raw_rate(sim_s: float, batched: bool) -> float:

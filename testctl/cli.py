@@ -9,7 +9,8 @@ from pathlib import Path
 
 import click
 
-from hakoniwa.protocol import ProtocolError, Unity
+from hakoniwa.protocol import ProtocolError
+from testctl import paper
 from testctl.campaign import Campaign, Progress
 from testctl.journal import JournalError
 from testctl.options import campaign_options, plan
@@ -44,14 +45,14 @@ def main() -> None:
 @click.option("--kp", type=float, required=True)
 @click.option("--ki", type=float, required=True)
 @click.option("--kd", type=float, required=True)
-@click.option("--power", type=float, default=15.0, show_default=True, help="Base motor power [%].")
+@click.option("--power", type=float, default=paper.MOTOR_POWER, show_default=True, help="Base motor power [%].")
 @click.option("--out", type=click.Path(dir_okay=False, path_type=Path), required=True,
               help="Where to write the result as JSON.")
 def trial(run_dir: Path, kp: float, ki: float, kd: float, power: float, out: Path) -> None:
     """Run one test with the given parameters, write its result, and end the physics process."""
     runner = connect(run_dir)
     try:
-        result = runner.run_test({Unity.KP: kp, Unity.KI: ki, Unity.KD: kd, Unity.MOTOR_POWER: power})
+        result = runner.run_test(paper.line_trace_params(kp, ki, kd, power))
     except PhysicsGone as e:
         raise click.ClickException(str(e)) from None
     finally:

@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from hakoniwa.protocol import PARAM_END, Unity
+from testctl import paper
 
 _FLOAT_SIZE = 4
 _LAST_OFFSET = PARAM_END - _FLOAT_SIZE
@@ -82,11 +83,11 @@ class ParameterSpace:
         """The paper's experiment (section 4.1, Table 4)."""
         return cls(
             params=(
-                Parameter("Kp", Unity.KP, 0.0, 5.0),
-                Parameter("Ki", Unity.KI, 0.0, 5.0),
-                Parameter("Kd", Unity.KD, 0.0, 5.0),
+                Parameter("Kp", Unity.KP, *paper.GAIN_RANGE),
+                Parameter("Ki", Unity.KI, *paper.GAIN_RANGE),
+                Parameter("Kd", Unity.KD, *paper.GAIN_RANGE),
             ),
-            fixed=(FixedParameter("motor_power", Unity.MOTOR_POWER, 15.0),),
+            fixed=(FixedParameter("motor_power", Unity.MOTOR_POWER, paper.MOTOR_POWER),),
         )
 
     @property

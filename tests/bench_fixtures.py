@@ -9,11 +9,11 @@ from pathlib import Path
 from typing import Iterator
 
 from hakoniwa.launch import physics_command
-from hakoniwa.protocol import Unity
+from testctl.paper import BEST_GAINS, line_trace_params
 from testctl.runner import TrialRunner
 
-PAPER = {Unity.KP: 1.539, Unity.KI: 4.267, Unity.KD: 4.511, Unity.MOTOR_POWER: 15.0}
-ZERO = {Unity.KP: 0.0, Unity.KI: 0.0, Unity.KD: 0.0, Unity.MOTOR_POWER: 15.0}
+PAPER = line_trace_params(*BEST_GAINS)
+ZERO = line_trace_params(0.0, 0.0, 0.0)
 
 
 @contextmanager
