@@ -1,15 +1,16 @@
 """Athrill's guest memory as the robot program sees it: plain addresses backed by the two mapped files.
 
-The unity data area appears at UNITY_GUEST_BASE (0x090F0000, as in the paper), so a program reads Kp with
-`read_f32(0x090F0000 + 540)`; the athrill data area appears at ATHRILL_GUEST_BASE.
+The body of `unity_mmap.bin` appears at RX_GUEST_BASE (0x090F0000, EV3RT's VDEV base), so a program reads Kp
+with `read_f32(0x090F0000 + 540)`; the body of `athrill_mmap.bin` appears at TX_GUEST_BASE (0x090F1000).
+Each window is 4 KiB, as in the real emulator; anything outside them is a BusError (a wild pointer).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from hakoniwa.protocol import (ATHRILL_FILE, UNITY_FILE, MappedFile, ProtocolError, guest_to_data_offset,
-                               open_athrill, open_unity)
+from hakoniwa.protocol import (ATHRILL_FILE, UNITY_FILE, MappedFile, ProtocolError, guest_to_body, open_athrill,
+                               open_unity)
 
 
 class BusError(ProtocolError):
@@ -24,22 +25,34 @@ class MemoryBus:
 
     def _resolve(self, addr: int) -> tuple[MappedFile, int]:
         try:
-            name, offset = guest_to_data_offset(addr)
+            name, offset = guest_to_body(addr)
         except ValueError as e:
             raise BusError(str(e)) from None
         return self._files[name], offset
 
-    def read_f32(self, addr: int) -> float:
+    def read(self, fmt: str, addr: int) -> int | float:
+        """A value of struct format `fmt` ('B', 'h', 'H', 'i', 'I', 'f') at guest address `addr`."""
         f, off = self._resolve(addr)
-        return f.read_f32(off)
+        try:
+            return f.read(fmt, off)
+        except ProtocolError as e:
+            raise BusError(f"0x{addr:08X}: {e}") from None
+
+    def write(self, fmt: str, addr: int, value: int | float) -> None:
+        f, off = self._resolve(addr)
+        try:
+            f.write(fmt, off, value)
+        except ProtocolError as e:
+            raise BusError(f"0x{addr:08X}: {e}") from None
+
+    def read_f32(self, addr: int) -> float:
+        return float(self.read("f", addr))
 
     def read_i32(self, addr: int) -> int:
-        f, off = self._resolve(addr)
-        return f.read_i32(off)
+        return int(self.read("i", addr))
 
     def write_i32(self, addr: int, value: int) -> None:
-        f, off = self._resolve(addr)
-        f.write_i32(off, value)
+        self.write("i", addr, value)
 
     def close(self) -> None:
         self.unity.close()

@@ -1,125 +1,210 @@
-"""An EV3RT-like API over the guest memory bus, so a robot program reads like its C original.
+"""EV3RT's C API over the guest memory bus, so that a robot program reads like its C original.
 
-Names, units and error behaviour follow EV3RT: powers in percent, counts in degrees, `ev3_motor_steer`
-refuses a turn ratio outside -100..100 with E_PAR and leaves the motors alone, `tslp_tsk` takes
-microseconds. Sensor ports are fixed by the robot's wiring below.
+Names, signatures, units and error codes follow EV3RT as it runs on the real Athrill (its ev3api and the
+athrill drivers): a sensor must be configured on its port before use (else E_OBJ and a 0 reading, with a
+warning in the log), a motor likewise; the colour sensor's values are the low byte of their slot, the gyro's
+and the ultrasonic sensor's the low 16 bits, the ultrasonic slot holds millimetres and the API returns
+centimetres; `ev3_motor_reset_counts` raises a flag that the physics side clears once it has zeroed the
+encoder; `tslp_tsk` takes microseconds (ASP3's RELTIM). Every read goes through guest memory, as the C code
+does, so the mock and the native runtime see exactly the same bytes.
 """
 
 from __future__ import annotations
 
-from hakoniwa.protocol import ATHRILL_GUEST_BASE, UNITY_GUEST_BASE, Athrill, Unity
+import sys
+
 from athrill_sim.bus import MemoryBus
 from athrill_sim.kernel import Kernel
+from hakoniwa.protocol import MOTOR_PORTS, RESET_ANGLE_PORTS, RX_GUEST_BASE, TX_GUEST_BASE, Rx, Tx
 
+# TOPPERS error codes.
 E_OK = 0
-E_PAR = -17  # parameter error, as in TOPPERS
+E_TMOUT = -50
+E_PAR = -17
+E_ID = -18
+E_OBJ = -41
 
 EV3_PORT_A, EV3_PORT_B, EV3_PORT_C, EV3_PORT_D = range(4)
 EV3_PORT_1, EV3_PORT_2, EV3_PORT_3, EV3_PORT_4 = range(4)
-MOTOR_PORTS = (EV3_PORT_A, EV3_PORT_B, EV3_PORT_C, EV3_PORT_D)
+SENSOR_PORTS = 4
 
-# The robot's wiring: which sensor sits on which sensor port.
-COLOR_SENSOR_PORT = EV3_PORT_1
-ULTRASONIC_SENSOR_PORT = EV3_PORT_2
-GYRO_SENSOR_PORT = EV3_PORT_3
-TOUCH_SENSOR_PORT = EV3_PORT_4
+# sensor_type_t and motor_type_t
+NONE_SENSOR, ULTRASONIC_SENSOR, GYRO_SENSOR, TOUCH_SENSOR, COLOR_SENSOR = range(5)
+NONE_MOTOR, MEDIUM_MOTOR, LARGE_MOTOR, UNREGULATED_MOTOR = range(4)
+
+# ledcolor_t: bits of the TX LED word
+LED_OFF, LED_RED, LED_GREEN, LED_ORANGE = 0, 1, 2, 3
+
+# button_t: bits of the RX buttons word
+LEFT_BUTTON, RIGHT_BUTTON, UP_BUTTON, DOWN_BUTTON, ENTER_BUTTON, BACK_BUTTON = range(6)
+
+TOUCH_THRESHOLD = 2048  # ADC_RES / 2
 
 
-class SensorPortError(ValueError):
-    """A program asked a port for a sensor that is not connected there."""
-
-
-def _c_div(a: int, b: int) -> int:
+def c_div(a: int, b: int) -> int:
     """C's integer division, which truncates toward zero (Python's // floors)."""
     q = abs(a) // abs(b)
     return q if (a >= 0) == (b > 0) else -q
+
+
+def rx(offset: int) -> int:
+    return RX_GUEST_BASE + offset
+
+
+def tx(offset: int) -> int:
+    return TX_GUEST_BASE + offset
 
 
 class Ev3Api:
     def __init__(self, bus: MemoryBus, kernel: Kernel) -> None:
         self.bus = bus
         self.kernel = kernel
-        self._count_offsets = [0, 0, 0, 0]
+        self._sensors = [NONE_SENSOR] * SENSOR_PORTS
+        self._motors = [NONE_MOTOR] * MOTOR_PORTS
+
+    def syslog(self, message: str) -> None:
+        """EV3RT's syslog: a line in the run's athrill.log, stamped with the simulation time."""
+        print(f"[{self.kernel.now_us / 1e6:10.3f} s] {message}", file=sys.stderr, flush=True)
 
     # -- kernel --------------------------------------------------------------------------------------
     def tslp_tsk(self, timeout_us: int) -> int:
+        """Sleep; the task is woken by the timeout (E_TMOUT), as in TOPPERS."""
         self.kernel.sleep(int(timeout_us))
+        return E_TMOUT
+
+    def dly_tsk(self, delay_us: int) -> int:
+        self.kernel.sleep(int(delay_us))
         return E_OK
 
     def get_tim(self) -> int:
         """SYSTIM in microseconds since the test started."""
         return self.kernel.now_us
 
+    # -- configuration -------------------------------------------------------------------------------
+    def ev3_sensor_config(self, port: int, sensor_type: int) -> int:
+        if not 0 <= port < SENSOR_PORTS:
+            return E_ID
+        self._sensors[port] = sensor_type
+        return E_OK
+
+    def ev3_sensor_get_type(self, port: int) -> int:
+        return self._sensors[port] if 0 <= port < SENSOR_PORTS else E_ID
+
+    def ev3_motor_config(self, port: int, motor_type: int) -> int:
+        if not 0 <= port < MOTOR_PORTS:
+            return E_ID
+        if not NONE_MOTOR <= motor_type <= UNREGULATED_MOTOR:
+            return E_PAR
+        self._motors[port] = motor_type
+        self.bus.write("i", tx(Tx.MOTOR_BRAKE + 4 * port), 0)  # configured idle, as EV3RT does
+        return E_OK
+
+    def ev3_motor_get_type(self, port: int) -> int:
+        return self._motors[port] if 0 <= port < MOTOR_PORTS else E_ID
+
     # -- sensors -------------------------------------------------------------------------------------
-    def _sensor(self, port: int, wired: int, offset: int, kind: str) -> int:
-        if port != wired:
-            raise SensorPortError(f"no {kind} sensor on port {port + 1} (it is wired to port {wired + 1})")
-        return self.bus.read_i32(UNITY_GUEST_BASE + offset)
+    def _sensor(self, port: int, kind: int, fmt: str, offset: int, name: str) -> int:
+        if not 0 <= port < SENSOR_PORTS:
+            self.syslog(f"{name}(): ercd {E_ID}")
+            return 0
+        if self._sensors[port] != kind:
+            self.syslog(f"{name}(): ercd {E_OBJ}")
+            return 0
+        return int(self.bus.read(fmt, rx(offset)))
 
     def ev3_color_sensor_get_reflect(self, port: int) -> int:
-        return self._sensor(port, COLOR_SENSOR_PORT, Unity.COLOR_REFLECT, "color")
+        return self._sensor(port, COLOR_SENSOR, "B", Rx.COLOR0_REFLECT, "ev3_color_sensor_get_reflect")
 
     def ev3_color_sensor_get_ambient(self, port: int) -> int:
-        return self._sensor(port, COLOR_SENSOR_PORT, Unity.COLOR_AMBIENT, "color")
+        return self._sensor(port, COLOR_SENSOR, "B", Rx.COLOR0_AMBIENT, "ev3_color_sensor_get_ambient")
+
+    def ev3_color_sensor_get_color(self, port: int) -> int:
+        return self._sensor(port, COLOR_SENSOR, "B", Rx.COLOR0_COLOR, "ev3_color_sensor_get_color")
 
     def ev3_color_sensor_get_rgb_raw(self, port: int) -> tuple[int, int, int]:
-        r = self._sensor(port, COLOR_SENSOR_PORT, Unity.COLOR_RGB, "color")
-        g = self.bus.read_i32(UNITY_GUEST_BASE + Unity.COLOR_RGB + 4)
-        b = self.bus.read_i32(UNITY_GUEST_BASE + Unity.COLOR_RGB + 8)
-        return r, g, b
-
-    def ev3_ultrasonic_sensor_get_distance(self, port: int) -> int:
-        return self._sensor(port, ULTRASONIC_SENSOR_PORT, Unity.ULTRASONIC_CM, "ultrasonic")
+        name = "ev3_color_sensor_get_rgb_raw"
+        return tuple(self._sensor(port, COLOR_SENSOR, "H", Rx.COLOR0_RGB + 4 * i, name) for i in range(3))
 
     def ev3_gyro_sensor_get_angle(self, port: int) -> int:
-        return self._sensor(port, GYRO_SENSOR_PORT, Unity.GYRO_ANGLE, "gyro")
+        return self._sensor(port, GYRO_SENSOR, "h", Rx.GYRO_ANGLE, "ev3_gyro_sensor_get_angle")
 
     def ev3_gyro_sensor_get_rate(self, port: int) -> int:
-        return self._sensor(port, GYRO_SENSOR_PORT, Unity.GYRO_RATE, "gyro")
+        return self._sensor(port, GYRO_SENSOR, "h", Rx.GYRO_RATE, "ev3_gyro_sensor_get_rate")
+
+    def ev3_gyro_sensor_reset(self, port: int) -> int:
+        if not 0 <= port < SENSOR_PORTS:
+            return E_ID
+        if self._sensors[port] != GYRO_SENSOR:
+            return E_OBJ
+        self.bus.write("i", tx(Tx.GYRO_RESET), 1)
+        return E_OK
+
+    def ev3_ultrasonic_sensor_get_distance(self, port: int) -> int:
+        mm = self._sensor(port, ULTRASONIC_SENSOR, "h", Rx.ULTRASONIC_MM, "ev3_ultrasonic_sensor_get_distance")
+        return c_div(mm, 10)
 
     def ev3_touch_sensor_is_pressed(self, port: int) -> bool:
-        return bool(self._sensor(port, TOUCH_SENSOR_PORT, Unity.TOUCH, "touch"))
+        return self._sensor(port, TOUCH_SENSOR, "h", Rx.TOUCH0, "ev3_touch_sensor_is_pressed") > TOUCH_THRESHOLD
+
+    def ev3_button_is_pressed(self, button: int) -> bool:
+        if not LEFT_BUTTON <= button <= BACK_BUTTON:
+            return False
+        return bool(int(self.bus.read("I", rx(Rx.BUTTONS))) >> button & 1)
 
     # -- motors --------------------------------------------------------------------------------------
-    def _raw_counts(self, port: int) -> int:
-        return self.bus.read_i32(UNITY_GUEST_BASE + Unity.MOTOR_COUNTS + 4 * port)
+    def _motor_error(self, port: int) -> int:
+        if not 0 <= port < MOTOR_PORTS:
+            return E_ID
+        return E_OBJ if self._motors[port] == NONE_MOTOR else E_OK
 
     def ev3_motor_get_counts(self, port: int) -> int:
-        if port not in MOTOR_PORTS:
+        if self._motor_error(port):
             return 0
-        return self._raw_counts(port) - self._count_offsets[port]
+        return int(self.bus.read("i", rx(Rx.MOTOR_ANGLE + 4 * port)))
 
     def ev3_motor_reset_counts(self, port: int) -> int:
-        if port not in MOTOR_PORTS:
-            return E_PAR
-        self._count_offsets[port] = self._raw_counts(port)
+        if err := self._motor_error(port):
+            return err
+        if port < RESET_ANGLE_PORTS:
+            self.bus.write("i", tx(Tx.MOTOR_RESET_ANGLE + 4 * port), 1)
         return E_OK
 
     def ev3_motor_set_power(self, port: int, power: int) -> int:
-        if port not in MOTOR_PORTS:
-            return E_PAR
+        if err := self._motor_error(port):
+            return err
         power = max(-100, min(100, int(power)))
-        self.bus.write_i32(ATHRILL_GUEST_BASE + Athrill.MOTOR_POWER + 4 * port, power)
+        self.bus.write("i", tx(Tx.MOTOR_POWER + 4 * port), power)
         return E_OK
 
-    def ev3_led_set_color(self, color: int) -> int:
-        """LED_OFF 0, LED_RED 1, LED_GREEN 2, LED_ORANGE 3; the physics process may show it."""
-        if color not in range(4):
-            return E_PAR
-        self.bus.write_i32(ATHRILL_GUEST_BASE + Athrill.LED, color)
-        return E_OK
+    def ev3_motor_get_power(self, port: int) -> int:
+        if self._motor_error(port):
+            return 0
+        return int(self.bus.read("i", tx(Tx.MOTOR_POWER + 4 * port)))
 
-    def ev3_motor_stop(self, port: int, brake: bool = True) -> int:
-        return self.ev3_motor_set_power(port, 0)
+    def ev3_motor_stop(self, port: int, brake: bool) -> int:
+        if err := self._motor_error(port):
+            return err
+        self.bus.write("i", tx(Tx.MOTOR_POWER + 4 * port), 0)
+        self.bus.write("i", tx(Tx.MOTOR_BRAKE + 4 * port), int(bool(brake)))
+        return E_OK
 
     def ev3_motor_steer(self, left_motor: int, right_motor: int, power: int, turn_ratio: int) -> int:
         """Drive two motors as a pair: turn_ratio 0 runs straight, +100 spins clockwise in place."""
-        if not -100 <= turn_ratio <= 100 or left_motor not in MOTOR_PORTS or right_motor not in MOTOR_PORTS:
+        if err := self._motor_error(left_motor) or self._motor_error(right_motor):
+            return err
+        if not -100 <= turn_ratio <= 100:
             return E_PAR
         if turn_ratio >= 0:
-            left, right = power, power - _c_div(power * turn_ratio, 50)
+            left, right = power, power - c_div(power * turn_ratio, 50)
         else:
-            left, right = power + _c_div(power * turn_ratio, 50), power
+            left, right = power + c_div(power * turn_ratio, 50), power
         self.ev3_motor_set_power(left_motor, left)
         self.ev3_motor_set_power(right_motor, right)
+        return E_OK
+
+    # -- LED -----------------------------------------------------------------------------------------
+    def ev3_led_set_color(self, color: int) -> int:
+        if color not in (LED_OFF, LED_RED, LED_GREEN, LED_ORANGE):
+            return E_PAR
+        self.bus.write("i", tx(Tx.LED), color)
         return E_OK

@@ -1,17 +1,19 @@
 """The virtual clock of the mock EV3RT kernel and its lockstep with the physics process.
 
 Athrill's time does not run on its own: it is the wake-up time of the robot task. `tslp_tsk` is the only
-place where time passes. It publishes the task's outputs together with the time it will wake up, then
-waits until the physics process has published the sensor snapshot for exactly that instant. Computation
-takes zero simulated time, so the result of a trial depends only on the parameters, never on how fast
-either process happens to run.
+place where time passes. It publishes the task's outputs together with the time it will wake up
+(`Tx.NEXT_WAKE`, then `Tx.ANSWER_SEQ`), then waits until the physics process has published the sensor
+snapshot for exactly that instant (the unity time in the RX header reaches it). Computation takes zero
+simulated time, so the result of a trial depends only on the parameters, never on how fast either process
+happens to run. See `hakoniwa/sync.py` for the physics side.
 """
 
 from __future__ import annotations
 
+import os
 import time
 
-from hakoniwa.protocol import NEVER_WAKES, Athrill, MappedFile, Unity
+from hakoniwa.protocol import NEVER_WAKES, MappedFile, Rx, Tx
 from hakoniwa.timebase import PHYSICS_STEP_US
 from hakoniwa.waiting import pid_alive, wait_for
 
@@ -29,7 +31,7 @@ class KernelExit(Exception):
 
 
 def _watch(unity: MappedFile):
-    physics_pid = unity.pid
+    physics_pid = unity.read_u32(Rx.PHYSICS_PID)
 
     def check() -> None:
         if not pid_alive(physics_pid):
@@ -42,9 +44,10 @@ class Kernel:
     def __init__(self, unity: MappedFile, athrill: MappedFile) -> None:
         self.unity = unity
         self.athrill = athrill
-        self.now_us = unity.read_i64(Unity.SNAPSHOT_TIME)
+        self.now_us = unity.unity_time_us
         self._check_physics = _watch(unity)
         self._last_wait_s = 0.0
+        athrill.write_u32(Tx.ATHRILL_PID, os.getpid())
 
     def sleep(self, duration_us: int) -> None:
         """tslp_tsk: sleep at least `duration_us`, rounded up to whole physics steps."""
@@ -53,9 +56,9 @@ class Kernel:
         steps = -(-duration_us // PHYSICS_STEP_US)
         wake = self.now_us + steps * PHYSICS_STEP_US
         self._publish(wake)
-        read = self.unity.read_i64
+        unity = self.unity
         start = time.perf_counter()
-        wait_for(lambda: read(Unity.SNAPSHOT_TIME) >= wake, self._check_physics, spin_s=SNAPSHOT_SPIN_S,
+        wait_for(lambda: unity.unity_time_us >= wake, self._check_physics, spin_s=SNAPSHOT_SPIN_S,
                  spin_from_s=SNAPSHOT_SPIN_FROM * self._last_wait_s)
         self._last_wait_s = time.perf_counter() - start
         self.now_us = wake
@@ -65,8 +68,11 @@ class Kernel:
         self._publish(NEVER_WAKES)
 
     def _publish(self, wake_us: int) -> None:
-        self.athrill.write_i64(Athrill.NEXT_WAKE, wake_us)
-        self.athrill.stamp(self.now_us)
+        a = self.athrill
+        a.write("q", Tx.NEXT_WAKE, wake_us)
+        a.athrill_time_us = self.now_us
+        a.unity_time_us = self.unity.unity_time_us  # the echo the real Athrill writes too
+        a.write_u32(Tx.ANSWER_SEQ, (a.read_u32(Tx.ANSWER_SEQ) + 1) & 0xFFFFFFFF)  # last
 
 
 def wait_for_test(unity: MappedFile, test_seq: int) -> None:
@@ -79,7 +85,7 @@ def wait_for_test(unity: MappedFile, test_seq: int) -> None:
 
     def check() -> None:
         check_physics()
-        if (current := unity.read_i32(Unity.TEST_SEQ)) > test_seq:
+        if (current := unity.read_u32(Rx.TEST_SEQ)) > test_seq:
             raise KernelExit(f"test {test_seq} will not run (physics is at test {current})")
 
-    wait_for(lambda: unity.read_i32(Unity.TEST_SEQ) == test_seq, check, spin_s=0.0, nap_s=TEST_WAIT_NAP_S)
+    wait_for(lambda: unity.read_u32(Rx.TEST_SEQ) == test_seq, check, spin_s=0.0, nap_s=TEST_WAIT_NAP_S)

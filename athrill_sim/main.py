@@ -1,4 +1,8 @@
-"""`athrill-sim`: the mock Athrill process. The physics process starts a fresh one for every test."""
+"""`athrill-sim`: the mock Athrill process. The physics process starts a fresh one for every test.
+
+Its exit status tells the physics process whose fault a crash was: EXIT_BENCH_FAULT when the mapped files
+could not be used (the bench's fault, never scored), anything else once the robot program had started.
+"""
 
 from __future__ import annotations
 
@@ -9,25 +13,35 @@ import click
 
 from athrill_sim.apps import load_app
 from athrill_sim.bus import MemoryBus
-from athrill_sim.ev3api import Ev3Api, SensorPortError
+from athrill_sim.ev3api import Ev3Api
 from athrill_sim.kernel import Kernel, KernelExit, wait_for_test
-from hakoniwa.protocol import ProtocolError
+from hakoniwa.clickutil import HELP
+from hakoniwa.protocol import EXIT_BENCH_FAULT, ProtocolError
 
 
-@click.command()
-@click.option("--run-dir", type=click.Path(file_okay=False, path_type=Path), required=True,
+@click.command(context_settings=HELP)
+@click.option("--run-dir", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Folder holding unity_mmap.bin and athrill_mmap.bin.")
 @click.option("--app", default="line_trace", show_default=True,
               help="Robot program: a built-in name or module:function taking an Ev3Api.")
 @click.option("--test", "test_seq", type=int, default=None,
               help="Wait until the physics process starts this test number (default: run at once).")
-def main(run_dir: Path, app: str, test_seq: int | None) -> None:
+@click.option("--check", is_flag=True, help="Only check that the program can be loaded, and exit.")
+def main(run_dir: Path | None, app: str, test_seq: int | None, check: bool) -> None:
     """Run a robot program on the mock EV3RT until the physics process stops it."""
     try:
         task = load_app(app)
-        bus = MemoryBus(run_dir)
-    except (ValueError, ProtocolError) as e:
+    except ValueError as e:
         raise click.ClickException(str(e)) from None
+    if check:
+        return
+    if run_dir is None:
+        raise click.UsageError("--run-dir is required to run a program")
+    try:
+        bus = MemoryBus(run_dir)
+    except ProtocolError as e:
+        click.echo(f"athrill-sim: bench fault: {e}", err=True)
+        sys.exit(EXIT_BENCH_FAULT)
     try:
         if test_seq is not None:
             wait_for_test(bus.unity, test_seq)
@@ -37,7 +51,7 @@ def main(run_dir: Path, app: str, test_seq: int | None) -> None:
     except KernelExit as e:
         click.echo(f"athrill-sim: {e}", err=True)
         sys.exit(0)
-    except (SensorPortError, ProtocolError) as e:  # the program's own bugs still show their traceback
+    except ProtocolError as e:  # a wild pointer in the program; other bugs show their traceback
         raise click.ClickException(f"robot program stopped: {e}") from None
 
 

@@ -2,7 +2,8 @@
 
 A course lives in a folder with `course.toml` and the floor image it names, so a user adds a course by
 copying a folder, not by writing code. The color sensor reads the floor the way Unity's does: the point
-below the sensor is looked up in the floor image (bilinearly, as a texture sampler would).
+below the sensor is looked up in the floor image (bilinearly, as a texture sampler would). The same folder
+describes the robot's wiring (which motor ports drive the wheels), since a course is built for a robot.
 """
 
 from __future__ import annotations
@@ -13,6 +14,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+
+from hakoniwa.protocol import MOTOR_PORTS, ColorId
+from hakoniwa.robot import DEFAULT_WIRING, Wiring
+from hakoniwa.timebase import US_PER_S
 
 COURSES_DIR = Path(__file__).parent / "courses"
 DEFAULT_COURSE = "oval"
@@ -37,6 +42,25 @@ class Box:
 
 
 @dataclass(frozen=True)
+class ColorArea:
+    """A patch of colour painted on the floor (a box); the colour sensor reports its colour id there."""
+
+    box: Box
+    color: ColorId
+
+
+# What the colour sensor's colour mode reports for plain floor: the darkest third of the way from black to
+# white is BLACK, the lightest third WHITE, the grey line edge in between no colour, as a real EV3 sensor
+# half over a line often does.
+BLACK_BELOW = 1 / 3
+WHITE_ABOVE = 2 / 3
+# Raw RGB of each colour id (0..255), for areas and for plain floor's black and white.
+COLOR_RGB = {ColorId.BLACK: (0, 0, 0), ColorId.BLUE: (0, 0, 255), ColorId.GREEN: (0, 160, 0),
+             ColorId.YELLOW: (255, 220, 0), ColorId.RED: (220, 0, 0), ColorId.WHITE: (255, 255, 255),
+             ColorId.BROWN: (130, 80, 30)}
+
+
+@dataclass(frozen=True)
 class Pose:
     x: float
     y: float
@@ -55,6 +79,10 @@ class Course:
     checkpoints: tuple[Box, ...]
     start: Pose
     time_limit_us: int
+    reflect_white: float
+    reflect_black: float
+    color_areas: tuple[ColorArea, ...] = ()
+    wiring: Wiring = DEFAULT_WIRING
 
     @property
     def extent(self) -> tuple[float, float, float, float]:
@@ -78,6 +106,16 @@ class Course:
         bottom = f[i1, j0] * (1 - fu) + f[i1, j1] * fu
         return float(top * (1 - fv) + bottom * fv)
 
+    def color_at(self, x: float, y: float, reflect: float) -> tuple[ColorId, tuple[int, int, int]]:
+        """Colour id and raw RGB of the floor under (x, y), whose reflect value is `reflect`."""
+        for area in self.color_areas:
+            if area.box.contains(x, y):
+                return area.color, COLOR_RGB[area.color]
+        f = (reflect - self.reflect_black) / (self.reflect_white - self.reflect_black)
+        grey = round(min(max(f, 0.0), 1.0) * 255)
+        color = ColorId.BLACK if f < BLACK_BELOW else ColorId.WHITE if f > WHITE_ABOVE else ColorId.NONE
+        return color, (grey, grey, grey)
+
 
 def _number(table: dict, key: str, where: str) -> float:
     if key not in table:
@@ -93,6 +131,30 @@ def _box(table: dict, where: str) -> Box:
     if hx <= 0 or hy <= 0:
         raise CourseError(f"{where}: half sizes must be positive")
     return Box(str(table.get("name", where)), _number(table, "x", where), _number(table, "y", where), hx, hy)
+
+
+def _color_area(table: dict, where: str) -> ColorArea:
+    name = str(table.get("color", "")).upper()
+    if name not in ColorId.__members__ or name == "NONE":
+        known = ", ".join(c.name.lower() for c in ColorId if c != ColorId.NONE)
+        raise CourseError(f"{where}: 'color' must be one of {known}, got {table.get('color')!r}")
+    return ColorArea(_box(table, where), ColorId[name])
+
+
+def _wiring(table: object, where: str) -> Wiring:
+    if table is None:
+        return DEFAULT_WIRING
+    if not isinstance(table, dict):
+        raise CourseError(f"{where}: [robot] must be a table")
+    ports = {}
+    for key, default in (("left_motor", DEFAULT_WIRING.left), ("right_motor", DEFAULT_WIRING.right)):
+        letter = str(table.get(key, "ABCD"[default])).upper()
+        if len(letter) != 1 or letter not in "ABCD"[:MOTOR_PORTS]:
+            raise CourseError(f"{where}: [robot] {key} must be a motor port A..D, got {table.get(key)!r}")
+        ports[key] = "ABCD".index(letter)
+    if ports["left_motor"] == ports["right_motor"]:
+        raise CourseError(f"{where}: [robot] left_motor and right_motor must be different ports")
+    return Wiring(ports["left_motor"], ports["right_motor"])
 
 
 def load_course(name_or_path: str | Path = DEFAULT_COURSE) -> Course:
@@ -135,6 +197,9 @@ def load_course(name_or_path: str | Path = DEFAULT_COURSE) -> Course:
     limit = _number(spec, "time_limit_s", where)
     if limit <= 0 or mpp <= 0:
         raise CourseError(f"{where}: time_limit_s and meters_per_pixel must be positive")
+    if white <= black:
+        raise CourseError(f"{where}: reflect_white must be above reflect_black")
+    areas = tuple(_color_area(a, f"{where} area {i}") for i, a in enumerate(spec.get("area", [])))
     return Course(
         name=str(spec.get("name", path.parent.name)),
         folder=path.parent,
@@ -145,5 +210,9 @@ def load_course(name_or_path: str | Path = DEFAULT_COURSE) -> Course:
         wall_height=float(spec.get("wall_height", 0.1)),
         checkpoints=checkpoints,
         start=Pose(_number(start, "x", where), _number(start, "y", where), _number(start, "yaw_deg", where)),
-        time_limit_us=round(limit * 1_000_000),
+        time_limit_us=round(limit * US_PER_S),
+        reflect_white=white,
+        reflect_black=black,
+        color_areas=areas,
+        wiring=_wiring(spec.get("robot"), where),
     )

@@ -1,10 +1,16 @@
-"""The binary layout shared by the physics process, Athrill and the test controller.
+"""The Hakoniwa wire layout shared by the physics process, every Athrill and the test controller.
 
-This module is the only place that knows a byte offset. Every file is a 32-byte header followed by a
-1024-byte data area; offsets below are *data* offsets, as in the paper's tables, and the file offset is
-data offset + HEADER_SIZE (the paper's "base offset 32"). All integers are little-endian.
+This module is the only place that knows a byte offset; the C runtime's header is generated from it
+(`c_header()`), and tests pin it byte for byte against the real layout read from the TOPPERS code
+(EV3RT's athrill drivers and Athrill's VDEV device): each file is 8 KiB, a 32-byte header followed by the
+body; the body of `unity_mmap.bin` (RX: physics -> Athrill) is Athrill's guest memory at 0x090F0000 and the
+body of `athrill_mmap.bin` (TX: Athrill -> physics) is at 0x090F1000. All integers are little-endian.
 
-Only the standard library is imported here: the Athrill process is started once per test, and its start-up
+Offsets in `Rx` and `Tx` are *body* offsets; the file offset is body offset + HEADER_SIZE. The fields our
+own lockstep and our test reports need live in body bytes the real layout leaves unused (`Rx.TEST_SEQ`..,
+`Tx.NEXT_WAKE`..); a real Athrill and a real EV3RT program never look there.
+
+Only the standard library is imported here: the mock Athrill is started once per test, and its start-up
 time is part of every trial.
 """
 
@@ -16,30 +22,103 @@ import os
 import struct
 from pathlib import Path
 
-LAYOUT_VERSION = 1
+FILE_SIZE = 8192
 HEADER_SIZE = 32
-DATA_SIZE = 1024
-FILE_SIZE = HEADER_SIZE + DATA_SIZE
+PACKET_SIZE = 1024  # the part of each body a real Unity and Athrill exchange
+WINDOW_SIZE = 0x1000  # each body's guest window; reads past the packet still see the file
+LAYOUT_VERSION = 1
+EXT_OFF = 512  # header fields ext_off / ext_size: the paper's automation area, body 512..1023
+EXT_SIZE = 512
 
 UNITY_FILE = "unity_mmap.bin"
 ATHRILL_FILE = "athrill_mmap.bin"
-UNITY_MAGIC = b"HKUN"
-ATHRILL_MAGIC = b"HKAT"
+UNITY_MAGIC = b"ETRX"
+ATHRILL_MAGIC = b"ETTX"
 
-# Header: magic, layout version, writer's simulation time [us], sequence counter, writer pid, reserved.
-_HEADER = struct.Struct("<4sIqII8x")
+RX_GUEST_BASE = 0x090F0000  # unity_mmap.bin's body in Athrill's guest memory (EV3RT's VDEV base)
+TX_GUEST_BASE = RX_GUEST_BASE + WINDOW_SIZE  # athrill_mmap.bin's body
+
+
+class Header:
+    """File offsets in the 32-byte header of both files."""
+
+    MAGIC = 0  # 4 bytes, ETRX / ETTX
+    VERSION = 4  # u32 = 1
+    ATHRILL_TIME = 8  # u64 [us], TX only: Athrill's ("micon") simulation time; reserved in RX
+    UNITY_TIME = 16  # u64 [us]: the physics side's simulation time (in TX: Athrill's echo of it)
+    EXT_OFF = 24  # u32 = 512
+    EXT_SIZE = 28  # u32 = 512
+
+
+_HEADER = struct.Struct("<4sI8xQII")  # magic, version, (athrill time), unity time, ext_off, ext_size
 assert _HEADER.size == HEADER_SIZE
-_HDR_TIME = 8
-_HDR_SEQ = 16
-_HDR_PID = 20
 
-# Guest addresses of the data areas in Athrill's virtual memory.
-UNITY_GUEST_BASE = 0x090F0000
-ATHRILL_GUEST_BASE = 0x09100000
+
+class Rx:
+    """Body offsets in `unity_mmap.bin`: sensors written by the physics side, as EV3RT's drivers read them
+    (each an i32 slot, of which EV3RT reads the low 8 or 16 bits where noted)."""
+
+    BUTTONS = 0  # bitmask: LEFT 0, RIGHT 1, UP 2, DOWN 3, ENTER 4, BACK 5
+    COLOR0_AMBIENT = 4  # 0..100, low byte read
+    COLOR0_COLOR = 8  # colorid_t (ColorId), low byte read
+    COLOR0_REFLECT = 12  # 0..100, low byte read
+    COLOR0_RGB = 16  # r, g, b at 16, 20, 24; 16 bits read
+    GYRO_ANGLE = 28  # degrees, clockwise positive seen from above; 16 bits read
+    GYRO_RATE = 32  # degrees/s; 16 bits read
+    ULTRASONIC_MM = 88  # distance ahead in mm (EV3RT returns it / 10, in cm); 16 bits read
+    TOUCH0 = 112  # 0 released / 4095 pressed (EV3RT: pressed when > 2048)
+    TOUCH1 = 124
+    COLOR1_AMBIENT = 128  # a second colour sensor: ambient, colour id, reflect, then r, g, b at 140..148
+    COLOR1_COLOR = 132
+    COLOR1_REFLECT = 136
+    COLOR1_RGB = 140
+    MOTOR_ANGLE = 256  # + 4 p: encoder of motor port p (A = 0 .. D = 3) [deg], i32
+    # Our extension (unused by the real layout): lockstep and test reports.
+    TEST_SEQ = 448  # u32: the test in progress; a pre-launched Athrill waits for its own number
+    PHYSICS_PID = 452  # u32: so an orphaned Athrill can notice the physics process is gone
+    SYNC_MODE = 456  # u32, SyncMode of the test in progress
+    CHECKPOINTS = 460  # u32: checkpoints passed in order when the event was raised
+    DISTANCE_MM = 464  # u32: path length the robot drove in the test [mm]
+    MAX_TIME_DIFF_US = 468  # u32: the largest |Athrill - physics| simulation-time difference seen
+    CRASH_KIND = 472  # i32, CrashKind of a CRASH event (0 otherwise)
+    CRASH_DETAIL = 476  # i32: the exit status, or minus the signal, of the Athrill that crashed
+    # The paper's test automation (Table 1), in the ext area.
+    EVENT = 528  # i32, Event
+    GOAL_TIME_HI = 532  # u32, goal time [us], upper 32 bits
+    GOAL_TIME_LO = 536  # u32, goal time [us], lower 32 bits
+    PARAMS = 540  # f32 control parameters, up to the end of the packet
+    KP = 540
+    KI = 544
+    KD = 548
+    MOTOR_POWER = 552
+
+
+class Tx:
+    """Body offsets in `athrill_mmap.bin`: actuators written by Athrill (the controller writes the flags)."""
+
+    LED = 0  # bits: RED 0, GREEN 1 (ORANGE = both), YELLOW 2, BLUE 3
+    MOTOR_POWER = 4  # + 4 p: power of motor port p, -100..100, i32
+    MOTOR_BRAKE = 20  # + 4 p: 1 = brake when the power is 0, 0 = float
+    MOTOR_RESET_ANGLE = 36  # + 4 p (p = A..C): 1 = reset the encoder; the physics side clears it again
+    GYRO_RESET = 52  # 1 = reset the gyro angle; the physics side clears it again
+    # Our extension (unused by the real layout): lockstep.
+    NEXT_WAKE = 448  # i64: the simulation time [us] the robot program sleeps until (NEVER_WAKES: it ended)
+    ANSWER_SEQ = 456  # u32: bumped last whenever Athrill publishes its outputs
+    ATHRILL_PID = 460  # u32: the mock's pid (the real Athrill does not write it)
+    # The paper's test automation (Table 2), in the ext area.
+    START = 512  # i32, start flag
+    END = 516  # i32, end flag
+
+
+MOTOR_PORTS = 4
+RESET_ANGLE_PORTS = 3  # the flag of port D would collide with GYRO_RESET
+PARAM_END = PACKET_SIZE
+NEVER_WAKES = (1 << 63) - 1
+TOUCH_PRESSED = 4095
 
 
 class Event(enum.IntEnum):
-    """Event state at unity data offset 528 (paper Table 3, plus CRASH for a dead or silent Athrill)."""
+    """Event state at RX 528 (paper Table 3, plus CRASH for an Athrill that dies or goes silent)."""
 
     NONE = 0
     GOAL = 1
@@ -48,84 +127,92 @@ class Event(enum.IntEnum):
     CRASH = 4
 
 
-class Unity:
-    """Data offsets in `unity_mmap.bin` (physics -> Athrill; the controller writes the parameter area)."""
+class CrashKind(enum.IntEnum):
+    """Why a test ended as CRASH. Only PROGRAM and SILENT can be the robot program's (and so the
+    parameters') doing; BENCH is the bench's own fault and is never scored."""
 
-    # Sensors, published at each Athrill wake-up.
-    COLOR_REFLECT = 0  # i32, 0..100
-    COLOR_AMBIENT = 4  # i32, 0..100
-    COLOR_RGB = 8  # 3 x i32 (r, g, b), 0..255
-    ULTRASONIC_CM = 20  # i32, distance ahead in cm, 255 when nothing is in range
-    GYRO_ANGLE = 24  # i32, degrees, positive clockwise seen from above (EV3 convention)
-    GYRO_RATE = 28  # i32, degrees/s
-    TOUCH = 32  # i32, 0/1
-    MOTOR_COUNTS = 36  # 4 x i32, encoder degrees for ports A..D
-    SNAPSHOT_TIME = 56  # i64, simulation time [us] the sensor values above belong to
-    TEST_SEQ = 64  # i32, number of the test in progress; a waiting Athrill starts when it sees its own
-    # Test automation (paper Table 1).
-    EVENT = 528  # i32, Event
-    GOAL_TIME_HI = 532  # u32, goal time [us], upper 32 bits
-    GOAL_TIME_LO = 536  # u32, goal time [us], lower 32 bits
-    PARAMS = 540  # 121 x f32 control parameters, up to the end of the data area
-    KP = 540
-    KI = 544
-    KD = 548
-    MOTOR_POWER = 552
+    NONE = 0
+    PROGRAM = 1  # the Athrill process died: the program crashed (a signal, an exception, a bad access)
+    SILENT = 2  # it stopped advancing simulation time for longer than the Athrill timeout
+    PROTOCOL = 3  # it broke the time protocol (woke in the past, drifted beyond the allowed difference)
+    BENCH = 4  # it could not start or could not use the mapped files
 
 
-class Athrill:
-    """Data offsets in `athrill_mmap.bin` (Athrill -> physics; the controller writes the flags)."""
+class SyncMode(enum.IntEnum):
+    """How physics and Athrill keep time; chosen by the kind of program that runs."""
 
-    MOTOR_POWER = 0  # 4 x i32, -100..100, ports A..D
-    LED = 16  # i32, LED colour code
-    NEXT_WAKE = 24  # i64, the simulation time [us] Athrill sleeps until (valid with the header time)
-    START = 512  # i32, start flag (paper Table 2)
-    END = 516  # i32, end flag
+    LOCKSTEP = 0  # ours: the program's wake-ups drive physics; deterministic to the microsecond
+    HAKONIWA = 1  # the real protocol: physics runs at most ALLOWED_TIME_DIFF ahead of Athrill's clock
 
 
-NEVER_WAKES = (1 << 63) - 1  # NEXT_WAKE of a robot task that has returned: no wake-up is ever due
-PARAM_END = DATA_SIZE
+class ColorId(enum.IntEnum):
+    """EV3RT's colorid_t."""
+
+    NONE = 0
+    BLACK = 1
+    BLUE = 2
+    GREEN = 3
+    YELLOW = 4
+    RED = 5
+    WHITE = 6
+    BROWN = 7
 
 
-def guest_to_data_offset(addr: int) -> tuple[str, int]:
-    """Map an Athrill guest address to (file name, data offset); raise ValueError outside both areas."""
-    for base, name in ((UNITY_GUEST_BASE, UNITY_FILE), (ATHRILL_GUEST_BASE, ATHRILL_FILE)):
-        if base <= addr < base + DATA_SIZE:
+# Exit status of a mock or native Athrill that could not use the mapped files: a bench fault.
+EXIT_BENCH_FAULT = 3
+
+
+def guest_to_body(addr: int) -> tuple[str, int]:
+    """Map an Athrill guest address to (file name, body offset); ValueError outside both windows."""
+    for base, name in ((RX_GUEST_BASE, UNITY_FILE), (TX_GUEST_BASE, ATHRILL_FILE)):
+        if base <= addr < base + WINDOW_SIZE:
             return name, addr - base
-    raise ValueError(f"guest address 0x{addr:08X} is outside the mapped data areas")
+    raise ValueError(f"guest address 0x{addr:08X} is outside the mapped windows "
+                     f"0x{RX_GUEST_BASE:08X}..0x{TX_GUEST_BASE + WINDOW_SIZE - 1:08X}")
 
 
 class ProtocolError(RuntimeError):
     """A mapped file is not what the layout says it should be."""
 
 
+def check_file(path: Path, magic: bytes) -> None:
+    """Raise ProtocolError unless `path` is a whole, well-formed file of its kind. Reads it with plain file
+    I/O, so it is safe on a file that someone truncated under a mapping."""
+    try:
+        with open(path, "rb") as f:
+            size = os.fstat(f.fileno()).st_size
+            head = f.read(8)
+    except FileNotFoundError:
+        raise ProtocolError(f"{path}: no such file (is the physics process running?)") from None
+    if size != FILE_SIZE:
+        raise ProtocolError(f"{path}: size {size} bytes, expected {FILE_SIZE}")
+    got_magic, version = struct.unpack("<4sI", head)
+    if got_magic != magic:
+        raise ProtocolError(f"{path}: magic {got_magic!r}, expected {magic!r}")
+    if version != LAYOUT_VERSION:
+        raise ProtocolError(f"{path}: layout version {version}, expected {LAYOUT_VERSION}")
+
+
+def _fresh_header(magic: bytes) -> bytes:
+    return _HEADER.pack(magic, LAYOUT_VERSION, 0, EXT_OFF, EXT_SIZE)
+
+
 class MappedFile:
-    """One memory-mapped protocol file with typed access to its data area."""
+    """One memory-mapped protocol file with typed access to its header times and its body."""
 
     def __init__(self, path: Path, magic: bytes, *, create: bool = False) -> None:
         self.path = Path(path)
         self.magic = magic
         if create:
-            with open(self.path, "wb") as f:
-                f.write(_HEADER.pack(magic, LAYOUT_VERSION, 0, 0, os.getpid()) + bytes(DATA_SIZE))
+            tmp = self.path.with_name(self.path.name + ".tmp")
+            tmp.write_bytes(_fresh_header(magic) + bytes(FILE_SIZE - HEADER_SIZE))
+            tmp.replace(self.path)
+        check_file(self.path, magic)
+        fd = os.open(self.path, os.O_RDWR)
         try:
-            fd = os.open(self.path, os.O_RDWR)
-        except FileNotFoundError:
-            raise ProtocolError(f"{self.path}: no such file (is the physics process running?)") from None
-        try:
-            size = os.fstat(fd).st_size
-            if size != FILE_SIZE:
-                raise ProtocolError(f"{self.path}: size {size} bytes, expected {FILE_SIZE}")
             self._mm = mmap.mmap(fd, FILE_SIZE)
         finally:
             os.close(fd)
-        got_magic, version = struct.unpack_from("<4sI", self._mm, 0)
-        if got_magic != magic:
-            self._mm.close()
-            raise ProtocolError(f"{self.path}: magic {got_magic!r}, expected {magic!r}")
-        if version != LAYOUT_VERSION:
-            self._mm.close()
-            raise ProtocolError(f"{self.path}: layout version {version}, expected {LAYOUT_VERSION}")
 
     def close(self) -> None:
         self._mm.close()
@@ -136,63 +223,80 @@ class MappedFile:
     def __exit__(self, *exc: object) -> None:
         self.close()
 
-    # Header fields.
-    @property
-    def time_us(self) -> int:
-        return struct.unpack_from("<q", self._mm, _HDR_TIME)[0]
+    def repair(self) -> str | None:
+        """Make the file whole again if someone damaged it (the physics side owns it): restore its size and
+        header. Returns what was wrong, or None if nothing was."""
+        try:
+            check_file(self.path, self.magic)
+            return None
+        except ProtocolError as e:
+            problem = str(e)
+        with open(self.path, "r+b") as f:
+            if os.fstat(f.fileno()).st_size != FILE_SIZE:
+                f.truncate(FILE_SIZE)
+        self._mm[:HEADER_SIZE] = _fresh_header(self.magic)
+        return problem
+
+    # Header times.
+    def _u64(self, offset: int) -> int:
+        return struct.unpack_from("<Q", self._mm, offset)[0]
 
     @property
-    def seq(self) -> int:
-        return struct.unpack_from("<I", self._mm, _HDR_SEQ)[0]
+    def unity_time_us(self) -> int:
+        return self._u64(Header.UNITY_TIME)
+
+    @unity_time_us.setter
+    def unity_time_us(self, value: int) -> None:
+        struct.pack_into("<Q", self._mm, Header.UNITY_TIME, value)
 
     @property
-    def pid(self) -> int:
-        return struct.unpack_from("<I", self._mm, _HDR_PID)[0]
+    def athrill_time_us(self) -> int:
+        return self._u64(Header.ATHRILL_TIME)
 
-    def stamp(self, time_us: int) -> None:
-        """Publish: write the time, then bump the sequence counter, so a reader that sees the new sequence
-        also sees everything written before it."""
-        struct.pack_into("<q", self._mm, _HDR_TIME, time_us)
-        struct.pack_into("<II", self._mm, _HDR_SEQ, (self.seq + 1) & 0xFFFFFFFF, os.getpid())
+    @athrill_time_us.setter
+    def athrill_time_us(self, value: int) -> None:
+        struct.pack_into("<Q", self._mm, Header.ATHRILL_TIME, value)
 
-    # Data area, by data offset.
-    def _check(self, offset: int, size: int) -> int:
-        if not 0 <= offset <= DATA_SIZE - size:
-            raise ProtocolError(f"data offset {offset} (+{size}) is outside the {DATA_SIZE}-byte data area")
+    # Body, by body offset.
+    def _at(self, offset: int, size: int) -> int:
+        if not 0 <= offset <= WINDOW_SIZE - size:
+            raise ProtocolError(f"body offset {offset} (+{size}) is outside the {WINDOW_SIZE}-byte window")
         return HEADER_SIZE + offset
 
+    def read(self, fmt: str, offset: int) -> int | float:
+        """One little-endian value of struct format `fmt` ('i', 'I', 'q', 'f', 'h', 'B', ...)."""
+        s = struct.calcsize(fmt)
+        return struct.unpack_from("<" + fmt, self._mm, self._at(offset, s))[0]
+
+    def write(self, fmt: str, offset: int, value: int | float) -> None:
+        struct.pack_into("<" + fmt, self._mm, self._at(offset, struct.calcsize(fmt)), value)
+
     def read_i32(self, offset: int) -> int:
-        return struct.unpack_from("<i", self._mm, self._check(offset, 4))[0]
+        return struct.unpack_from("<i", self._mm, self._at(offset, 4))[0]
 
     def write_i32(self, offset: int, value: int) -> None:
-        struct.pack_into("<i", self._mm, self._check(offset, 4), value)
+        struct.pack_into("<i", self._mm, self._at(offset, 4), value)
 
     def read_u32(self, offset: int) -> int:
-        return struct.unpack_from("<I", self._mm, self._check(offset, 4))[0]
+        return struct.unpack_from("<I", self._mm, self._at(offset, 4))[0]
 
     def write_u32(self, offset: int, value: int) -> None:
-        struct.pack_into("<I", self._mm, self._check(offset, 4), value)
-
-    def read_i64(self, offset: int) -> int:
-        return struct.unpack_from("<q", self._mm, self._check(offset, 8))[0]
-
-    def write_i64(self, offset: int, value: int) -> None:
-        struct.pack_into("<q", self._mm, self._check(offset, 8), value)
+        struct.pack_into("<I", self._mm, self._at(offset, 4), value)
 
     def read_f32(self, offset: int) -> float:
-        return struct.unpack_from("<f", self._mm, self._check(offset, 4))[0]
+        return struct.unpack_from("<f", self._mm, self._at(offset, 4))[0]
 
     def write_f32(self, offset: int, value: float) -> None:
-        struct.pack_into("<f", self._mm, self._check(offset, 4), value)
+        struct.pack_into("<f", self._mm, self._at(offset, 4), value)
 
     def read_i32s(self, offset: int, count: int) -> tuple[int, ...]:
-        return struct.unpack_from(f"<{count}i", self._mm, self._check(offset, 4 * count))
+        return struct.unpack_from(f"<{count}i", self._mm, self._at(offset, 4 * count))
 
     def write_i32s(self, offset: int, values: tuple[int, ...] | list[int]) -> None:
-        struct.pack_into(f"<{len(values)}i", self._mm, self._check(offset, 4 * len(values)), *values)
+        struct.pack_into(f"<{len(values)}i", self._mm, self._at(offset, 4 * len(values)), *values)
 
-    def clear_data(self, start: int, end: int) -> None:
-        self._mm[self._check(start, end - start) : HEADER_SIZE + end] = bytes(end - start)
+    def clear(self, start: int, end: int) -> None:
+        self._mm[self._at(start, end - start) : HEADER_SIZE + end] = bytes(end - start)
 
 
 def open_unity(run_dir: Path, *, create: bool = False) -> MappedFile:
@@ -210,3 +314,25 @@ def goal_time_words(goal_time_us: int) -> tuple[int, int]:
 
 def goal_time_from_words(hi: int, lo: int) -> int:
     return (hi << 32) | lo
+
+
+def c_header() -> str:
+    """The layout as C #defines, for the native runtime: generated, so it cannot disagree with this file."""
+    lines = ["/* Generated from hakoniwa/protocol.py by c_header(); do not edit. */",
+             "#ifndef HAKO_LAYOUT_H", "#define HAKO_LAYOUT_H"]
+    scalars = {"FILE_SIZE": FILE_SIZE, "HEADER_SIZE": HEADER_SIZE, "PACKET_SIZE": PACKET_SIZE,
+               "WINDOW_SIZE": WINDOW_SIZE, "LAYOUT_VERSION": LAYOUT_VERSION, "EXT_OFF": EXT_OFF,
+               "EXT_SIZE": EXT_SIZE, "RX_GUEST_BASE": RX_GUEST_BASE, "TX_GUEST_BASE": TX_GUEST_BASE,
+               "MOTOR_PORTS": MOTOR_PORTS, "RESET_ANGLE_PORTS": RESET_ANGLE_PORTS,
+               "TOUCH_PRESSED": TOUCH_PRESSED, "EXIT_BENCH_FAULT": EXIT_BENCH_FAULT}
+    lines += [f"#define HAKO_{k} 0x{v:X}u" for k, v in scalars.items()]
+    lines.append("#define HAKO_NEVER_WAKES 0x7FFFFFFFFFFFFFFFll")
+    lines += [f'#define HAKO_{name}_FILE "{f}"' for name, f in (("UNITY", UNITY_FILE), ("ATHRILL", ATHRILL_FILE))]
+    lines += [f'#define HAKO_{name}_MAGIC "{m.decode()}"' for name, m in (("UNITY", UNITY_MAGIC),
+                                                                          ("ATHRILL", ATHRILL_MAGIC))]
+    for prefix, cls in (("HDR", Header), ("RX", Rx), ("TX", Tx)):
+        lines += [f"#define HAKO_{prefix}_{k} {v}" for k, v in vars(cls).items() if isinstance(v, int)]
+    for prefix, enum_cls in (("EVENT", Event), ("CRASH", CrashKind), ("SYNC", SyncMode), ("COLOR", ColorId)):
+        lines += [f"#define HAKO_{prefix}_{m.name} {m.value}" for m in enum_cls]
+    lines.append("#endif")
+    return "\n".join(lines) + "\n"

@@ -10,6 +10,8 @@ step about a third cheaper and rolls the same way on a flat floor.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 WHEEL_RADIUS = 0.05  # m
 TRACK_WIDTH = 0.13  # m, between the wheel centres
 MAX_WHEEL_SPEED = 29.0  # rad/s at power 100
@@ -19,9 +21,19 @@ CHASSIS_HALF = (0.07, 0.055, 0.03)  # m, half sizes of the body box
 CHASSIS_MASS = 0.6  # kg
 COLOR_SENSOR_FORWARD = 0.08  # m ahead of the axle centre, looking down
 ULTRASONIC_FORWARD = 0.075  # m ahead of the axle centre, looking forward
-ULTRASONIC_MAX_CM = 255  # reading when nothing is in range
-LEFT_MOTOR_PORT = 2  # port C, as on the ET robocon robots
-RIGHT_MOTOR_PORT = 1  # port B
+ULTRASONIC_MAX_MM = 2550  # reading when nothing is in range (EV3RT: 255 cm)
+
+
+@dataclass(frozen=True)
+class Wiring:
+    """Which motor ports (A = 0 .. D = 3) drive the wheels; a course's `[robot]` table may change it."""
+
+    left: int
+    right: int
+
+
+# The TOPPERS samples' wiring, and that of the paper authors' program: left wheel on A, right wheel on B.
+DEFAULT_WIRING = Wiring(left=0, right=1)
 
 
 def robot_mjcf(x: float, y: float, yaw_deg: float) -> str:

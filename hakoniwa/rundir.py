@@ -1,4 +1,4 @@
-"""One run per directory: an exclusive lock that dies with its holder.
+"""The run directory: what lives in it, one run at a time, and what to say when a run in it died.
 
 A crashed run leaves its files behind but not its lock (the kernel drops a flock when the process dies),
 so the next run in the same directory simply takes over and recreates the files, while a second live run
@@ -11,7 +11,24 @@ import fcntl
 import os
 from pathlib import Path
 
+from hakoniwa.protocol import ATHRILL_FILE, ATHRILL_MAGIC, UNITY_FILE, UNITY_MAGIC, ProtocolError, check_file
+
 LOCK_FILE = ".hako.lock"
+TRAJECTORY_FILE = "trajectory.csv"  # the last test's path, for pictures
+PHYSICS_LOG = "physics.log"  # one line per test: what the physics process saw
+ATHRILL_LOG = "athrill.log"  # what the Athrill processes printed (the program's syslog)
+
+
+def diagnose(run_dir: Path) -> str | None:
+    """What is wrong with the mapped files, if anything: the likely cause when a process of the bench was
+    killed by SIGBUS (someone truncated a file it had mapped)."""
+    problems = []
+    for name, magic in ((UNITY_FILE, UNITY_MAGIC), (ATHRILL_FILE, ATHRILL_MAGIC)):
+        try:
+            check_file(Path(run_dir) / name, magic)
+        except ProtocolError as e:
+            problems.append(str(e))
+    return "; ".join(problems) or None
 
 
 class RunDirBusy(RuntimeError):

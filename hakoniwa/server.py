@@ -1,107 +1,83 @@
 """The physics process: owns the mapped files, runs tests on start = 1, resets on start = 0 (paper Fig. 4).
 
-Physics time is the master. Between Athrill's wake-ups the world advances in batches of whole 1 ms steps
-inside MuJoCo; at a wake-up the sensor snapshot for exactly that instant is published and the world waits
-until Athrill has answered with its motor powers and its next wake-up time. Nothing here depends on wall
-time except the watchdog that declares a silent or dead Athrill a crash.
+Physics time is the master. The world advances in whole 1 ms MuJoCo steps, batched up to the next moment
+anything has to happen: an event check, a trajectory sample, or (depending on the sync mode, see
+`sync.py`) Athrill's next wake-up or the edge of the allowed time difference. Nothing here depends on
+wall time except the watchdog that declares a silent or dead Athrill a crash.
+
+The mapped files belong to this process: it checks them (size, magic, version) at every test start and
+repairs them if someone damaged them, so a damaged file never turns into a string of crashed tests that
+would be charged to the parameters under test.
 """
 
 from __future__ import annotations
 
 import csv
-import subprocess
-import sys
+import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from hakoniwa import robot
 from hakoniwa.course import Course
-from hakoniwa.protocol import (Athrill, Event, MappedFile, Unity, goal_time_words, open_athrill, open_unity)
+from hakoniwa.launcher import AthrillLauncher, kill
+from hakoniwa.programs import Program
+from hakoniwa.rundir import PHYSICS_LOG, TRAJECTORY_FILE
+from hakoniwa.protocol import (MOTOR_PORTS, RESET_ANGLE_PORTS, TOUCH_PRESSED, CrashKind, Event, MappedFile, Rx,
+                               SyncMode, Tx, goal_time_words, open_athrill, open_unity)
+from hakoniwa.sync import HAKONIWA_START_US, AthrillCrash, run_hakoniwa, run_lockstep
 from hakoniwa.task import LapTask
-from hakoniwa.waiting import wait_for
-from hakoniwa.timebase import (ALLOWED_TIME_DIFF_US, EVENT_CHECK_PERIOD_US, PHYSICS_STEP_US, TRACE_PERIOD_US,
-                               Scheduler)
+from hakoniwa.timebase import EVENT_CHECK_PERIOD_US, PHYSICS_STEP_US, TRACE_PERIOD_US, Scheduler
 from hakoniwa.world import World
 
-TRAJECTORY_FILE = "trajectory.csv"
-ATHRILL_LOG = "athrill.log"
-PHYSICS_LOG = "physics.log"  # one line per test: what the physics process saw
 IDLE_POLL_S = 0.0005
+ACTUATORS_END = Tx.GYRO_RESET + 4  # TX body bytes a test starts with cleared
+OUR_EXT = (Rx.TEST_SEQ, Rx.CRASH_DETAIL + 4)  # RX bytes of our extension
 
 
 @dataclass(frozen=True)
 class TestOutcome:
+    """What the physics process reports for one test (the controller reads the same through the files)."""
+
     __test__ = False  # not a pytest class
 
     seq: int
     event: Event
     time_us: int
+    checkpoints: int
+    distance_mm: int
+    max_time_diff_us: int
+    crash_kind: CrashKind
+    crash_detail: int
     wall_s: float
 
 
-class AthrillLost(Exception):
-    """Athrill died or stopped answering: the test ends as a crash."""
-
-
-class AthrillLauncher:
-    """Starts a fresh `athrill-sim` for every test, one test ahead, so its start-up overlaps the current test."""
-
-    def __init__(self, run_dir: Path, app: str) -> None:
-        self.run_dir = run_dir
-        self.app = app
-        self._spare: tuple[int, subprocess.Popen] | None = None
-        self._log = open(run_dir / ATHRILL_LOG, "ab")
-
-    def _spawn(self, seq: int) -> subprocess.Popen:
-        cmd = [sys.executable, "-m", "athrill_sim.main", "--run-dir", str(self.run_dir), "--app", self.app,
-               "--test", str(seq)]
-        return subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=self._log, stderr=self._log)
-
-    def take(self, seq: int) -> subprocess.Popen:
-        proc = None
-        if self._spare is not None:
-            spare_seq, spare = self._spare
-            if spare_seq == seq and spare.poll() is None:
-                proc = spare
-            else:
-                _kill(spare)
-        proc = proc or self._spawn(seq)
-        self._spare = (seq + 1, self._spawn(seq + 1))
-        return proc
-
-    def close(self) -> None:
-        if self._spare is not None:
-            _kill(self._spare[1])
-            self._spare = None
-        self._log.close()
-
-
-def _kill(proc: subprocess.Popen) -> None:
-    if proc.poll() is None:
-        proc.kill()
-    proc.wait()
-
-
 class PhysicsServer:
-    def __init__(self, run_dir: Path, course: Course, *, app: str = "line_trace",
-                 athrill_timeout_s: float = 10.0) -> None:
+    def __init__(self, run_dir: Path, course: Course, program: Program, *, athrill_timeout_s: float = 10.0,
+                 time_limit_us: int | None = None) -> None:
         self.run_dir = Path(run_dir)
         self.course = course
+        self.program = program
         self.athrill_timeout_s = athrill_timeout_s
         self.world = World(course)
-        self.task = LapTask(course)
+        self.task = LapTask(course, time_limit_us or course.time_limit_us)
         self.unity: MappedFile = open_unity(self.run_dir, create=True)
         self.athrill: MappedFile = open_athrill(self.run_dir, create=True)
-        self.launcher = AthrillLauncher(self.run_dir, app)
+        self.unity.write_u32(Rx.PHYSICS_PID, os.getpid())
+        self.launcher = AthrillLauncher(self.run_dir, program)
         self.scheduler = Scheduler(PHYSICS_STEP_US)
         self.scheduler.add("event-check", EVENT_CHECK_PERIOD_US, self._check_events)
         self.scheduler.add("trace", TRACE_PERIOD_US, self._trace)
+        self.now_us = 0
+        self.answer_before_start = 0
+        self.tests_run = 0
         self._event = Event.NONE
         self._event_us = 0
+        self._max_diff_us = 0
+        self._angle_zero = [0.0] * MOTOR_PORTS
+        self._gyro_zero = 0.0
+        self._yaw = (0.0, 0.0)  # (last wrapped reading, unwrapped angle): a gyro counts whole turns
         self._trajectory: list[tuple[int, float, float, float]] = []
-        self.tests_run = 0
-        self._athrill_proc: subprocess.Popen | None = None
+        self._athrill_proc = None
         self._log = open(self.run_dir / PHYSICS_LOG, "a")
 
     # -- streams -------------------------------------------------------------------------------------
@@ -113,84 +89,123 @@ class PhysicsServer:
     def _trace(self, now_us: int) -> None:
         self._trajectory.append((now_us, *self.world.pose()))
 
-    # -- one test ------------------------------------------------------------------------------------
-    def _publish_sensors(self, now_us: int) -> None:
+    # -- what the sync loops use ---------------------------------------------------------------------
+    def advance_to(self, target_us: int) -> bool:
+        """Step the world to `target_us` and run what is due there; True once the test has an event."""
+        self.world.step((target_us - self.now_us) // PHYSICS_STEP_US)
+        self.now_us = target_us
+        self.scheduler.advance_to(target_us)
+        return self._event != Event.NONE
+
+    def note_time_diff(self, diff_us: int) -> None:
+        self._max_diff_us = max(self._max_diff_us, abs(diff_us))
+
+    def publish_sensors(self) -> None:
+        """The sensor snapshot for `now_us`, then the unity time (last: a reader that sees the new time sees
+        the values it belongs to)."""
         s = self.world.sensors()
         u = self.unity
-        counts = [0] * 4
-        counts[robot.LEFT_MOTOR_PORT], counts[robot.RIGHT_MOTOR_PORT] = s.motor_counts
-        u.write_i32s(Unity.COLOR_REFLECT, [s.reflect, s.ambient, *s.rgb, s.ultrasonic_cm, s.gyro_angle_deg,
-                                           s.gyro_rate_dps, s.touch, *counts])
-        u.write_i64(Unity.SNAPSHOT_TIME, now_us)  # last: a reader that sees this time sees the values above
-        u.stamp(now_us)
+        u.write_i32s(Rx.COLOR0_AMBIENT, [s.ambient, int(s.color), s.reflect, *s.rgb])
+        u.write_i32s(Rx.GYRO_ANGLE, [round(self._gyro_angle(s.gyro_angle_deg) - self._gyro_zero), s.gyro_rate_dps])
+        u.write_i32(Rx.ULTRASONIC_MM, s.ultrasonic_mm)
+        u.write_i32(Rx.TOUCH0, TOUCH_PRESSED if s.touch else 0)
+        wiring = self.course.wiring
+        for port, angle in ((wiring.left, s.wheel_angles_deg[0]), (wiring.right, s.wheel_angles_deg[1])):
+            u.write_i32(Rx.MOTOR_ANGLE + 4 * port, round(angle - self._angle_zero[port]))
+        u.unity_time_us = max(self.now_us, HAKONIWA_START_US if self.program.sync == SyncMode.HAKONIWA else 0)
 
-    def _await_athrill(self, proc: subprocess.Popen, last_seq: int, now_us: int) -> int | None:
-        """Wait for Athrill's answer to the snapshot at `now_us`; apply its motor powers and return its next
-        wake-up time, or None if it died, went silent, or broke the time protocol."""
+    def apply_actuators(self) -> None:
+        """Motor powers of the wheel ports, and the reset requests, which are cleared once applied."""
         a = self.athrill
-        deadline = time.monotonic() + self.athrill_timeout_s
+        powers = a.read_i32s(Tx.MOTOR_POWER, MOTOR_PORTS)
+        wiring = self.course.wiring
+        self.world.set_motor_power(powers[wiring.left], powers[wiring.right])
+        for port in range(RESET_ANGLE_PORTS):
+            if a.read_i32(Tx.MOTOR_RESET_ANGLE + 4 * port):
+                left, right = self.world.wheel_angles_deg()
+                self._angle_zero[port] = {wiring.left: left, wiring.right: right}.get(port, 0.0)
+                a.write_i32(Tx.MOTOR_RESET_ANGLE + 4 * port, 0)
+        if a.read_i32(Tx.GYRO_RESET):
+            self._gyro_zero = self._gyro_angle(self.world.gyro_angle_deg())
+            a.write_i32(Tx.GYRO_RESET, 0)
 
-        def check() -> None:
-            if proc.poll() is not None:
-                raise AthrillLost(f"athrill exited with code {proc.returncode}")
-            if time.monotonic() > deadline:
-                raise AthrillLost(f"athrill silent for {self.athrill_timeout_s} s")
+    def _gyro_angle(self, wrapped_deg: float) -> float:
+        last, total = self._yaw
+        total += (wrapped_deg - last + 180.0) % 360.0 - 180.0
+        self._yaw = (wrapped_deg, total)
+        return total
 
-        try:
-            wait_for(lambda: a.seq != last_seq, check)
-        except AthrillLost:
-            return None
-        next_wake = a.read_i64(Athrill.NEXT_WAKE)
-        if abs(a.time_us - now_us) > ALLOWED_TIME_DIFF_US or next_wake <= now_us:
-            return None
-        powers = a.read_i32s(Athrill.MOTOR_POWER, 4)
-        self.world.set_motor_power(powers[robot.LEFT_MOTOR_PORT], powers[robot.RIGHT_MOTOR_PORT])
-        return next_wake
+    # -- one test ------------------------------------------------------------------------------------
+    def check_files(self) -> None:
+        """Repair the mapped files if anyone damaged them since the last test, and say so in the log."""
+        for f in (self.unity, self.athrill):
+            problem = f.repair()
+            if problem is not None:
+                self._log.write(f"repaired {f.path.name}: {problem}\n")
+                self._log.flush()
+
+    def _start_test(self, seq: int) -> None:
+        self.check_files()
+        self.now_us = 0
+        self._event, self._event_us, self._max_diff_us = Event.NONE, 0, 0
+        self._angle_zero = [0.0] * MOTOR_PORTS
+        self._gyro_zero, self._yaw = 0.0, (0.0, 0.0)
+        self._trajectory = []
+        a = self.athrill
+        a.clear(0, ACTUATORS_END)
+        a.athrill_time_us = 0  # a real Athrill's clock starts at 0; a stale one would let physics run ahead
+        self.answer_before_start = a.read_u32(Tx.ANSWER_SEQ)
+        self.unity.clear(*OUR_EXT)
+        self.unity.write_u32(Rx.PHYSICS_PID, os.getpid())
+        self.unity.write_u32(Rx.SYNC_MODE, int(self.program.sync))
+        self.publish_sensors()
+        self.unity.write_u32(Rx.TEST_SEQ, seq)  # last: a waiting Athrill starts when it sees its number
+        self._trace(0)
 
     def run_test(self) -> TestOutcome:
         wall_start = time.monotonic()
         seq = self.tests_run + 1
-        self._event, self._event_us = Event.NONE, 0
-        self._trajectory = []
-        self.athrill.clear_data(Athrill.MOTOR_POWER, Athrill.START)
-        self._publish_sensors(0)
-        last_seq = self.athrill.seq
-        self.unity.write_i32(Unity.TEST_SEQ, seq)
-        proc = self._athrill_proc = self.launcher.take(seq)
-        self._trace(0)
-        now = 0
-        next_wake = self._await_athrill(proc, last_seq, now)
-        sched, world = self.scheduler, self.world
-        while next_wake is not None:
-            target = min(sched.next_tick(), next_wake)
-            world.step((target - now) // PHYSICS_STEP_US)
-            now = target
-            sched.advance_to(now)
-            if self._event != Event.NONE:
-                break
-            if now == next_wake:
-                last_seq = self.athrill.seq
-                self._publish_sensors(now)
-                next_wake = self._await_athrill(proc, last_seq, now)
-        if next_wake is None:
-            self._event, self._event_us = Event.CRASH, now
-        self._finish()
-        outcome = TestOutcome(seq, self._event, self._event_us, time.monotonic() - wall_start)
-        self._log.write(f"test {seq}: {outcome.event.name} at {outcome.time_us} us, wall {outcome.wall_s:.3f} s\n")
+        self._start_test(seq)
+        crash: AthrillCrash | None = None
+        try:
+            proc = self._athrill_proc = self.launcher.take(seq)
+        except OSError as e:
+            crash = AthrillCrash(CrashKind.BENCH, 0, f"cannot start athrill: {e}")
+        else:
+            run = run_lockstep if self.program.sync == SyncMode.LOCKSTEP else run_hakoniwa
+            try:
+                run(self, proc)
+            except AthrillCrash as e:
+                crash = e
+        if crash is not None:
+            self._event, self._event_us = Event.CRASH, self.now_us
+        outcome = TestOutcome(seq, self._event, self._event_us, self.task.passed, self.task.distance_mm,
+                              self._max_diff_us, crash.kind if crash else CrashKind.NONE,
+                              crash.detail if crash else 0, time.monotonic() - wall_start)
+        self._finish(outcome)
+        why = f" ({crash.kind.name.lower()}: {crash})" if crash else ""
+        self._log.write(f"test {seq}: {outcome.event.name}{why} at {outcome.time_us} us, "
+                        f"{outcome.checkpoints} checkpoints, {outcome.distance_mm} mm, "
+                        f"max time diff {outcome.max_time_diff_us} us, wall {outcome.wall_s:.3f} s\n")
         self._log.flush()
         return outcome
 
-    def _publish_event(self, event: Event, time_us: int) -> None:
-        hi, lo = goal_time_words(time_us if event == Event.GOAL else 0)
-        self.unity.write_u32(Unity.GOAL_TIME_HI, hi)
-        self.unity.write_u32(Unity.GOAL_TIME_LO, lo)
-        self.unity.write_i32(Unity.EVENT, int(event))  # last: the controller reads the time after it
-        self.unity.stamp(time_us)
-
-    def _finish(self) -> None:
-        self._publish_event(self._event, self._event_us)
+    def _finish(self, o: TestOutcome) -> None:
+        u = self.unity
+        u.write_u32(Rx.CHECKPOINTS, o.checkpoints)
+        u.write_u32(Rx.DISTANCE_MM, o.distance_mm)
+        u.write_u32(Rx.MAX_TIME_DIFF_US, o.max_time_diff_us)
+        u.write_i32(Rx.CRASH_KIND, int(o.crash_kind))
+        u.write_i32(Rx.CRASH_DETAIL, o.crash_detail)
+        self._publish_event(o.event, o.time_us)
         self._write_trajectory()
         self.tests_run += 1
+
+    def _publish_event(self, event: Event, time_us: int) -> None:
+        hi, lo = goal_time_words(time_us if event == Event.GOAL else 0)
+        self.unity.write_u32(Rx.GOAL_TIME_HI, hi)
+        self.unity.write_u32(Rx.GOAL_TIME_LO, lo)
+        self.unity.write_i32(Rx.EVENT, int(event))  # last: the controller reads everything else after it
 
     def _write_trajectory(self) -> None:
         tmp = self.run_dir / (TRAJECTORY_FILE + ".tmp")
@@ -203,7 +218,7 @@ class PhysicsServer:
     def reset(self) -> None:
         """start = 0: stop Athrill, restore the saved initial state, clear event and goal time."""
         if self._athrill_proc is not None:
-            _kill(self._athrill_proc)
+            kill(self._athrill_proc)
             self._athrill_proc = None
         self.world.reset()
         self.task.reset()
@@ -211,17 +226,18 @@ class PhysicsServer:
         self._publish_event(Event.NONE, 0)
 
     # -- the process loop ----------------------------------------------------------------------------
-    def serve(self, controller: subprocess.Popen | None = None) -> int:
-        """Poll the flags until end = 1 (exit code 0) or the controller exits (its exit code)."""
+    def serve(self, controller=None) -> int:
+        """Poll the flags until end = 1 or the controller exits; returns the controller's exit status (0
+        without a controller)."""
         a = self.athrill
         in_test = False
         try:
             while True:
-                if a.read_i32(Athrill.END) == 1:
-                    return 0
                 if controller is not None and controller.poll() is not None:
                     return controller.returncode
-                start = a.read_i32(Athrill.START)
+                if a.read_i32(Tx.END) == 1:
+                    return controller.wait() if controller is not None else 0
+                start = a.read_i32(Tx.START)
                 if start == 1 and not in_test:
                     self.run_test()
                     in_test = True
@@ -232,6 +248,7 @@ class PhysicsServer:
                     time.sleep(IDLE_POLL_S)
         finally:
             if self._athrill_proc is not None:
-                _kill(self._athrill_proc)
+                kill(self._athrill_proc)
             self.launcher.close()
             self._log.close()
+

@@ -2,11 +2,13 @@
 
 This is the task half of the dm_control split: it looks at the world at each event-check tick and never
 moves anything. Checkpoints are the paper's transparent squares; only the next one in order counts, so
-driving backwards over the finish line first does not shorten a lap.
+driving backwards over the finish line first does not shorten a lap. The task also measures the path the
+robot drove, which says how far a program got when it did not finish.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 from hakoniwa.course import Course
@@ -17,25 +19,43 @@ from hakoniwa.world import World
 @dataclass
 class LapTask:
     course: Course
+    time_limit_us: int
     next_checkpoint: int = 0
     passed_us: list[int] = field(default_factory=list)
+    distance_m: float = 0.0
+    _last_xy: tuple[float, float] = (0.0, 0.0)
+
+    def __post_init__(self) -> None:
+        self.reset()
 
     def reset(self) -> None:
         self.next_checkpoint = 0
         self.passed_us.clear()
+        self.distance_m = 0.0
+        self._last_xy = (self.course.start.x, self.course.start.y)
+
+    @property
+    def passed(self) -> int:
+        return len(self.passed_us)
+
+    @property
+    def distance_mm(self) -> int:
+        return round(self.distance_m * 1000)
 
     def check(self, world: World, time_us: int) -> Event:
         """The event at `time_us` (Event.NONE while the test goes on). Wall contact wins over a goal seen at
         the same tick: a robot that crashes into the wall at the line has not finished cleanly."""
+        x, y = world.position()
+        self.distance_m += math.hypot(x - self._last_xy[0], y - self._last_xy[1])
+        self._last_xy = (x, y)
         if world.touching_wall():
             return Event.HIT_WALL
-        x, y = world.position()
         checkpoints = self.course.checkpoints
         if checkpoints[self.next_checkpoint].contains(x, y):
             self.passed_us.append(time_us)
             self.next_checkpoint += 1
             if self.next_checkpoint == len(checkpoints):
                 return Event.GOAL
-        if time_us >= self.course.time_limit_us:
+        if time_us >= self.time_limit_us:
             return Event.TIME_OVER
         return Event.NONE

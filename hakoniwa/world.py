@@ -15,6 +15,7 @@ import numpy as np
 
 from hakoniwa import robot
 from hakoniwa.course import Course
+from hakoniwa.protocol import ColorId
 from hakoniwa.timebase import PHYSICS_STEP_US, US_PER_S
 
 
@@ -56,16 +57,17 @@ def build_mjcf(course: Course) -> str:
 
 @dataclass(frozen=True)
 class Sensors:
-    """What the robot's sensors read at one instant, in EV3RT units."""
+    """What the robot's sensors read at one instant, in the units EV3RT's drivers expect."""
 
-    reflect: int
+    reflect: int  # 0..100
     ambient: int
+    color: ColorId
     rgb: tuple[int, int, int]
-    ultrasonic_cm: int
-    gyro_angle_deg: int
+    ultrasonic_mm: int
+    gyro_angle_deg: float  # clockwise positive seen from above, as EV3's gyro counts
     gyro_rate_dps: int
-    touch: int
-    motor_counts: tuple[int, int]  # left, right wheel encoder [deg]
+    touch: bool  # the robot's bumper: the body touching a wall
+    wheel_angles_deg: tuple[float, float]  # left, right encoder
 
 
 class World:
@@ -130,30 +132,38 @@ class World:
     # -- sensors -------------------------------------------------------------------------------------
     def sensors(self) -> Sensors:
         d = self.data
-        sx, sy = d.site_xpos[self._color_site][:2]
-        reflect = self.course.reflect_at(float(sx), float(sy))
+        sx, sy = (float(v) for v in d.site_xpos[self._color_site][:2])
+        reflect = self.course.reflect_at(sx, sy)
+        color, rgb = self.course.color_at(sx, sy, reflect)
         _, _, yaw = self.pose()
         yaw_rate = float(d.qvel[5])
-        left, right = (math.degrees(d.qpos[a]) for a in self._wheel_qpos)
-        grey = round(reflect * 255 / 100)
         return Sensors(
             reflect=round(reflect),
             ambient=0,
-            rgb=(grey, grey, grey),
-            ultrasonic_cm=self._ultrasonic_cm(yaw),
-            # EV3's gyro counts clockwise seen from above; the world's yaw is counter-clockwise.
-            gyro_angle_deg=-round(math.degrees(yaw)),
-            gyro_rate_dps=-round(math.degrees(yaw_rate)),
-            touch=int(self.touching_wall()),
-            motor_counts=(round(left), round(right)),
+            color=color,
+            rgb=rgb,
+            ultrasonic_mm=self._ultrasonic_mm(yaw),
+            gyro_angle_deg=self.gyro_angle_deg(yaw),
+            gyro_rate_dps=-round(math.degrees(yaw_rate)),  # clockwise positive, as the angle
+            touch=self.touching_wall(),
+            wheel_angles_deg=self.wheel_angles_deg(),
         )
 
-    def _ultrasonic_cm(self, yaw: float) -> int:
+    def wheel_angles_deg(self) -> tuple[float, float]:
+        left, right = (math.degrees(self.data.qpos[a]) for a in self._wheel_qpos)
+        return left, right
+
+    def gyro_angle_deg(self, yaw: float | None = None) -> float:
+        """Heading in (-180, 180]: EV3's gyro counts clockwise seen from above; the world's yaw is
+        counter-clockwise."""
+        return -math.degrees(self.pose()[2] if yaw is None else yaw)
+
+    def _ultrasonic_mm(self, yaw: float) -> int:
         d = self.data
         origin = d.site_xpos[self._sonar_site].astype(np.float64)
         direction = np.array([math.cos(yaw), math.sin(yaw), 0.0])
         geomid = np.zeros(1, dtype=np.int32)
         dist = mujoco.mj_ray(self.model, d, origin, direction, None, 1, self._robot_body, geomid)
         if dist < 0:
-            return robot.ULTRASONIC_MAX_CM
-        return min(robot.ULTRASONIC_MAX_CM, round(dist * 100))
+            return robot.ULTRASONIC_MAX_MM
+        return min(robot.ULTRASONIC_MAX_MM, round(dist * 1000))

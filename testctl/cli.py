@@ -9,6 +9,7 @@ from pathlib import Path
 
 import click
 
+from hakoniwa.clickutil import HELP, Float32
 from hakoniwa.protocol import ProtocolError
 from testctl import paper
 from testctl.campaign import Campaign, Progress
@@ -24,8 +25,7 @@ BEST_TRAJECTORY_PNG = "best_trajectory.png"
 
 
 def result_json(result: TestResult, params: dict[str, float]) -> dict:
-    return {"event": result.event.name, "lap_time_s": result.lap_time_s, "goal_time_us": result.goal_time_us,
-            "params": params}
+    return {**result.to_dict(), "params": params}
 
 
 def connect(run_dir: Path) -> TrialRunner:
@@ -35,17 +35,18 @@ def connect(run_dir: Path) -> TrialRunner:
         raise click.ClickException(str(e)) from None
 
 
-@click.group()
+@click.group(context_settings=HELP)
 def main() -> None:
     """Drive tests on a running physics process through the mapped files."""
 
 
-@main.command()
+@main.command(context_settings=HELP)
 @RUN_DIR_OPTION
-@click.option("--kp", type=float, required=True)
-@click.option("--ki", type=float, required=True)
-@click.option("--kd", type=float, required=True)
-@click.option("--power", type=float, default=paper.MOTOR_POWER, show_default=True, help="Base motor power [%].")
+@click.option("--kp", type=Float32(), required=True)
+@click.option("--ki", type=Float32(), required=True)
+@click.option("--kd", type=Float32(), required=True)
+@click.option("--power", type=Float32(-100, 100), default=paper.MOTOR_POWER, show_default=True,
+              help="Base motor power [%], -100..100.")
 @click.option("--out", type=click.Path(dir_okay=False, path_type=Path), required=True,
               help="Where to write the result as JSON.")
 def trial(run_dir: Path, kp: float, ki: float, kd: float, power: float, out: Path) -> None:
@@ -73,7 +74,7 @@ class ProgressBar:
         self.shown = p.sets_done
 
 
-@main.command()
+@main.command(context_settings=HELP)
 @RUN_DIR_OPTION
 @campaign_options
 def campaign(run_dir: Path, **options) -> None:
@@ -107,7 +108,7 @@ def draw_best(runner: TrialRunner, params: dict[int, float], lap_s: float, out: 
     """Run the best parameters once more (a trial is deterministic, so it is the same lap) and draw it."""
     from hakoniwa.course import load_course
     from hakoniwa.plot import draw_trajectory, read_trajectory
-    from hakoniwa.server import TRAJECTORY_FILE
+    from hakoniwa.rundir import TRAJECTORY_FILE
 
     result = runner.run_test(params)
     course = load_course(os.environ.get("HAKO_COURSE", "oval"))

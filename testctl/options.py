@@ -10,13 +10,15 @@ import dataclasses
 import datetime as dt
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable
+from typing import TYPE_CHECKING, Any, Callable
 
 import click
 
-from testctl.campaign import CampaignConfig, load_config
 from testctl.journal import JOURNAL_FILE, JournalError
 from testctl.space import ParameterSpace, SpaceError
+
+if TYPE_CHECKING:
+    from testctl.campaign import CampaignConfig
 
 SMOKE = {"trials": 2, "init_points": 2, "repeats": 1}  # a campaign that exercises every part in seconds
 
@@ -70,6 +72,8 @@ def plan(trials: int | None, init_points: int | None, repeats: int | None, seed:
          optimizer: str | None, space_file: Path | None, out: Path | None, resume: Path | None,
          smoke: bool) -> CampaignPlan:
     """Turn the options into a campaign, or fail with a one-line click error."""
+    from testctl.campaign import CampaignConfig, load_config  # NumPy: not for --help
+
     given = {k: v for k, v in {"trials": trials, "init_points": init_points, "repeats": repeats, "seed": seed,
                                "optimizer": optimizer}.items() if v is not None}
     try:
@@ -91,4 +95,17 @@ def plan(trials: int | None, init_points: int | None, repeats: int | None, seed:
     if (out_dir / JOURNAL_FILE).exists():
         raise click.ClickException(f"{out_dir} already holds a campaign; use --resume {out_dir} to continue it "
                                    "or choose another --out")
+    make_out_dir(out_dir)
     return CampaignPlan(config, out_dir, False)
+
+
+def make_out_dir(out_dir: Path) -> None:
+    """Create the output folder and prove it takes files, so that a folder under a file, a read-only or
+    immutable one, or one in /proc is a one-line error now rather than a traceback when the first test ends."""
+    try:
+        out_dir.mkdir(parents=True, exist_ok=True)
+        probe = out_dir / ".hako-write-test"
+        probe.write_bytes(b"")
+        probe.unlink()
+    except OSError as e:
+        raise click.ClickException(f"--out {out_dir}: cannot write there: {e.strerror or e}") from None

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from hakoniwa.protocol import Event
+from hakoniwa.protocol import CrashKind, Event, SyncMode
 
 
 @dataclass(frozen=True)
@@ -12,7 +12,9 @@ class TestResult:
     """One test: the event the physics process reported and, for GOAL, the goal time.
 
     `goal_time_us` is 0 for every event but GOAL. `wall_s` is how long the test took in wall-clock time,
-    which is informative only: the event and goal time never depend on it.
+    which is informative only: in the lockstep the event and goal time never depend on it. For a CRASH,
+    `crash_kind` says whose fault it may have been and `crash_detail` the Athrill's exit status (negative:
+    the signal that killed it).
     """
 
     __test__ = False  # not a pytest class
@@ -20,11 +22,46 @@ class TestResult:
     event: Event
     goal_time_us: int
     wall_s: float
+    checkpoints: int = 0
+    distance_mm: int = 0
+    max_time_diff_us: int = 0
+    sync: SyncMode = SyncMode.LOCKSTEP
+    crash_kind: CrashKind = CrashKind.NONE
+    crash_detail: int = 0
 
     @property
     def success(self) -> bool:
         return self.event == Event.GOAL
 
     @property
+    def bench_fault(self) -> bool:
+        """A crash the bench caused: it says nothing about the parameters and is never scored."""
+        return self.event == Event.CRASH and self.crash_kind == CrashKind.BENCH
+
+    @property
     def lap_time_s(self) -> float | None:
         return self.goal_time_us / 1e6 if self.success else None
+
+    @property
+    def distance_m(self) -> float:
+        return self.distance_mm / 1000
+
+    def crash_reason(self) -> str | None:
+        """The crash in words, naming the signal that killed the program if one did."""
+        if self.event != Event.CRASH:
+            return None
+        from hakoniwa.launch import describe_exit
+
+        what = self.crash_kind.name.lower()
+        if self.crash_kind in (CrashKind.PROGRAM, CrashKind.BENCH) and self.crash_detail:
+            return f"{what}: athrill {describe_exit(self.crash_detail)}"
+        return what
+
+    def to_dict(self) -> dict:
+        """The fields a person or a script reads (`hako trial --json`, the journal)."""
+        d = {"event": self.event.name, "lap_time_s": self.lap_time_s, "goal_time_us": self.goal_time_us,
+             "sync": self.sync.name.lower(), "checkpoints": self.checkpoints, "distance_m": self.distance_m,
+             "max_time_diff_us": self.max_time_diff_us}
+        if self.event == Event.CRASH:
+            d.update(crash=self.crash_kind.name.lower(), crash_detail=self.crash_detail, crash_reason=self.crash_reason())
+        return d

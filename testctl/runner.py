@@ -7,13 +7,14 @@ start/end flags of athrill_mmap.bin.
 
 from __future__ import annotations
 
+import dataclasses
 import subprocess
 import time
 from pathlib import Path
 from typing import Callable, Mapping
 
-from hakoniwa.protocol import (PARAM_END, Athrill, Event, MappedFile, ProtocolError, Unity, goal_time_from_words,
-                               open_athrill, open_unity)
+from hakoniwa.protocol import (PARAM_END, CrashKind, Event, MappedFile, ProtocolError, Rx, SyncMode, Tx,
+                               goal_time_from_words, open_athrill, open_unity)
 from testctl.result import TestResult
 from hakoniwa.waiting import pid_alive, wait_for
 
@@ -42,11 +43,11 @@ class TrialRunner:
         self.test_timeout_s = test_timeout_s
         self.unity: MappedFile = open_unity(self.run_dir)
         self.athrill: MappedFile = open_athrill(self.run_dir)
-        self._physics_pid = self.unity.pid
+        self._physics_pid = self.unity.read_u32(Rx.PHYSICS_PID)
 
     def write_params(self, params: Mapping[int, float]) -> None:
         for offset, value in params.items():
-            if not (Unity.PARAMS <= offset <= PARAM_END - 4 and offset % 4 == 0):
+            if not (Rx.PARAMS <= offset <= PARAM_END - 4 and offset % 4 == 0):
                 raise ProtocolError(f"parameter offset {offset} is outside the parameter area")
             self.unity.write_f32(offset, float(value))
 
@@ -54,20 +55,24 @@ class TrialRunner:
         """One test with `params` ({data offset: value}); blocks until the physics process reports an event
         and has reset for the next test."""
         start = time.monotonic()
-        self._wait(lambda: self.unity.read_i32(Unity.EVENT) == Event.NONE, "reset before the test")
+        u = self.unity
+        self._wait(lambda: u.read_i32(Rx.EVENT) == Event.NONE, "reset before the test")
         self.write_params(params)
-        self.athrill.write_i32(Athrill.START, 1)
-        self._wait(lambda: self.unity.read_i32(Unity.EVENT) != Event.NONE, "an event")
-        event = Event(self.unity.read_i32(Unity.EVENT))
-        goal_us = goal_time_from_words(self.unity.read_u32(Unity.GOAL_TIME_HI),
-                                       self.unity.read_u32(Unity.GOAL_TIME_LO))
-        self.athrill.write_i32(Athrill.START, 0)
-        self._wait(lambda: self.unity.read_i32(Unity.EVENT) == Event.NONE, "the reset after the test")
-        return TestResult(event, goal_us if event == Event.GOAL else 0, time.monotonic() - start)
+        self.athrill.write_i32(Tx.START, 1)
+        self._wait(lambda: u.read_i32(Rx.EVENT) != Event.NONE, "an event")
+        event = Event(u.read_i32(Rx.EVENT))
+        goal_us = goal_time_from_words(u.read_u32(Rx.GOAL_TIME_HI), u.read_u32(Rx.GOAL_TIME_LO))
+        result = TestResult(event, goal_us if event == Event.GOAL else 0, 0.0, u.read_u32(Rx.CHECKPOINTS),
+                            u.read_u32(Rx.DISTANCE_MM), u.read_u32(Rx.MAX_TIME_DIFF_US),
+                            SyncMode(u.read_u32(Rx.SYNC_MODE)), CrashKind(u.read_i32(Rx.CRASH_KIND)),
+                            u.read_i32(Rx.CRASH_DETAIL))
+        self.athrill.write_i32(Tx.START, 0)
+        self._wait(lambda: u.read_i32(Rx.EVENT) == Event.NONE, "the reset after the test")
+        return dataclasses.replace(result, wall_s=time.monotonic() - start)
 
     def end(self) -> None:
         """end = 1: the physics process exits."""
-        self.athrill.write_i32(Athrill.END, 1)
+        self.athrill.write_i32(Tx.END, 1)
 
     def _wait(self, condition: Callable[[], bool], what: str) -> None:
         deadline = time.monotonic() + self.test_timeout_s

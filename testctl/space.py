@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from hakoniwa.protocol import PARAM_END, Unity
+from hakoniwa.protocol import PARAM_END, Rx
 from testctl import paper
 
 _FLOAT_SIZE = 4
@@ -83,11 +83,11 @@ class ParameterSpace:
         """The paper's experiment (section 4.1, Table 4)."""
         return cls(
             params=(
-                Parameter("Kp", Unity.KP, *paper.GAIN_RANGE),
-                Parameter("Ki", Unity.KI, *paper.GAIN_RANGE),
-                Parameter("Kd", Unity.KD, *paper.GAIN_RANGE),
+                Parameter("Kp", Rx.KP, *paper.GAIN_RANGE),
+                Parameter("Ki", Rx.KI, *paper.GAIN_RANGE),
+                Parameter("Kd", Rx.KD, *paper.GAIN_RANGE),
             ),
-            fixed=(FixedParameter("motor_power", Unity.MOTOR_POWER, paper.MOTOR_POWER),),
+            fixed=(FixedParameter("motor_power", Rx.MOTOR_POWER, paper.MOTOR_POWER),),
         )
 
     @property
@@ -160,8 +160,8 @@ class ParameterSpace:
 
 
 def _check_offset(name: str, offset: int) -> None:
-    if not Unity.PARAMS <= offset <= _LAST_OFFSET:
-        raise SpaceError(f"{name!r}: offset {offset} is outside the parameter area {Unity.PARAMS}..{_LAST_OFFSET}")
+    if not Rx.PARAMS <= offset <= _LAST_OFFSET:
+        raise SpaceError(f"{name!r}: offset {offset} is outside the parameter area {Rx.PARAMS}..{_LAST_OFFSET}")
     if offset % _FLOAT_SIZE:
         raise SpaceError(f"{name!r}: offset {offset} is not {_FLOAT_SIZE}-byte aligned")
 

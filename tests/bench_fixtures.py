@@ -8,7 +8,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Iterator
 
-from hakoniwa.launch import physics_command
+from hakoniwa.launch import BenchOptions
 from testctl.paper import BEST_GAINS, line_trace_params
 from testctl.runner import TrialRunner
 
@@ -21,8 +21,8 @@ def physics(run_dir: Path, *, extra_env: dict[str, str] | None = None, app: str 
             athrill_timeout_s: float = 10.0) -> Iterator[tuple[subprocess.Popen, TrialRunner]]:
     """A physics process serving `run_dir` with no controller of its own: the test is the controller."""
     env = dict(os.environ, **(extra_env or {}))
-    proc = subprocess.Popen(physics_command(run_dir, "oval", [], app=app, athrill_timeout_s=athrill_timeout_s),
-                            env=env)
+    bench = BenchOptions(app=app, athrill_timeout_s=athrill_timeout_s)
+    proc = subprocess.Popen(bench.physics_command(run_dir, []), env=env)
     try:
         runner = TrialRunner.attach(run_dir, proc)
         yield proc, runner

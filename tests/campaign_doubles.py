@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 
-from hakoniwa.protocol import Event, Unity
+from hakoniwa.protocol import Event, Rx
 from testctl.result import TestResult
 
 
@@ -23,8 +23,8 @@ class SyntheticBench:
 
     def __call__(self, params: Mapping[int, float]) -> TestResult:
         self.calls.append(dict(params))
-        assert params[Unity.MOTOR_POWER] == 15.0
-        kp, ki, kd = params[Unity.KP], params[Unity.KI], params[Unity.KD]
+        assert params[Rx.MOTOR_POWER] == 15.0
+        kp, ki, kd = params[Rx.KP], params[Rx.KI], params[Rx.KD]
         lap = 32.0 + 2.0 * ((kp - 1.5) ** 2 + (ki - 4.3) ** 2 + (kd - 4.5) ** 2)
         if lap < 50.0:
             return result(Event.GOAL, lap)

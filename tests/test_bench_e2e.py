@@ -9,8 +9,8 @@ import time
 
 import pytest
 
-from hakoniwa.launch import physics_command
-from hakoniwa.protocol import Athrill, Event, Unity
+from hakoniwa.launch import BenchOptions
+from hakoniwa.protocol import CrashKind, Event, Rx, Tx
 from hakoniwa.rundir import LOCK_FILE
 from bench_fixtures import PAPER, ZERO, physics
 
@@ -39,15 +39,17 @@ def wait_until(cond, timeout_s: float, what: str) -> None:
 def test_athrill_killed_mid_test_is_a_crash_and_the_bench_stays_usable(tmp_path):
     with physics(tmp_path) as (_, runner):
         runner.write_params(PAPER)
-        runner.athrill.write_i32(Athrill.START, 1)
-        wait_until(lambda: runner.unity.time_us >= 2_000_000, 30, "two simulated seconds")
-        os.kill(runner.athrill.pid, signal.SIGKILL)
+        runner.athrill.write_i32(Tx.START, 1)
+        wait_until(lambda: runner.unity.unity_time_us >= 2_000_000, 30, "two simulated seconds")
+        os.kill(runner.athrill.read_u32(Tx.ATHRILL_PID), signal.SIGKILL)
         killed_at = time.monotonic()
-        wait_until(lambda: runner.unity.read_i32(Unity.EVENT) != Event.NONE, 10, "an event")
+        wait_until(lambda: runner.unity.read_i32(Rx.EVENT) != Event.NONE, 10, "an event")
         assert time.monotonic() - killed_at < 2.0  # noticed through the process, not the long timeout
-        assert runner.unity.read_i32(Unity.EVENT) == Event.CRASH  # not HIT_WALL
-        runner.athrill.write_i32(Athrill.START, 0)
-        wait_until(lambda: runner.unity.read_i32(Unity.EVENT) == Event.NONE, 10, "the reset")
+        assert runner.unity.read_i32(Rx.EVENT) == Event.CRASH  # not HIT_WALL
+        assert runner.unity.read_i32(Rx.CRASH_KIND) == CrashKind.PROGRAM
+        assert runner.unity.read_i32(Rx.CRASH_DETAIL) == -signal.SIGKILL
+        runner.athrill.write_i32(Tx.START, 0)
+        wait_until(lambda: runner.unity.read_i32(Rx.EVENT) == Event.NONE, 10, "the reset")
         assert runner.run_test(PAPER).event == Event.GOAL
 
 
@@ -67,13 +69,13 @@ def test_silent_athrill_is_a_crash_within_the_timeout(tmp_path):
     env = {"PYTHONPATH": os.pathsep.join([str(apps), os.environ.get("PYTHONPATH", "")])}
     with physics(run_dir, extra_env=env, app="silent_app:main_task", athrill_timeout_s=1.0) as (_, runner):
         result = runner.run_test(PAPER)
-    assert result.event == Event.CRASH
+    assert result.event == Event.CRASH and result.crash_kind == CrashKind.SILENT
     assert result.wall_s < 5.0
 
 
 def test_a_run_directory_serves_one_run_at_a_time(tmp_path):
     with physics(tmp_path):
-        second = subprocess.run(physics_command(tmp_path, "oval", []), capture_output=True, text=True, timeout=60)
+        second = subprocess.run(BenchOptions().physics_command(tmp_path, []), capture_output=True, text=True, timeout=60)
     assert second.returncode != 0
     assert "in use by another run" in second.stderr
     assert "Traceback" not in second.stderr

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from hakoniwa.protocol import Unity
+from hakoniwa.protocol import Rx
 from testctl.space import ParameterSpace, SpaceError
 
 EXAMPLE = Path(__file__).resolve().parent.parent / "docs" / "space-example.toml"
@@ -30,7 +30,7 @@ def test_default_is_the_papers_experiment() -> None:
     assert space.names == ("Kp", "Ki", "Kd")
     assert all((p.low, p.high) == (0.0, 5.0) for p in space.params)
     assert space.to_offsets([1.0, 2.0, 3.0]) == {
-        Unity.KP: 1.0, Unity.KI: 2.0, Unity.KD: 3.0, Unity.MOTOR_POWER: 15.0
+        Rx.KP: 1.0, Rx.KI: 2.0, Rx.KD: 3.0, Rx.MOTOR_POWER: 15.0
     }
 
 

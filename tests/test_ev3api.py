@@ -3,10 +3,11 @@
 import pytest
 
 from athrill_sim.bus import BusError, MemoryBus
-from athrill_sim.ev3api import (E_OK, E_PAR, EV3_PORT_1, EV3_PORT_2, EV3_PORT_B, EV3_PORT_C, Ev3Api,
-                                SensorPortError)
+from athrill_sim.ev3api import (COLOR_SENSOR, E_ID, E_OBJ, E_OK, E_PAR, EV3_PORT_1, EV3_PORT_2, EV3_PORT_3,
+                                EV3_PORT_A, EV3_PORT_B, EV3_PORT_D, ENTER_BUTTON, GYRO_SENSOR, LARGE_MOTOR, LED_ORANGE,
+                                TOUCH_SENSOR, ULTRASONIC_SENSOR, Ev3Api)
 from athrill_sim.kernel import Kernel
-from hakoniwa.protocol import ATHRILL_GUEST_BASE, Athrill, Unity, open_athrill, open_unity
+from hakoniwa.protocol import Rx, Tx, open_athrill, open_unity
 
 
 @pytest.fixture
@@ -14,12 +15,15 @@ def api(tmp_path):
     open_unity(tmp_path, create=True).close()
     open_athrill(tmp_path, create=True).close()
     bus = MemoryBus(tmp_path)
-    yield Ev3Api(bus, Kernel(bus.unity, bus.athrill))
+    api = Ev3Api(bus, Kernel(bus.unity, bus.athrill))
+    for port in (EV3_PORT_A, EV3_PORT_B):
+        api.ev3_motor_config(port, LARGE_MOTOR)
+    yield api
     bus.close()
 
 
 def powers(api):
-    return api.bus.athrill.read_i32s(Athrill.MOTOR_POWER, 4)
+    return api.bus.athrill.read_i32s(Tx.MOTOR_POWER, 4)
 
 
 @pytest.mark.parametrize("power, turn, left, right", [
@@ -31,46 +35,74 @@ def powers(api):
     (15, -33, 6, 15),
 ])
 def test_motor_steer_follows_ev3rt(api, power, turn, left, right):
-    assert api.ev3_motor_steer(EV3_PORT_C, EV3_PORT_B, power, turn) == E_OK
+    assert api.ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, power, turn) == E_OK
     p = powers(api)
-    assert (p[EV3_PORT_C], p[EV3_PORT_B]) == (left, right)
+    assert (p[EV3_PORT_A], p[EV3_PORT_B]) == (left, right)
 
 
 def test_motor_steer_refuses_out_of_range_turn(api):
-    api.ev3_motor_steer(EV3_PORT_C, EV3_PORT_B, 20, 0)
-    assert api.ev3_motor_steer(EV3_PORT_C, EV3_PORT_B, 20, 101) == E_PAR
-    assert powers(api)[EV3_PORT_C] == 20  # motors left alone
+    api.ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 20, 0)
+    assert api.ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 20, 101) == E_PAR
+    assert powers(api)[EV3_PORT_A] == 20  # motors left alone
 
 
-def test_set_power_clamps(api):
+def test_set_power_clamps_and_needs_a_configured_motor(api):
     api.ev3_motor_set_power(EV3_PORT_B, 250)
     assert powers(api)[EV3_PORT_B] == 100
+    assert api.ev3_motor_get_power(EV3_PORT_B) == 100
+    assert api.ev3_motor_set_power(EV3_PORT_D, 10) == E_OBJ
+    assert api.ev3_motor_set_power(7, 10) == E_ID
 
 
 def test_parameters_are_read_from_guest_memory(api):
-    api.bus.unity.write_f32(Unity.KP, 1.539)
+    api.bus.unity.write_f32(Rx.KP, 1.539)
     assert api.bus.read_f32(0x090F0000 + 540) == pytest.approx(1.539)
+    assert api.bus.read_f32(0x090F0FFC) == 0.0  # anywhere in the 4 KiB window
     with pytest.raises(BusError):
         api.bus.read_f32(0x08000000)
 
 
-def test_sensors_and_ports(api):
-    api.bus.unity.write_i32(Unity.COLOR_REFLECT, 73)
-    api.bus.unity.write_i32(Unity.ULTRASONIC_CM, 42)
+def test_sensors_read_like_ev3rts_drivers(api):
+    u = api.bus.unity
+    u.write_i32(Rx.COLOR0_REFLECT, 0x1234_0049)  # EV3RT takes the low byte: 73
+    u.write_i32(Rx.COLOR0_COLOR, 6)
+    u.write_i32(Rx.ULTRASONIC_MM, 427)  # mm in, cm out (truncated)
+    u.write_i32(Rx.GYRO_ANGLE, -90)
+    u.write_i32(Rx.TOUCH0, 4095)
+    for port, kind in ((EV3_PORT_1, COLOR_SENSOR), (EV3_PORT_2, ULTRASONIC_SENSOR), (EV3_PORT_3, GYRO_SENSOR)):
+        assert api.ev3_sensor_config(port, kind) == E_OK
     assert api.ev3_color_sensor_get_reflect(EV3_PORT_1) == 73
+    assert api.ev3_color_sensor_get_color(EV3_PORT_1) == 6
     assert api.ev3_ultrasonic_sensor_get_distance(EV3_PORT_2) == 42
-    with pytest.raises(SensorPortError, match="no color sensor on port 2"):
-        api.ev3_color_sensor_get_reflect(EV3_PORT_2)
+    assert api.ev3_gyro_sensor_get_angle(EV3_PORT_3) == -90
+    assert api.ev3_sensor_config(EV3_PORT_3, TOUCH_SENSOR) == E_OK
+    assert api.ev3_touch_sensor_is_pressed(EV3_PORT_3)
 
 
-def test_motor_counts_reset_is_relative(api):
-    api.bus.unity.write_i32(Unity.MOTOR_COUNTS + 4 * EV3_PORT_B, 500)
-    api.ev3_motor_reset_counts(EV3_PORT_B)
-    api.bus.unity.write_i32(Unity.MOTOR_COUNTS + 4 * EV3_PORT_B, 530)
-    assert api.ev3_motor_get_counts(EV3_PORT_B) == 30
+def test_a_sensor_not_configured_on_the_port_reads_zero(api, capsys):
+    api.bus.unity.write_i32(Rx.COLOR0_REFLECT, 73)
+    assert api.ev3_color_sensor_get_reflect(EV3_PORT_2) == 0
+    assert "ercd -41" in capsys.readouterr().err  # E_OBJ, as EV3RT logs it
 
 
-def test_led(api):
-    assert api.ev3_led_set_color(2) == E_OK
-    assert api.bus.read_i32(ATHRILL_GUEST_BASE + Athrill.LED) == 2
+def test_reset_counts_raises_the_flag_the_physics_side_clears(api):
+    api.bus.unity.write_i32(Rx.MOTOR_ANGLE + 4 * EV3_PORT_B, 530)
+    assert api.ev3_motor_get_counts(EV3_PORT_B) == 530
+    assert api.ev3_motor_reset_counts(EV3_PORT_B) == E_OK
+    assert api.bus.athrill.read_i32(Tx.MOTOR_RESET_ANGLE + 4 * EV3_PORT_B) == 1
+
+
+def test_stop_sets_the_brake_flag(api):
+    api.ev3_motor_set_power(EV3_PORT_A, 30)
+    assert api.ev3_motor_stop(EV3_PORT_A, True) == E_OK
+    assert powers(api)[EV3_PORT_A] == 0
+    assert api.bus.athrill.read_i32(Tx.MOTOR_BRAKE) == 1
+
+
+def test_led_and_buttons(api):
+    assert api.ev3_led_set_color(LED_ORANGE) == E_OK
+    assert api.bus.athrill.read_i32(Tx.LED) == 0b11  # RED | GREEN bits
     assert api.ev3_led_set_color(9) == E_PAR
+    assert not api.ev3_button_is_pressed(ENTER_BUTTON)
+    api.bus.unity.write_i32(Rx.BUTTONS, 1 << ENTER_BUTTON)
+    assert api.ev3_button_is_pressed(ENTER_BUTTON)

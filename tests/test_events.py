@@ -26,7 +26,7 @@ def place(world: World, x: float, y: float, yaw_deg: float = 0.0) -> None:
 
 def test_goal_needs_all_checkpoints_in_order(world):
     course = world.course
-    task = LapTask(course)
+    task = LapTask(course, course.time_limit_us)
     last = course.checkpoints[-1]
     place(world, last.x, last.y)
     assert task.check(world, 1_000) == Event.NONE  # the finish first does not count
@@ -40,7 +40,7 @@ def test_goal_needs_all_checkpoints_in_order(world):
 
 def test_skipping_a_checkpoint_is_no_goal(world):
     course = world.course
-    task = LapTask(course)
+    task = LapTask(course, course.time_limit_us)
     for cp in (course.checkpoints[0], course.checkpoints[2], course.checkpoints[3]):
         place(world, cp.x, cp.y)
         assert task.check(world, 1_000) == Event.NONE
@@ -48,7 +48,7 @@ def test_skipping_a_checkpoint_is_no_goal(world):
 
 
 def test_wall_contact_is_hit_wall(world):
-    task = LapTask(world.course)
+    task = LapTask(world.course, world.course.time_limit_us)
     east = next(w for w in world.course.walls if w.name == "east")
     place(world, east.x - east.hx - 0.08, 0.4)  # nose against the east wall
     world.set_motor_power(30, 30)
@@ -58,7 +58,7 @@ def test_wall_contact_is_hit_wall(world):
 
 
 def test_checkpoint_volumes_are_not_walls(world):
-    task = LapTask(world.course)
+    task = LapTask(world.course, world.course.time_limit_us)
     cp = world.course.checkpoints[1]
     place(world, cp.x, cp.y)
     world.set_motor_power(20, 20)
@@ -68,7 +68,7 @@ def test_checkpoint_volumes_are_not_walls(world):
 
 
 def test_time_limit_is_time_over(world):
-    task = LapTask(world.course)
+    task = LapTask(world.course, world.course.time_limit_us)
     place(world, world.course.start.x, world.course.start.y)
     limit = world.course.time_limit_us
     assert task.check(world, limit - 10_000) == Event.NONE

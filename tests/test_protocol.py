@@ -1,32 +1,89 @@
+"""The wire layout, pinned byte for byte against the real Hakoniwa tables (../shared/third_party/athrill/README.md,
+read from EV3RT's athrill drivers and Athrill's VDEV device)."""
+
 import struct
 
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from hakoniwa.protocol import (ATHRILL_GUEST_BASE, DATA_SIZE, FILE_SIZE, HEADER_SIZE, UNITY_FILE,
-                               UNITY_GUEST_BASE, Athrill, ProtocolError, Unity, goal_time_from_words,
-                               goal_time_words, guest_to_data_offset, open_athrill, open_unity)
+from hakoniwa.protocol import (ATHRILL_FILE, FILE_SIZE, HEADER_SIZE, RX_GUEST_BASE, TX_GUEST_BASE, UNITY_FILE,
+                               WINDOW_SIZE, ColorId, Event, Header, ProtocolError, Rx, Tx, c_header,
+                               goal_time_from_words, goal_time_words, guest_to_body, open_athrill, open_unity)
+
+# The README's tables, written out independently of protocol.py.
+REAL_HEADER = {"magic": 0, "version": 4, "athrill_time": 8, "unity_time": 16, "ext_off": 24, "ext_size": 28}
+REAL_RX = {"buttons": 0, "color0_ambient": 4, "color0_color": 8, "color0_reflect": 12, "color0_rgb": 16,
+           "gyro_angle": 28, "gyro_rate": 32, "ultrasonic_mm": 88, "touch0": 112, "touch1": 124,
+           "color1_ambient": 128, "color1_color": 132, "color1_reflect": 136, "color1_rgb": 140, "motor_angle": 256,
+           "event": 528, "goal_time_hi": 532, "goal_time_lo": 536, "params": 540, "kp": 540, "ki": 544, "kd": 548,
+           "motor_power": 552}
+REAL_TX = {"led": 0, "motor_power": 4, "motor_brake": 20, "motor_reset_angle": 36, "gyro_reset": 52, "start": 512,
+           "end": 516}
 
 
-def test_file_is_header_plus_data_area(tmp_path):
+def test_header_offsets_are_the_real_ones():
+    assert {k: getattr(Header, k.upper()) for k in REAL_HEADER} == REAL_HEADER
+    assert HEADER_SIZE == 32 and FILE_SIZE == 8192 and WINDOW_SIZE == 0x1000
+
+
+def test_body_offsets_are_the_real_ones():
+    assert {k: getattr(Rx, k.upper()) for k in REAL_RX} == REAL_RX
+    assert {k: getattr(Tx, k.upper()) for k in REAL_TX} == REAL_TX
+    assert RX_GUEST_BASE == 0x090F0000 and TX_GUEST_BASE == 0x090F1000
+
+
+def test_our_extension_stays_in_bytes_the_real_layout_leaves_unused():
+    real_rx = [(o, o + 4) for o in REAL_RX.values() if o < 512] + [(16, 28), (140, 152), (256, 272), (36, 88),
+                                                                    (96, 124)]
+    ours_rx = [v for k, v in vars(Rx).items() if isinstance(v, int) and k.lower() not in REAL_RX
+               and k not in ("COLOR0_RGB", "COLOR1_RGB")]
+    ours_tx = [v for k, v in vars(Tx).items() if isinstance(v, int) and k.lower() not in REAL_TX]
+    assert ours_rx and ours_tx
+    for off in ours_rx:
+        assert 272 <= off < 512 and not any(a <= off < b for a, b in real_rx), off
+    for off in ours_tx:
+        assert 56 <= off < 512, off
+
+
+def test_a_new_file_has_the_real_header(tmp_path):
     with open_unity(tmp_path, create=True):
         pass
-    raw = (tmp_path / UNITY_FILE).read_bytes()
-    assert len(raw) == FILE_SIZE == 32 + 1024
-    assert raw[:4] == b"HKUN"
+    with open_athrill(tmp_path, create=True):
+        pass
+    rx = (tmp_path / UNITY_FILE).read_bytes()
+    tx = (tmp_path / ATHRILL_FILE).read_bytes()
+    assert len(rx) == len(tx) == 8192
+    assert rx[:8] == b"ETRX\x01\x00\x00\x00" and tx[:8] == b"ETTX\x01\x00\x00\x00"
+    assert struct.unpack_from("<II", rx, 24) == (512, 512) == struct.unpack_from("<II", tx, 24)
 
 
-def test_paper_offsets_are_data_offsets_plus_32(tmp_path):
+def test_a_file_written_by_the_real_athrill2_is_accepted(tmp_path):
+    # What athrill2 writes at start (seen in a probe of the real emulator): its header, its clock, the echo.
+    header = b"ETTX" + struct.pack("<IQQII", 1, 123_456, 120_000, 512, 512)
+    (tmp_path / ATHRILL_FILE).write_bytes(header + bytes(8192 - 32))
+    with open_athrill(tmp_path) as a:
+        assert a.athrill_time_us == 123_456
+        assert a.unity_time_us == 120_000
+
+
+def test_field_values_land_at_body_offset_plus_32_with_their_units(tmp_path):
     with open_unity(tmp_path, create=True) as u:
-        u.write_f32(Unity.KP, 1.5)
-        u.write_i32(Unity.EVENT, 3)
+        u.write_f32(Rx.KP, 1.5)
+        u.write_i32(Rx.EVENT, int(Event.HIT_WALL))
+        u.write_i32(Rx.COLOR0_COLOR, int(ColorId.WHITE))
+        u.write_i32(Rx.ULTRASONIC_MM, 1234)
+        u.write_i32(Rx.TOUCH0, 4095)
+        u.write_i32(Rx.MOTOR_ANGLE + 4 * 1, -720)
+        u.unity_time_us = 2**40 + 5
     raw = (tmp_path / UNITY_FILE).read_bytes()
     assert struct.unpack_from("<f", raw, 540 + 32)[0] == 1.5
     assert struct.unpack_from("<i", raw, 528 + 32)[0] == 3
-    assert (Unity.EVENT, Unity.GOAL_TIME_HI, Unity.GOAL_TIME_LO, Unity.KP, Unity.KI, Unity.KD,
-            Unity.MOTOR_POWER) == (528, 532, 536, 540, 544, 548, 552)
-    assert (Athrill.START, Athrill.END) == (512, 516)
+    assert raw[8 + 32] == 6  # EV3RT reads the colour id's low byte: COLOR_WHITE
+    assert struct.unpack_from("<h", raw, 88 + 32)[0] == 1234  # mm; EV3RT divides by 10
+    assert struct.unpack_from("<i", raw, 112 + 32)[0] == 4095
+    assert struct.unpack_from("<i", raw, 256 + 4 + 32)[0] == -720  # port B
+    assert struct.unpack_from("<Q", raw, 16)[0] == 2**40 + 5
 
 
 @given(st.integers(min_value=0, max_value=2**64 - 1))
@@ -36,7 +93,7 @@ def test_goal_time_words_round_trip(us):
     assert goal_time_from_words(hi, lo) == us
 
 
-@given(st.lists(st.tuples(st.integers(0, (DATA_SIZE - 8) // 4).map(lambda i: 4 * i),
+@given(st.lists(st.tuples(st.integers(0, (WINDOW_SIZE - 4) // 4).map(lambda i: 4 * i),
                           st.integers(-2**31, 2**31 - 1)), max_size=20))
 def test_i32_round_trip(tmp_path_factory, writes):
     d = tmp_path_factory.mktemp("rt")
@@ -49,25 +106,18 @@ def test_i32_round_trip(tmp_path_factory, writes):
             assert a.read_i32(off) == v
 
 
-def test_stamp_bumps_sequence_and_time(tmp_path):
-    with open_unity(tmp_path, create=True) as u:
-        seq = u.seq
-        u.stamp(123_456_789_012)
-        assert u.seq == seq + 1
-        assert u.time_us == 123_456_789_012
-
-
 def test_reader_sees_writer(tmp_path):
     with open_unity(tmp_path, create=True) as w, open_unity(tmp_path) as r:
-        w.write_i64(Unity.SNAPSHOT_TIME, 2**40 + 7)
-        assert r.read_i64(Unity.SNAPSHOT_TIME) == 2**40 + 7
+        w.unity_time_us = 2**40 + 7
+        assert r.unity_time_us == 2**40 + 7
 
 
 @pytest.mark.parametrize("damage, message", [
     (lambda raw: b"XXXX" + raw[4:], "magic"),
     (lambda raw: raw[:4] + struct.pack("<I", 99) + raw[8:], "layout version 99"),
-    (lambda raw: raw[:-1], "size 1055"),
-    (lambda raw: raw + b"\0", "size 1057"),
+    (lambda raw: raw[:-1], "size 8191"),
+    (lambda raw: raw + b"\0", "size 8193"),
+    (lambda raw: raw[:1056], "size 1056"),  # our old layout's size
     (lambda raw: b"", "size 0"),
 ])
 def test_bad_files_are_clear_errors(tmp_path, damage, message):
@@ -82,7 +132,7 @@ def test_bad_files_are_clear_errors(tmp_path, damage, message):
 def test_wrong_file_kind_is_refused(tmp_path):
     with open_athrill(tmp_path, create=True):
         pass
-    (tmp_path / UNITY_FILE).write_bytes((tmp_path / "athrill_mmap.bin").read_bytes())
+    (tmp_path / UNITY_FILE).write_bytes((tmp_path / ATHRILL_FILE).read_bytes())
     with pytest.raises(ProtocolError, match="magic"):
         open_unity(tmp_path)
 
@@ -92,18 +142,46 @@ def test_missing_file_is_a_clear_error(tmp_path):
         open_unity(tmp_path)
 
 
-def test_access_outside_data_area_is_refused(tmp_path):
+@pytest.mark.parametrize("damage", ["magic", "truncate"])
+def test_the_owner_repairs_a_damaged_file(tmp_path, damage):
     with open_unity(tmp_path, create=True) as u:
+        u.write_f32(Rx.KP, 2.5)
+        path = tmp_path / UNITY_FILE
+        if damage == "magic":
+            with open(path, "r+b") as f:
+                f.write(b"JUNK")
+        else:
+            with open(path, "r+b") as f:
+                f.truncate(100)
+        assert u.repair() is not None
+        assert u.repair() is None
+        with open_unity(tmp_path) as again:  # a fresh reader accepts it
+            assert again.read_f32(Rx.KP) == (2.5 if damage == "magic" else 0.0)
+
+
+def test_access_outside_the_window_is_refused(tmp_path):
+    with open_unity(tmp_path, create=True) as u:
+        u.read_f32(WINDOW_SIZE - 4)  # the whole 4 KiB window is readable, as in the real Athrill
         with pytest.raises(ProtocolError):
-            u.read_f32(DATA_SIZE - 2)
+            u.read_f32(WINDOW_SIZE - 2)
         with pytest.raises(ProtocolError):
             u.write_i32(-4, 0)
 
 
 def test_guest_addresses():
-    assert guest_to_data_offset(0x090F0000 + 540) == (UNITY_FILE, 540)
-    assert guest_to_data_offset(ATHRILL_GUEST_BASE + 512)[1] == 512
-    assert UNITY_GUEST_BASE == 0x090F0000
+    assert guest_to_body(0x090F0000 + 540) == (UNITY_FILE, 540)
+    assert guest_to_body(0x090F1000 + 512) == (ATHRILL_FILE, 512)
+    assert guest_to_body(0x090F0FFF) == (UNITY_FILE, 0xFFF)
     with pytest.raises(ValueError):
-        guest_to_data_offset(UNITY_GUEST_BASE + DATA_SIZE)
-    assert HEADER_SIZE == 32
+        guest_to_body(0x090F2000)
+    with pytest.raises(ValueError):
+        guest_to_body(0x090EFFFF)
+
+
+def test_the_c_header_is_generated_from_this_layout():
+    text = c_header()
+    assert "#define HAKO_RX_KP 540\n" in text
+    assert "#define HAKO_TX_START 512\n" in text
+    assert "#define HAKO_RX_ULTRASONIC_MM 88\n" in text
+    assert "#define HAKO_RX_GUEST_BASE 0x90F0000u\n" in text
+    assert "#define HAKO_EVENT_CRASH 4\n" in text

@@ -1,41 +1,66 @@
-"""The line tracer of the paper's Fig. 7, as close to its C source as Python allows.
+"""The line tracer of the paper's Fig. 7, as its C source computes it.
 
 Kp, Ki, Kd and the motor power are read through guest memory at 0x090F0000 + 540.. on every loop, as the
 C code dereferences its pointers; the test controller writes them into unity_mmap.bin before the start.
+The C variables are floats: every arithmetic result is rounded to float32 exactly where C rounds it (float
+operations round each result; `integral * 0.01` is a double expression, rounded once on assignment), so
+this program and `athrill_sim/native/apps/line_trace.c` compute bit for bit the same steering.
 """
 
 from __future__ import annotations
 
-from hakoniwa.protocol import UNITY_GUEST_BASE, Unity
+import struct
+
+from athrill_sim.ev3api import (COLOR_SENSOR, EV3_PORT_1, EV3_PORT_A, EV3_PORT_B, LARGE_MOTOR, Ev3Api, rx)
+from hakoniwa.protocol import Rx
 from hakoniwa.timebase import CONTROL_PERIOD_US
-from athrill_sim.ev3api import COLOR_SENSOR_PORT, EV3_PORT_B, EV3_PORT_C, Ev3Api
 
 WHITE = 100
 BLACK = 50
-LEFT_MOTOR = EV3_PORT_C
+LEFT_MOTOR = EV3_PORT_A
 RIGHT_MOTOR = EV3_PORT_B
+COLOR_PORT = EV3_PORT_1
 
-Kp = UNITY_GUEST_BASE + Unity.KP
-Ki = UNITY_GUEST_BASE + Unity.KI
-Kd = UNITY_GUEST_BASE + Unity.KD
-MOTOR_POWER = UNITY_GUEST_BASE + Unity.MOTOR_POWER
+Kp = rx(Rx.KP)
+Ki = rx(Rx.KI)
+Kd = rx(Rx.KD)
+MOTOR_POWER = rx(Rx.MOTOR_POWER)
+
+_F32 = struct.Struct("<f")
+
+
+def f32(x: float) -> float:
+    """Round a double to the nearest float32, as a C float assignment or float operation does."""
+    return _F32.unpack(_F32.pack(x))[0]
+
+
+def c_int(x: float) -> int:
+    """C's float-to-int conversion (truncation toward zero)."""
+    return int(x)
 
 
 def motor_steer(api: Ev3Api, left: int, right: int, power: float, steer: float) -> None:
-    """The sample's wrapper: C converts the float arguments to int (truncating) and the wrapper clamps the
-    turn ratio, which ev3_motor_steer would otherwise refuse."""
-    api.ev3_motor_steer(left, right, int(power), max(-100, min(100, int(steer))))
+    """The sample's wrapper: the turn ratio is clamped (ev3_motor_steer would refuse it outside -100..100)
+    and both arguments are converted to int, truncating."""
+    turn = 100 if steer > 100 else -100 if steer < -100 else c_int(steer)
+    api.ev3_motor_steer(left, right, c_int(power), turn)
 
 
 def main_task(api: Ev3Api) -> None:
+    api.ev3_sensor_config(COLOR_PORT, COLOR_SENSOR)
+    api.ev3_motor_config(LEFT_MOTOR, LARGE_MOTOR)
+    api.ev3_motor_config(RIGHT_MOTOR, LARGE_MOTOR)
     read = api.bus.read_f32
     lasterror = 0.0
     integral = 0.0
-    mid = (WHITE - BLACK) / 2 + BLACK
+    mid = f32((WHITE - BLACK) // 2 + BLACK)
     while True:
-        error = mid - api.ev3_color_sensor_get_reflect(COLOR_SENSOR_PORT)
-        integral = error + integral * 0.01
-        steer = read(Kp) * error + read(Ki) * integral + read(Kd) * (error - lasterror)
+        error = f32(mid - api.ev3_color_sensor_get_reflect(COLOR_PORT))
+        integral = f32(error + integral * 0.01)
+        p = f32(read(Kp) * error)
+        i = f32(read(Ki) * integral)
+        d = f32(read(Kd) * f32(error - lasterror))
+        steer = f32(f32(p + i) + d)
         motor_steer(api, LEFT_MOTOR, RIGHT_MOTOR, read(MOTOR_POWER), steer)
         lasterror = error
         api.tslp_tsk(CONTROL_PERIOD_US)  # tslp_tsk(100000): 100 ms

@@ -1,0 +1,32 @@
+"""What every command line of the bench shares: `-h` as well as `--help`, and the checks on numbers that
+end up as float32 in the mapped files."""
+
+from __future__ import annotations
+
+import math
+
+import click
+
+HELP = {"help_option_names": ["-h", "--help"]}
+FLOAT32_MAX = 3.4028234663852886e38
+
+
+class Float32(click.ParamType):
+    """A finite number that fits a float32 and lies in [low, high]: NaN, infinity and 1e40 are refused here,
+    with the range named, instead of turning into a crashed test or a traceback later."""
+
+    name = "number"
+
+    def __init__(self, low: float = -FLOAT32_MAX, high: float = FLOAT32_MAX) -> None:
+        self.low, self.high = low, high
+
+    def convert(self, value, param, ctx) -> float:
+        try:
+            x = float(value)
+        except (TypeError, ValueError):
+            self.fail(f"{value!r} is not a number", param, ctx)
+        if not math.isfinite(x):
+            self.fail(f"{value!r} is not a finite number", param, ctx)
+        if not self.low <= x <= self.high:
+            self.fail(f"{value!r} is outside {self.low:g}..{self.high:g}", param, ctx)
+        return x

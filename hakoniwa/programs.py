@@ -1,0 +1,153 @@
+"""What `--app` names, and how to start a fresh Athrill process for it for every test.
+
+Three kinds of robot program run against the same physics:
+
+- a Python program (a built-in name or `module:function`) on the mock Athrill, `athrill-sim`;
+- a v850 ELF image (an EV3RT application built for the real emulator) under the real TOPPERS `athrill2`,
+  with the memory and device configuration written into the run directory;
+- (see `athrill_sim.native`) a user's EV3RT C program compiled for this machine.
+
+The kind decides how time is kept (`SyncMode`): our own programs run in the deterministic lockstep, the real
+emulator speaks the real Hakoniwa protocol. Everything here is checked before the first test, so a bad
+`--app` is one clear error instead of a campaign of crashed tests.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from hakoniwa.launch import die_with_parent
+from hakoniwa.protocol import ATHRILL_FILE, UNITY_FILE, SyncMode
+
+BUILD_ATHRILL_HINT = "build it with scripts/build_athrill2.sh build/athrill, then pass --athrill2 build/athrill/athrill2"
+ELF_MAGIC = b"\x7fELF"
+V850_MACHINES = (36, 87, 0x9080)  # e_machine of v850 images: EM_V800 (what the TOPPERS toolchain writes), EM_V850, old GNU
+
+# Athrill's memory map and device configuration for an EV3RT image in MMAP mode: the layout the TOPPERS
+# ev3rt-athrill-v850e2m images are linked for, with the two mapped files at the VDEV addresses below. Athrill
+# finds the mapped files by these names, relative to its working directory (the run directory).
+MMAP_TX_ADDR = 0x40000000
+MMAP_RX_ADDR = 0x40010000
+MEMORY_CONFIG = "memory_mmap.txt"
+DEVICE_CONFIG = "device_config_mmap.txt"
+ATHRILL_MEMORY = [("ROM", 0x00000000, "512"), ("RAM", 0x00200000, "512"), ("RAM", 0x03FF7000, "1024"),
+                  ("RAM", 0x05FF7000, "10240"), ("RAM", 0x07FF7000, "10240"),
+                  ("MMAP", MMAP_TX_ADDR, ATHRILL_FILE), ("MMAP", MMAP_RX_ADDR, UNITY_FILE)]
+ATHRILL_DEVICE = [
+    ("DEVICE_CONFIG_TIMER_FD", "400"),
+    ("DEBUG_FUNC_ENABLE_FT", "1"), ("DEBUG_FUNC_ENABLE_BT", "1"), ("DEBUG_FUNC_ENABLE_PROF", "1"),
+    ("DEBUG_FUNC_ENABLE_WATCH", "1"), ("DEBUG_FUNC_ENABLE_SKIP_CLOCK", "1"), ("DEBUG_FUNC_ENABLE_SYNC_TIME", "0"),
+    ("DEBUG_FUNC_ENABLE_VDEV", "1"), ("DEBUG_FUNC_VDEV_MMAP_TX", f"0x{MMAP_TX_ADDR:08X}"),
+    ("DEBUG_FUNC_VDEV_MMAP_RX", f"0x{MMAP_RX_ADDR:08X}"), ("DEBUG_FUNC_VDEV_SIMSYNC_TYPE", "MMAP"),
+    ("DEVICE_CONFIG_SERIAL_FILFO_BASE_ADDR", "0x03FF7000"), ("DEVICE_CONFIG_SERIAL_FILFO_0_SIZE", "4096"),
+    ("DEVICE_CONFIG_SERIAL_FILFO_0_RD_INTNO", "57"), ("DEVICE_CONFIG_SERIAL_FILFO_0_WR_INTNO", "65"),
+    ("DEVICE_CONFIG_SERIAL_FILFO_0_RD_INTOFF", "8"), ("DEVICE_CONFIG_SERIAL_FILFO_0_WR_INTOFF", "0"),
+    ("DEVICE_CONFIG_SERIAL_FILFO_0_EXDEV_ENABLE", "1"), ("DEVICE_CONFIG_EV3_SERIAL_ID", "0"),
+]
+
+
+class ProgramError(ValueError):
+    """`--app` (or `--athrill2`) names nothing that can run; the message is one line."""
+
+
+@dataclass(frozen=True)
+class Program:
+    """A robot program, ready to be started once per test."""
+
+    description: str
+    sync: SyncMode
+    prelaunch: bool  # start test N+1's process while test N runs (it waits for its own test number)
+    argv: tuple[str, ...]  # the command; "{test}" and "{run_dir}" are filled in per test
+    in_run_dir: bool = False  # run with the run directory as working directory
+    config_files: dict[str, str] = field(default_factory=dict)  # written into the run directory once
+    check_argv: tuple[str, ...] = ()  # a command that exits non-zero, saying why, if the program cannot run
+
+    def prepare(self, run_dir: Path) -> None:
+        for name, text in self.config_files.items():
+            (run_dir / name).write_text(text)
+
+    def start_check(self) -> subprocess.Popen | None:
+        """Start checking, in a process of its own exactly as a test would load it, that the program can
+        run; the caller does its own start-up meanwhile and then calls `finish_check`."""
+        if not self.check_argv:
+            return None
+        return subprocess.Popen(self.check_argv, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                stderr=subprocess.STDOUT, text=True)
+
+    @staticmethod
+    def finish_check(check: subprocess.Popen | None) -> None:
+        if check is None:
+            return
+        out, _ = check.communicate()
+        if check.returncode != 0:
+            lines = [line for line in out.strip().splitlines() if line.strip()]
+            raise ProgramError(lines[-1].removeprefix("Error: ") if lines else "the robot program cannot run")
+
+    def spawn(self, run_dir: Path, test_seq: int, log) -> subprocess.Popen:
+        """Start the process for test `test_seq`. It gets a session of its own, so that a Ctrl-C meant for
+        the campaign does not kill it mid-test (the physics process stops it), and dies with the physics
+        process, so that nothing is left running if that is killed."""
+        args = [a.format(test=test_seq, run_dir=run_dir) for a in self.argv]
+        return subprocess.Popen(args, stdin=subprocess.DEVNULL, stdout=log, stderr=log,
+                                cwd=run_dir if self.in_run_dir else None, start_new_session=True,
+                                preexec_fn=die_with_parent)
+
+
+def python_program(spec: str) -> Program:
+    mock = (sys.executable, "-m", "athrill_sim.main", "--app", spec)
+    return Program(f"python app {spec}", SyncMode.LOCKSTEP, True,
+                   (*mock, "--run-dir", "{run_dir}", "--test", "{test}"), check_argv=(*mock, "--check"))
+
+
+def elf_program(image: Path, athrill2: str | None) -> Program:
+    exe = find_athrill2(athrill2)
+    memory = "".join(f"{kind}, 0x{addr:08X}, {arg}\n" for kind, addr, arg in ATHRILL_MEMORY)
+    device = "".join(f"{key}\t{value}\n" for key, value in ATHRILL_DEVICE)
+    return Program(f"v850 image {image} on {exe}", SyncMode.HAKONIWA, False,
+                   (exe, "-c1", "-t", "-1", "-m", MEMORY_CONFIG, "-d", DEVICE_CONFIG, str(image.resolve())),
+                   in_run_dir=True, config_files={MEMORY_CONFIG: memory, DEVICE_CONFIG: device})
+
+
+def find_athrill2(given: str | None) -> str:
+    if given is not None:
+        path = Path(given)
+        if not (path.is_file() and os.access(path, os.X_OK)):
+            raise ProgramError(f"--athrill2 {given}: not an executable file; {BUILD_ATHRILL_HINT}")
+        return str(path.resolve())
+    found = shutil.which("athrill2")
+    if found is None:
+        raise ProgramError(f"athrill2 (the TOPPERS emulator) is not on PATH; {BUILD_ATHRILL_HINT}")
+    return found
+
+
+def is_v850_elf(path: Path) -> bool:
+    try:
+        with open(path, "rb") as f:
+            head = f.read(20)
+    except OSError:
+        return False
+    return head[:4] == ELF_MAGIC and int.from_bytes(head[18:20], "little") in V850_MACHINES
+
+
+def resolve_program(spec: str, *, athrill2: str | None = None) -> Program:
+    """The program `--app SPEC` names: a built-in or `module:function` Python program, or a v850 ELF."""
+    from athrill_sim.apps import BUILTIN
+
+    path = Path(spec)
+    if spec in BUILTIN:
+        return python_program(spec)
+    if path.is_file():
+        if is_v850_elf(path):
+            return elf_program(path, athrill2)
+        raise ProgramError(f"--app {spec}: not a v850 ELF image, a built-in app ({', '.join(BUILTIN)}) "
+                           "or module:function")
+    module, _, func = spec.partition(":")
+    if not (module and func):
+        raise ProgramError(f"--app {spec}: no such file, and not a built-in app ({', '.join(BUILTIN)}) "
+                           "or module:function")
+    return python_program(spec)

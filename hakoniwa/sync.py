@@ -1,0 +1,123 @@
+"""The two ways physics and Athrill keep simulation time together, one loop each.
+
+`lockstep` (our mock and native programs): Athrill's clock is its task's wake-up time and computation
+takes no simulated time. At each `tslp_tsk` Athrill publishes its outputs and the time it will wake
+(`Tx.NEXT_WAKE`), then waits; physics steps to exactly that instant, publishes the sensor snapshot with
+the unity time set to it, and waits for the next answer. At every handshake the time difference is 0, so
+the same parameters give the same event and goal time to the microsecond under any machine load.
+
+`hakoniwa` (the real TOPPERS Athrill): the real protocol. Athrill never blocks: it reads the unity time
+(RX header 16), writes its own clock (TX header 8), and only refuses to skip idle cycles past the unity
+time. Physics steps while `athrill_time - world_time > -ALLOWED_TIME_DIFF_US`, in whole 1 ms steps that
+never take it more than the allowed 20 ms ahead, and then publishes its time; results depend on how fast
+the emulator runs, as with the real Unity.
+
+Both loops leave the test when the physics server raises an event, and raise `AthrillCrash` when Athrill
+dies, goes silent or breaks the protocol.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import time
+from typing import TYPE_CHECKING, Callable
+
+from hakoniwa.launch import describe_exit
+from hakoniwa.protocol import EXIT_BENCH_FAULT, CrashKind, Tx
+from hakoniwa.timebase import ALLOWED_TIME_DIFF_US, PHYSICS_STEP_US
+from hakoniwa.waiting import wait_for
+
+if TYPE_CHECKING:
+    from hakoniwa.server import PhysicsServer
+
+HAKONIWA_START_US = 1  # the real Unity's clock starts at 1 us: a unity time of 0 lets Athrill run unchecked
+
+
+class AthrillCrash(Exception):
+    """The test ends as CRASH; `kind` says whose fault it may be, `detail` the exit status or -signal."""
+
+    def __init__(self, kind: CrashKind, detail: int, message: str) -> None:
+        super().__init__(message)
+        self.kind = kind
+        self.detail = detail
+
+
+def exit_crash(proc: subprocess.Popen, *, started: bool) -> AthrillCrash:
+    """The crash an exited Athrill stands for. One that never got going, or that says the mapped files were
+    unusable, is the bench's fault; one that died while running the program is the program's."""
+    code = proc.returncode
+    assert code is not None
+    bench = code == EXIT_BENCH_FAULT or not started
+    kind = CrashKind.BENCH if bench else CrashKind.PROGRAM
+    return AthrillCrash(kind, code, f"athrill {describe_exit(code)}")
+
+
+def watchdog(proc: subprocess.Popen, timeout_s: float, progress: Callable[[], int],
+             started: Callable[[], bool]) -> Callable[[], None]:
+    """An `on_idle` check for waits on Athrill: raises when it exits, or when `progress()` (its clock or its
+    answer counter) has not moved for `timeout_s` of wall time."""
+    last = [progress(), time.monotonic()]
+
+    def check() -> None:
+        if proc.poll() is not None:
+            raise exit_crash(proc, started=started())
+        now, seen = time.monotonic(), progress()
+        if seen != last[0]:
+            last[:] = [seen, now]
+        elif now - last[1] > timeout_s:
+            raise AthrillCrash(CrashKind.SILENT, 0, f"athrill silent for {timeout_s:g} s")
+
+    return check
+
+
+def run_lockstep(server: PhysicsServer, proc: subprocess.Popen) -> None:
+    a = server.athrill
+    answers = [0]
+
+    def await_answer(last: int) -> int:
+        """Wait for Athrill's answer to the snapshot at `server.now_us`; apply it and return its wake time."""
+        check = watchdog(proc, server.athrill_timeout_s, lambda: a.read_u32(Tx.ANSWER_SEQ),
+                         lambda: answers[0] > 0)
+        wait_for(lambda: a.read_u32(Tx.ANSWER_SEQ) != last, check)
+        answers[0] += 1
+        now = server.now_us
+        next_wake = a.read("q", Tx.NEXT_WAKE)
+        diff = a.athrill_time_us - now
+        server.note_time_diff(diff)
+        if abs(diff) > ALLOWED_TIME_DIFF_US:
+            raise AthrillCrash(CrashKind.PROTOCOL, 0, f"athrill time {a.athrill_time_us} us, physics {now} us")
+        if next_wake <= now:
+            raise AthrillCrash(CrashKind.PROTOCOL, 0, f"athrill wakes at {next_wake} us, physics is at {now} us")
+        server.apply_actuators()
+        return next_wake
+
+    sched = server.scheduler
+    next_wake = await_answer(server.answer_before_start)
+    while True:
+        target = min(sched.next_tick(), next_wake)
+        if server.advance_to(target):
+            return
+        if target == next_wake:
+            last = a.read_u32(Tx.ANSWER_SEQ)
+            server.publish_sensors()
+            next_wake = await_answer(last)
+
+
+def run_hakoniwa(server: PhysicsServer, proc: subprocess.Popen) -> None:
+    a = server.athrill
+    check = watchdog(proc, server.athrill_timeout_s, lambda: a.athrill_time_us, lambda: a.athrill_time_us > 0)
+    sched = server.scheduler
+    while True:
+        now = server.now_us
+        # Whole steps that keep physics at most the allowed difference ahead of Athrill's clock.
+        steps = (a.athrill_time_us + ALLOWED_TIME_DIFF_US - now) // PHYSICS_STEP_US
+        if steps <= 0:
+            wait_for(lambda: a.athrill_time_us + ALLOWED_TIME_DIFF_US - server.now_us >= PHYSICS_STEP_US, check)
+            continue
+        server.note_time_diff(a.athrill_time_us - now)
+        server.apply_actuators()
+        if server.advance_to(min(sched.next_tick(), now + steps * PHYSICS_STEP_US)):
+            return
+        server.publish_sensors()
+        server.note_time_diff(a.athrill_time_us - server.now_us)
+        check()
