@@ -82,6 +82,8 @@ class Rx:
     MAX_TIME_DIFF_US = 468  # u32: the largest |Athrill - physics| simulation-time difference seen
     CRASH_KIND = 472  # i32, CrashKind of a CRASH event (0 otherwise)
     CRASH_DETAIL = 476  # i32: the exit status, or minus the signal, of the Athrill that crashed
+    NOISE_SEED = 480  # u32, written by the controller before start: the seed of this test's noise draw
+    NOISE_SCALE = 484  # f32, written by the controller: 0 = no noise, 1 = the course's noise levels
     # The paper's test automation (Table 1), in the ext area.
     EVENT = 528  # i32, Event
     GOAL_TIME_HI = 532  # u32, goal time [us], upper 32 bits

@@ -31,7 +31,7 @@ from hakoniwa.world import World
 
 IDLE_POLL_S = 0.0005
 ACTUATORS_END = Tx.GYRO_RESET + 4  # TX body bytes a test starts with cleared
-OUR_EXT = (Rx.TEST_SEQ, Rx.CRASH_DETAIL + 4)  # RX bytes of our extension
+OUR_EXT = (Rx.TEST_SEQ, Rx.CRASH_DETAIL + 4)  # RX bytes of our extension the physics side writes
 
 
 @dataclass(frozen=True)
