@@ -1,34 +1,84 @@
-"""`mazelog`: inspect, convert and replay micromouse wall logs (and, with `explore`, make them)."""
+"""`mazelog`: inspect, convert and replay micromouse wall logs (and, with `explore`, make them).
+
+Start-up time matters (`mazelog --help`, a text `replay`: under 0.3 s), so this module imports only what the
+text commands need; Pillow (pictures) and numpy/scipy (search, fast-run model, flash) are imported inside the
+commands that use them.
+"""
 
 from __future__ import annotations
 
 import os
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
+from .builtin import builtin_names, builtin_path
 from .compare import compare
 from .direction import LETTER
 from .errors import MazeError
-from .explorer import STRATEGIES, explore as run_search
-from .flash import log_sectors, log_writes, run_writes
 from .mazefile import dump_maze, parse_maze
 from .mazejson import maze_to_json
-from .model import Maze, inner_wall_count
-from .render import Overlay, save_png
+from .model import Cell, Maze, central_goals, inner_wall_count
+from .mouseparams import MouseParams, load_mouse
 from .restore import LoadedLog, load_log, restore, select
-from .wallrecord import COORD_LIMIT, RECORD_BYTES, TEXT_HEADER, encode_log, parse_text_records
+from .strategies import OBJECTIVES, STRATEGIES
+from .wallrecord import COORD_LIMIT, RECORD_BYTES, TEXT_HEADER, WallRecord, encode_log, parse_text_records
+
+if TYPE_CHECKING:
+    from .explorer import SearchResult
+    from .fastpath import Route
 
 MAX_WARNINGS = 20
 DEFAULT_SIZE = 32  # the seed's mouse keeps a 32x32 map even for smaller mazes
+DEFAULT_STRATEGY = "stop"  # closing-stop is step for step the same (measured), so closing is left to `closing`
 
 InFile = click.Path(exists=True, dir_okay=False, path_type=Path)
 OutFile = click.Path(dir_okay=False, writable=True, path_type=Path)
-size_option = click.option("--size", type=click.IntRange(1, COORD_LIMIT), default=DEFAULT_SIZE, show_default=True,
-                           help="Side of the maze the log belongs to (a log does not record it).")
+
+
+class MazeSource(click.ParamType):
+    """A maze file, or the name of a built-in maze (`mazelog mazes`) when no such file exists."""
+
+    name = "MAZE"
+
+    def convert(self, value: object, param: click.Parameter | None, ctx: click.Context | None) -> Path:
+        path = Path(str(value))
+        if path.is_file():
+            return path
+        found = builtin_path(str(value))
+        if found is None:
+            self.fail(f"{value!r} is neither a file nor a built-in maze ({', '.join(builtin_names())})", param, ctx)
+        return found
+
+
+size_option = click.option("--size", type=click.IntRange(1, COORD_LIMIT), default=None,
+                           help=f"Side of the maze the log belongs to (a log does not record it) "
+                                f"[default: {DEFAULT_SIZE}; with --maze, its size].")
 strict_option = click.option("--strict", is_flag=True,
                              help="Refuse a log with any anomaly instead of skipping the bad records.")
+mouse_option = click.option("--mouse", "mouse_spec", default=None, metavar="NAME|FILE",
+                            help="Time model: a built-in mouse (classic, halfsize) or a TOML file "
+                                 "[default: classic up to 16x16, halfsize above; see maze/data/mice.toml].")
+objective_option = click.option("--objective", type=click.Choice(list(OBJECTIVES)), default="cells",
+                                show_default=True, help="; ".join(f"{k}: {v}" for k, v in OBJECTIVES.items()))
+diagonal_option = click.option("--diagonal", is_flag=True, help="Allow diagonal runs and 45/135/V90 turns.")
+
+
+def parse_cell(ctx: click.Context, param: click.Parameter, values: tuple[str, ...]) -> tuple[Cell, ...]:
+    cells = []
+    for value in values:
+        try:
+            x, y = (int(v) for v in value.split(","))
+        except ValueError:
+            raise click.BadParameter(f"{value!r} is not x,y") from None
+        cells.append((x, y))
+    return tuple(cells)
+
+
+goal_option = click.option("--goal", multiple=True, callback=parse_cell, metavar="X,Y",
+                           help="Goal cell (repeatable); default: the G cells of the file, else the central 2x2.")
 
 
 class MazeGroup(click.Group):
@@ -49,7 +99,9 @@ class MazeGroup(click.Group):
 
 @click.group(cls=MazeGroup, context_settings={"help_option_names": ["-h", "--help"]})
 def main() -> None:
-    """Micromouse wall logs: 16-bit WallRecords appended during a search (see docs/MAZELOG.md)."""
+    """Micromouse wall logs: 16-bit WallRecords appended during a search (see docs/MAZELOG.md).
+
+    A MAZE argument is a maze file or the name of a built-in maze (`mazelog mazes`)."""
 
 
 def read_maze(path: Path) -> Maze:
@@ -70,6 +122,15 @@ def read_log(path: Path, size: int, strict: bool) -> LoadedLog:
     return log
 
 
+def with_goals(maze: Maze, goals: tuple[Cell, ...]) -> Maze:
+    for x, y in goals:
+        if not maze.inside(x, y):
+            raise click.BadParameter(f"({x}, {y}) is outside the {maze.size}x{maze.size} maze", param_hint="--goal")
+    if goals:
+        maze.goals = goals
+    return maze
+
+
 def emit(text: str, out: Path | None) -> None:
     if out is None:
         click.echo(text, nl=False)
@@ -79,6 +140,18 @@ def emit(text: str, out: Path | None) -> None:
 
 def text_view(maze: Maze, view: int | None, footer: str) -> str:
     return dump_maze(maze, post="+", extent=view) + footer + "\n"
+
+
+def replay_footer(applied: int, loaded: LoadedLog, drop_last: int, maze: Maze, contradictions: int) -> str:
+    """Every record of the log accounted for: applied, skipped as anomalous, rolled back, or not (yet) applied."""
+    in_log = loaded.in_log
+    parts = [f"{n} {what}" for n, what in ((in_log - len(loaded.records), "skipped as anomalous"),
+                                           (drop_last, "rolled back"),
+                                           (len(loaded.records) - drop_last - applied, "later ones not applied"))
+             if n]
+    detail = f" ({', '.join(parts)})" if parts else ""
+    return (f"records applied: {applied} of {in_log} in the log{detail}; known inner walls: "
+            f"{maze.known_inner()} of {inner_wall_count(maze.size)}; contradictions: {contradictions}")
 
 
 @main.command()
@@ -91,22 +164,35 @@ def text_view(maze: Maze, view: int | None, footer: str) -> str:
 @click.option("--out", type=OutFile, default=None, help="Write here instead of stdout (required for png).")
 @click.option("--view", type=click.IntRange(min=1), default=None,
               help="text only: draw just the lower-left N x N cells.")
+@click.option("--maze", "truth_path", type=MazeSource(), default=None,
+              help="The true maze: png and --animate then mark the mouse's path and walls that contradict it.")
+@click.option("--animate", type=OutFile, default=None, metavar="GIF",
+              help="Also write a GIF of the known walls growing, one frame per --stride records.")
+@click.option("--stride", type=click.IntRange(min=1), default=None,
+              help="Records per frame of --animate [default: 1, or more so that the film has at most 400 frames].")
 @strict_option
-def replay(log: Path, size: int, drop_last: int, until: int | None, fmt: str, out: Path | None,
-           view: int | None, strict: bool) -> None:
+def replay(log: Path, size: int | None, drop_last: int, until: int | None, fmt: str, out: Path | None,
+           view: int | None, truth_path: Path | None, animate: Path | None, stride: int | None,
+           strict: bool) -> None:
     """Restore the maze a wall log describes, starting from an all-unknown maze."""
+    truth = read_maze(truth_path) if truth_path else None
+    if truth is not None and size is not None and size != truth.size:
+        raise click.UsageError(f"--size {size} but the maze is {truth.size}x{truth.size}")
+    size = truth.size if truth is not None else size or DEFAULT_SIZE
     if view is not None and (fmt != "text" or view > size):
         raise click.UsageError("--view needs --format text and at most --size cells")
     if fmt == "png" and out is None:
         raise click.UsageError("--format png needs --out FILE")
     loaded = read_log(log, size, strict)
     records = select(loaded.records, until=until, drop_last=drop_last)
+    if fmt == "png" or animate is not None:
+        draw_replay(log, loaded, records, drop_last, truth_path if truth else None, truth, size,
+                    out if fmt == "png" else None, animate, stride)
+        if fmt == "png":
+            return
     maze, contradictions = restore(records, size)
-    footer = (f"records applied: {len(records)} of {len(loaded.records)}; known inner walls: "
-              f"{maze.known_inner()} of {inner_wall_count(size)}; contradictions: {contradictions}")
-    if fmt == "png":
-        save_png(maze, out, title=f"{log.name}: {footer}")
-    elif fmt == "json":
+    footer = replay_footer(len(records), loaded, drop_last, maze, contradictions)
+    if fmt == "json":
         emit(maze_to_json(maze) + "\n", out)
     elif fmt == "mazefile":
         emit(dump_maze(maze), out)
@@ -114,8 +200,31 @@ def replay(log: Path, size: int, drop_last: int, until: int | None, fmt: str, ou
         emit(text_view(maze, view, footer), out)
 
 
+def draw_replay(log: Path, loaded: LoadedLog, records: list[WallRecord], drop_last: int, truth_path: Path | None,
+                truth: Maze | None, size: int, png: Path | None, gif: Path | None, stride: int | None) -> None:
+    from .film import Replay, default_stride, film, write_gif
+
+    def title(replay: Replay) -> list[str]:
+        footer = replay_footer(replay.applied, loaded, drop_last, replay.maze, replay.contradictions)
+        return [log.name + (f" on the true maze {truth_path.name}" if truth_path else ""), *footer.split("; ", 1)]
+
+    if gif is not None:
+        step = stride or default_stride(len(records))
+        count = len(records) // step + 1 + (len(records) % step > 0)
+        with open(gif, "wb") as fp, click.progressbar(film(Replay.start(size, truth), records, step, title),
+                                                      length=count, label="drawing frames", file=sys.stderr) as frames:
+            written = write_gif(frames, fp)
+        click.echo(f"film: {written} frames, one per {step} record{'s' * (step > 1)} -> {gif} "
+                   f"({gif.stat().st_size} bytes)", err=True)
+    if png is not None:
+        replay = Replay.start(size, truth)
+        for rec in records:
+            replay.apply(rec)
+        replay.picture(title(replay)).save(png, format="PNG")
+
+
 @main.command()
-@click.argument("mazefile", type=InFile)
+@click.argument("mazefile", metavar="MAZE", type=MazeSource())
 @click.option("--png", type=OutFile, default=None, help="Also draw the maze into this PNG file.")
 def show(mazefile: Path, png: Path | None) -> None:
     """Print a maze file (checking it parses) with its size, start and goal."""
@@ -123,21 +232,35 @@ def show(mazefile: Path, png: Path | None) -> None:
     goals = " ".join(f"({x},{y})" for x, y in maze.goals)
     click.echo(text_view(maze, None, f"{maze.size}x{maze.size}, start {maze.start}, goal {goals}"), nl=False)
     if png is not None:
-        save_png(maze, png, title=mazefile.name)
+        from .render import save_png
+
+        save_png(maze, png, title=[mazefile.name])
+
+
+@main.command()
+def mazes() -> None:
+    """List the built-in mazes (real contest mazes shipped with the package; see maze/data/mazes/README.md)."""
+    names = builtin_names()
+    width = max(map(len, names))
+    for name in names:
+        maze = read_maze(builtin_path(name))
+        goals = " ".join(f"({x},{y})" for x, y in maze.goals)
+        click.echo(f"{name:{width}}  {maze.size}x{maze.size}  goal {goals}")
 
 
 @main.command()
 @click.argument("log", type=InFile)
 @size_option
 @strict_option
-def info(log: Path, size: int, strict: bool) -> None:
+def info(log: Path, size: int | None, strict: bool) -> None:
     """Summarise a log: records, bytes, the walls it makes known, anomalies."""
+    size = size or DEFAULT_SIZE
     loaded = read_log(log, size, strict)
     maze, contradictions = restore(loaded.records, size)
     scan = loaded.scan
     limit = inner_wall_count(size)
     click.echo(f"bytes:             {scan.total_bytes} ({scan.used_bytes} before the terminator)")
-    click.echo(f"records:           {len(loaded.records)} usable of {scan.used_bytes // RECORD_BYTES}"
+    click.echo(f"records:           {len(loaded.records)} usable of {loaded.in_log}"
                f" (a full {size}x{size} log needs at most {limit}, {limit * RECORD_BYTES} bytes)")
     click.echo(f"known inner walls: {maze.known_inner()} of {limit}")
     click.echo(f"contradictions:    {contradictions}")
@@ -166,11 +289,11 @@ def decode(log: Path, strict: bool) -> None:
 
 
 @main.command()
-@click.argument("mazefile", type=InFile)
+@click.argument("mazefile", metavar="MAZE", type=MazeSource())
 @click.argument("log", type=InFile)
 @strict_option
 def diff(mazefile: Path, log: Path, strict: bool) -> None:
-    """Compare what LOG restores with the true maze in MAZEFILE (inner walls only)."""
+    """Compare what LOG restores with the true maze in MAZE (inner walls only)."""
     truth = read_maze(mazefile)
     loaded = read_log(log, truth.size, strict)
     restored, _ = restore(loaded.records, truth.size)
@@ -183,53 +306,156 @@ def diff(mazefile: Path, log: Path, strict: bool) -> None:
         click.echo(f"  wrong: ({x}, {y}) {LETTER[d]} is {truth_word} in the maze")
 
 
-
-def parse_cell(ctx: click.Context, param: click.Parameter, values: tuple[str, ...]) -> tuple[tuple[int, int], ...]:
-    cells = []
-    for value in values:
-        try:
-            x, y = (int(v) for v in value.split(","))
-        except ValueError:
-            raise click.BadParameter(f"{value!r} is not x,y") from None
-        cells.append((x, y))
-    return tuple(cells)
+def objective_words(objective: str, diagonal: bool, mouse: MouseParams) -> str:
+    if objective == "cells":
+        return "cells (fewest cells)"
+    return f"time, {'with' if diagonal else 'without'} diagonals ({mouse.name} mouse)"
 
 
 @main.command()
-@click.argument("mazefile", type=InFile)
-@click.option("--strategy", type=click.Choice(list(STRATEGIES)), default="closing-stop", show_default=True,
+@click.argument("mazefile", metavar="MAZE", type=MazeSource())
+@click.option("--strategy", type=click.Choice(list(STRATEGIES)), default=DEFAULT_STRATEGY, show_default=True,
               help="; ".join(f"{k}: {v}" for k, v in STRATEGIES.items()))
+@objective_option
+@diagonal_option
+@mouse_option
 @click.option("--log", "log_path", type=OutFile, required=True, help="Where to write the wall log.")
-@click.option("--goal", multiple=True, callback=parse_cell, metavar="X,Y",
-              help="Goal cell (repeatable); default: the G cells of the file, else the central 2x2.")
-@click.option("--png", type=OutFile, default=None, help="Draw the mouse's maze, path, visited cells, virtual walls.")
+@goal_option
+@click.option("--png", type=OutFile, default=None,
+              help="Draw the mouse's maze, the best path found, visited cells and virtual walls, with a legend.")
 @click.option("--power-cut", type=click.IntRange(min=0), default=None, metavar="BYTE",
               help="Write the flash image as a power loss before log byte BYTE would leave it.")
-def explore(mazefile: Path, strategy: str, log_path: Path, goal: tuple[tuple[int, int], ...], png: Path | None,
-            power_cut: int | None) -> None:
-    """Let a virtual mouse search MAZEFILE (Adachi method) and write the wall log it would keep."""
-    truth = read_maze(mazefile)
-    if goal:
-        for x, y in goal:
-            if not truth.inside(x, y):
-                raise click.BadParameter(f"({x}, {y}) is outside the {truth.size}x{truth.size} maze", param_hint="--goal")
-        truth.goals = goal
-    result = run_search(truth, strategy)
-    data = encode_log(result.records)
-    if power_cut is not None:
-        flash, _ = run_writes(log_writes(result), log_sectors(truth.size), power_cut)
-        data = bytes(flash.data)
-        click.echo(f"power cut before byte {power_cut}: {min(power_cut, len(result.records) * RECORD_BYTES) // RECORD_BYTES}"
-                   f" records fully written, flash image {len(data)} bytes")
-    log_path.write_bytes(data)
-    verdict = "yes" if result.shortest else "NO"
+def explore(mazefile: Path, strategy: str, objective: str, diagonal: bool, mouse_spec: str | None, log_path: Path,
+            goal: tuple[Cell, ...], png: Path | None, power_cut: int | None) -> None:
+    """Let a virtual mouse search MAZE (Adachi method) and write the wall log it would keep."""
+    from .explorer import explore as run_search
+
+    truth = with_goals(read_maze(mazefile), goal)
+    mouse = load_mouse(mouse_spec, truth.size)
+    result = run_search(truth, strategy, objective, diagonal, mouse)
+    log_line = write_search_log(result, log_path, power_cut)
+    run = result.search
     click.echo(f"strategy:      {strategy} ({STRATEGIES[strategy]})")
+    click.echo(f"objective:     {objective_words(objective, diagonal, mouse)}")
     click.echo(f"steps:         {result.steps}")
     click.echo(f"turns:         {result.turns}")
+    click.echo(f"search time:   {run.seconds:.1f} s under the model ({run.metres:.1f} m at "
+               f"{mouse.search.speed:g} m/s, {run.turns} turns, {run.stops} stops)")
     click.echo(f"cells visited: {len(set(result.trace))} of {truth.size ** 2}")
-    click.echo(f"wall log:      {len(result.records)} records, {len(result.records) * RECORD_BYTES} bytes -> {log_path}")
+    click.echo(f"wall log:      {log_line}")
     click.echo(f"virtual walls: {len(result.virtual)}")
-    click.echo(f"shortest path: found {result.found_length}, true {result.true_length}: {verdict}")
+    if objective == "time":
+        found, true = result.found_route, result.true_route
+        click.echo(f"fastest path:  found {found.seconds:.3f} s, true {true.seconds:.3f} s: "
+                   f"{'yes' if result.fastest else 'NO'}")
+    else:
+        click.echo(f"shortest path: found {result.found_length}, true {result.true_length}: "
+                   f"{'yes' if result.shortest else 'NO'}")
     if png is not None:
-        overlay = Overlay(path=result.found_path, visited=set(result.trace), virtual=result.virtual)
-        save_png(result.maze, png, title=f"{mazefile.name} {strategy}: {result.steps} steps", overlay=overlay)
+        draw_search(result, truth, mazefile, strategy, objective, png)
+
+
+def write_search_log(result: SearchResult, log_path: Path, power_cut: int | None) -> str:
+    """Write the log (or the flash image a power cut leaves) and say what was written."""
+    data = encode_log(result.records)
+    total = len(result.records)
+    if power_cut is None:
+        log_path.write_bytes(data)
+        return f"{total} records, {len(data)} bytes -> {log_path}"
+    from .flash import log_sectors, log_writes, run_writes
+
+    flash, _ = run_writes(log_writes(result), log_sectors(result.maze.size), power_cut)
+    log_path.write_bytes(bytes(flash.data))
+    written = min(power_cut, len(data))
+    torn = f" and {written % RECORD_BYTES} byte of the next" if written % RECORD_BYTES else ""
+    return (f"{written // RECORD_BYTES} of {total} records written before the power cut at byte {power_cut}{torn}; "
+            f"flash image {len(flash.data)} bytes -> {log_path}")
+
+
+def draw_search(result: SearchResult, truth: Maze, mazefile: Path, strategy: str, objective: str,
+                png: Path) -> None:
+    from .render import Overlay, cell_centres, save_png
+
+    if objective == "time":
+        route = result.found_route
+        path = [(x / 2, y / 2) for x, y in route.points]
+        label = f"fastest run found ({route.seconds:.3f} s)"
+    else:
+        path, label = cell_centres(result.found_path), f"shortest path found ({result.found_length} cells)"
+    overlay = Overlay(path=path, path_label=label, visited=set(result.trace), virtual=result.virtual)
+    save_png(result.maze, png, title=[f"{mazefile.name}: {strategy}, objective {objective}",
+                                      f"{result.steps} steps, search {result.search.seconds:.0f} s (model)"],
+             overlay=overlay)
+
+
+def is_text(data: bytes) -> bool:
+    try:
+        data.decode("utf-8")
+    except UnicodeDecodeError:
+        return False
+    return True
+
+
+def read_maze_or_log(path: Path, size: int | None, truth: Maze | None, strict: bool) -> tuple[Maze, str]:
+    """A maze file (text that starts with a post), else a binary wall log of --size (or of the --maze's size,
+    whose start and goal it then takes: a log records neither)."""
+    data = path.read_bytes()
+    if data[:1] in (b"o", b"+") and is_text(data):
+        if size is not None or truth is not None:
+            raise click.UsageError("--size and --maze are for a wall log; a maze file has its own")
+        return read_maze(path), "maze file"
+    if truth is not None and size is not None and size != truth.size:
+        raise click.UsageError(f"--size {size} but the maze is {truth.size}x{truth.size}")
+    size = truth.size if truth is not None else size or DEFAULT_SIZE
+    loaded = read_log(path, size, strict)
+    maze, _ = restore(loaded.records, size, goals=truth.goals if truth is not None else central_goals(size))
+    return maze, f"wall log, {len(loaded.records)} records"
+
+
+@main.command()
+@click.argument("source", metavar="MAZE_OR_LOG", type=MazeSource())
+@size_option
+@objective_option
+@diagonal_option
+@mouse_option
+@goal_option
+@click.option("--maze", "truth_path", type=MazeSource(), default=None,
+              help="For a wall log: the maze it was made in, for its size and goal (not its walls).")
+@click.option("--png", type=OutFile, default=None, help="Draw the maze's known walls and the path.")
+@strict_option
+def path(source: Path, size: int | None, objective: str, diagonal: bool, mouse_spec: str | None,
+         goal: tuple[Cell, ...], truth_path: Path | None, png: Path | None, strict: bool) -> None:
+    """The best path among the known walls of a maze file or a wall log, its time and its moves.
+
+    Moves: S<n> n cells along the walls, D<n> n diagonal steps (wall to wall, 0.71 cell each), R/L for right and
+    left turns: 90s (inside a cell), 90, 180, 45, 135, V90 (slaloms)."""
+    from .fastpath import run_of_cells, fastest_route
+    from .stepmap import pessimistic, shortest_path
+
+    maze, kind = read_maze_or_log(source, size, read_maze(truth_path) if truth_path else None, strict)
+    maze = with_goals(maze, goal)
+    mouse = load_mouse(mouse_spec, maze.size)
+    known = pessimistic(maze)
+    if objective == "time":
+        route = fastest_route(maze, known, diagonal, mouse)
+    else:
+        cells = [(c % maze.size, c // maze.size) for c in shortest_path(maze, known)]
+        route = run_of_cells(maze, cells, diagonal, mouse) if cells else None
+    if route is None:
+        raise MazeError("no path from the start to the goal through walls known to be open")
+    goals = " ".join(f"({x},{y})" for x, y in maze.goals)
+    click.echo(f"maze:      {source.name} ({kind}), {maze.size}x{maze.size}, start {maze.start}, goal {goals}")
+    click.echo(f"objective: {objective_words(objective, diagonal, mouse)}")
+    click.echo(f"time:      {route.seconds:.3f} s (fast run under the model)")
+    click.echo(f"length:    {len(route.cells) - 1} cells entered, {route.length * mouse.cell:.2f} m run")
+    click.echo(f"moves:     {route.sequence}")
+    if png is not None:
+        draw_path(maze, route, source, objective, png)
+
+
+def draw_path(maze: Maze, route: Route, source: Path, objective: str, png: Path) -> None:
+    from .render import Overlay, save_png
+
+    label = f"{'fastest run' if objective == 'time' else 'fewest cells'}: {route.seconds:.3f} s"
+    overlay = Overlay(path=[(x / 2, y / 2) for x, y in route.points], path_label=label)
+    save_png(maze, png, title=[f"{source.name}: best path by {objective}", route.sequence[:90]], overlay=overlay)

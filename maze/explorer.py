@@ -1,7 +1,9 @@
 """A virtual mouse searching a true maze with the Adachi method, writing a wall log as it goes.
 
 The mouse only knows what it has seen: entering a cell it reads the front, left and right walls (the back one
-is the wall it came through), updates its map and appends each newly learned wall to its log.
+is the wall it came through), updates its map and appends each newly learned wall to its log. Where it goes
+after reaching the goal depends on the strategy and, for the stopping rule, on the objective: the fewest cells,
+or the fastest run under the time model (maze/fastpath.py).
 """
 
 from __future__ import annotations
@@ -12,19 +14,15 @@ from typing import Callable
 from .closing import close_dead_ends, nearest_branch
 from .direction import DIRECTIONS, NORTH, opposite
 from .errors import MazeError
+from .fastpath import Route, fastest_route
 from .model import Cell, Maze
+from .motion import SearchRun, search_run
+from .mouseparams import MouseParams, load_mouse
 from .stepmap import UNREACHED, optimistic, pessimistic, shortest_path, step_map
+from .strategies import OBJECTIVES, STRATEGIES
 from .wallrecord import WallRecord
 
-STRATEGIES: dict[str, str] = {
-    "goal": "start to goal only",
-    "goal-return": "start to goal, then back to the start",
-    "full": "goal, then every reachable cell with an unknown wall, then back",
-    "closing": "full exploration with dead-end areas closed by virtual walls",
-    "stop": "goal, then only cells that could shorten the path, until none can; then back",
-    "closing-stop": "the stopping rule with dead-end closing",
-}
-SHORTEST_CLAIMED = frozenset({"full", "closing", "stop", "closing-stop"})
+TIME_TOLERANCE = 1e-9  # seconds: two routes of the same moves, summed in another order
 
 
 @dataclass
@@ -39,6 +37,9 @@ class SearchResult:
     virtual: set[int]  # wall ids closed by dead-end closing
     found_path: list[Cell]  # shortest start-goal path through known-open walls
     true_length: int
+    search: SearchRun  # the search's own run time under the time model
+    found_route: Route | None = None  # fastest run through known-open walls (time objective only)
+    true_route: Route | None = None  # fastest run in the fully known maze (time objective only)
 
     @property
     def found_length(self) -> int:
@@ -48,9 +49,14 @@ class SearchResult:
     def shortest(self) -> bool:
         return bool(self.found_path) and self.found_length == self.true_length
 
+    @property
+    def fastest(self) -> bool:
+        return (self.found_route is not None and self.true_route is not None
+                and self.found_route.seconds <= self.true_route.seconds + TIME_TOLERANCE)
+
 
 class Mouse:
-    def __init__(self, truth: Maze, closing: bool) -> None:
+    def __init__(self, truth: Maze, closing: bool, planner: Callable[[bytes], Route | None]) -> None:
         start = Maze.unknown(truth.size)
         if truth.start != start.start or any(
             truth.is_wall(0, 0, d) != start.is_wall(0, 0, d) for d in DIRECTIONS if start.is_known(0, 0, d)
@@ -72,6 +78,12 @@ class Mouse:
         self._map_key: tuple[int, tuple[int, ...]] | None = None
         self._map: list[int] = []
         self._closing_key: tuple[int, int] | None = None  # (map version, branch cell) last judged
+        self.planner = planner  # fastest route through walls not blocked, for the time objective
+        self._route: Route | None = None
+        self.wall_cells: dict[int, list[int]] = {}
+        for c, walls in enumerate(self.topo.cell_walls):
+            for w in walls:
+                self.wall_cells.setdefault(w, []).append(c)
 
     def cell(self, c: int) -> Cell:
         return c % self.maze.size, c // self.maze.size
@@ -158,30 +170,58 @@ class Mouse:
         return [c for c in range(self.maze.size ** 2)
                 if from_start[c] + from_goal[c] == best and not self.maze.cell_known(c)]
 
+    def route_cells(self) -> list[int]:
+        """The time objective's stopping rule: cells beside the unknown walls of one fastest route with unknown
+        walls open; empty once that route is all known (then no unknown wall can make a faster one).
 
-def explore(truth: Maze, strategy: str) -> SearchResult:
+        The route is kept until a wall on it turns out closed: walls found anywhere else only slow other routes
+        down, so it is still a fastest one."""
+        maze, virtual = self.maze, self.virtual
+        if self._route is None or any(maze.wall[w] or virtual[w] for w in self._route.walls):
+            self._route = self.planner(optimistic(maze, virtual))
+            if self._route is None:
+                raise MazeError("no route from the start to the goal")
+        return sorted({c for w in self._route.walls if not maze.known[w] for c in self.wall_cells[w]})
+
+
+def explore(truth: Maze, strategy: str, objective: str = "cells", diagonal: bool = False,
+            params: MouseParams | None = None) -> SearchResult:
+    """`objective` decides what the stopping rule (strategies stop, closing-stop) must make sure of: the
+    fewest cells, or the fastest run (`diagonal`: with diagonal moves) for the mouse `params` describes."""
     if strategy not in STRATEGIES:
         raise MazeError(f"unknown strategy {strategy!r}; choose from {', '.join(STRATEGIES)}")
-    mouse = Mouse(truth, closing=strategy.startswith("closing"))
+    if objective not in OBJECTIVES:
+        raise MazeError(f"unknown objective {objective!r}; choose from {', '.join(OBJECTIVES)}")
+    params = params or load_mouse(None, truth.size)
+    timed = objective == "time"
+
+    def planner(blocked: bytes) -> Route | None:
+        return fastest_route(truth, blocked, diagonal, params)
+
+    mouse = Mouse(truth, closing=strategy.startswith("closing"), planner=planner)
     goals = [truth.cell_index(g) for g in truth.goals]
     start = [truth.cell_index(truth.start)]
     mouse.go_to(goals)
     if strategy in ("full", "closing"):
         mouse.explore(mouse.unknown_cells)
     elif strategy in ("stop", "closing-stop"):
-        mouse.explore(mouse.improvable_cells)
+        mouse.explore(mouse.route_cells if timed else mouse.improvable_cells)
     if strategy != "goal":
         mouse.go_to(start)
     true_path = shortest_path(truth, pessimistic(truth))
+    trace = [mouse.cell(c) for c in mouse.trace]
     return SearchResult(
         strategy=strategy,
         steps=mouse.steps,
         turns=mouse.turns,
-        trace=[mouse.cell(c) for c in mouse.trace],
+        trace=trace,
         records=mouse.records,
         batches=mouse.batches,
         maze=mouse.maze,
         virtual=mouse.closed,
         found_path=[mouse.cell(c) for c in shortest_path(mouse.maze, pessimistic(mouse.maze))],
         true_length=len(true_path) - 1,
+        search=search_run(trace, params),
+        found_route=planner(pessimistic(mouse.maze)) if timed else None,
+        true_route=planner(pessimistic(truth)) if timed else None,
     )

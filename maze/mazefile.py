@@ -8,7 +8,8 @@ from __future__ import annotations
 
 from .direction import EAST, NORTH, SOUTH, WEST
 from .errors import MazeError
-from .model import Cell, Maze, central_goals
+from .model import Cell, Maze
+from .stepmap import default_goals
 
 POSTS = "o+"
 H_WALL, H_OPEN, H_UNKNOWN = "---", "   ", " . "
@@ -35,7 +36,7 @@ def _apply(maze: Maze, x: int, y: int, d: int, state: bool | None, lineno: int, 
 
 
 def parse_maze(text: str) -> Maze:
-    """Size comes from the first line's width; S defaults to (0, 0) and G to the central 2x2."""
+    """Size comes from the first line's width; S defaults to (0, 0) and G to the central 2x2 if reachable."""
     lines = [ln.rstrip() for ln in text.splitlines()]
     while lines and not lines[-1]:
         lines.pop()
@@ -85,7 +86,7 @@ def parse_maze(text: str) -> Maze:
                 elif mark:
                     raise _fail(lineno, col + 1, f"unknown cell mark {mark!r} (use S or G)")
     maze.start = start or (0, 0)
-    maze.goals = tuple(sorted(goals, key=lambda c: (c[1], c[0]))) or central_goals(n)
+    maze.goals = tuple(sorted(goals, key=lambda c: (c[1], c[0]))) or default_goals(maze)
     return maze
 
 

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 from .errors import MazeError
 from .model import Cell, Maze, wall_id
-from .wallrecord import Anomaly, LogScan, WallRecord, scan_log
+from .wallrecord import RECORD_BYTES, Anomaly, LogScan, WallRecord, scan_log
 
 
 @dataclass
@@ -14,6 +14,11 @@ class LoadedLog:
     records: list[WallRecord]  # usable ones, in log order
     anomalies: list[Anomaly]
     scan: LogScan
+
+    @property
+    def in_log(self) -> int:
+        """Records the log holds before its terminator, a torn last one included: what a user counts."""
+        return -(-self.scan.used_bytes // RECORD_BYTES)
 
 
 def load_log(data: bytes, size: int, strict: bool = False) -> LoadedLog:

@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections import deque
 from typing import Iterable, Sequence
 
-from .model import Maze, Topology
+from .model import Cell, Maze, Topology, central_goals
 
 UNREACHED = 1 << 30
 
@@ -70,3 +70,14 @@ def shortest_path(maze: Maze, blocked: Sequence[int]) -> list[int]:
     """A shortest start-to-goal cell path through unblocked walls (empty when there is none)."""
     dist = step_map(maze.topo, blocked, [maze.cell_index(g) for g in maze.goals])
     return path_down(maze.topo, blocked, dist, maze.cell_index(maze.start))
+
+
+def default_goals(maze: Maze) -> tuple[Cell, ...]:
+    """The central 2x2 (classic contests); when the start cannot reach it (a training maze whose small active
+    area leaves it out), the reachable cell farthest from the start (ties: the highest row, then the rightmost)."""
+    dist = step_map(maze.topo, maze.wall, [maze.cell_index(maze.start)])
+    central = central_goals(maze.size)
+    if any(dist[maze.cell_index(g)] < UNREACHED for g in central):
+        return central
+    _, y, x = max((d, c // maze.size, c % maze.size) for c, d in enumerate(dist) if d < UNREACHED)
+    return ((x, y),)

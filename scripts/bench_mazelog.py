@@ -6,19 +6,21 @@ Usage: python scripts/bench_mazelog.py [--maze FILE] [--repeat N]
 from __future__ import annotations
 
 import statistics
+import sys
 import time
 from pathlib import Path
 
 import click
 
+from maze.builtin import builtin_path
 from maze.mazefile import parse_maze
 from maze.restore import load_log, records_for, restore
 from maze.wallrecord import encode_log
 
-DEFAULT_MAZE = Path(__file__).resolve().parents[1].parent / "shared" / "mazes" / "halfsize" / "japan2019hef.txt"
+DEFAULT_MAZE = builtin_path("japan2019hef")
 
 
-@click.command()
+@click.command(context_settings={"help_option_names": ["-h", "--help"]})
 @click.option("--maze", "maze_path", type=click.Path(exists=True, dir_okay=False, path_type=Path),
               default=DEFAULT_MAZE, show_default=True, help="True maze whose full log is replayed.")
 @click.option("--repeat", type=click.IntRange(min=1), default=200, show_default=True)
@@ -27,7 +29,7 @@ def main(maze_path: Path, repeat: int) -> None:
     truth = parse_maze(maze_path.read_text())
     data = encode_log(records_for(truth))
     times = []
-    with click.progressbar(range(repeat), label="replaying", file=click.get_text_stream("stderr")) as bar:
+    with click.progressbar(range(repeat), label="replaying", file=sys.stderr) as bar:
         for _ in bar:
             t0 = time.perf_counter()
             maze, _ = restore(load_log(data, truth.size, strict=True).records, truth.size)

@@ -1,8 +1,7 @@
-from pathlib import Path
-
 import pytest
 from click.testing import CliRunner
 
+from maze.builtin import builtin_path
 from maze.cli import main
 from maze.errors import MazeError
 from maze.explorer import explore
@@ -22,14 +21,12 @@ from maze.flash import (
 from maze.mazefile import parse_maze
 from maze.restore import load_log, restore
 
-SHARED_MAZES = Path(__file__).resolve().parents[1].parent / "shared" / "mazes"
-CLASSIC = SHARED_MAZES / "classic" / "alljapan-010-1989-fin.txt"
-needs_shared = pytest.mark.skipif(not CLASSIC.is_file(), reason=f"shared mazes not found at {SHARED_MAZES}")
+CLASSIC = builtin_path("alljapan-010-1989-fin")
 
 
 @pytest.fixture(scope="module")
 def search():
-    return explore(parse_maze(CLASSIC.read_text()), "closing-stop")
+    return explore(parse_maze(CLASSIC.read_text()), "stop")
 
 
 def test_nor_rules():
@@ -51,14 +48,12 @@ def test_snapshot_size_is_the_seeds_minimal_representation():
     assert [snapshot_bytes(n) for n in (8, 16, 32)] == [28, 120, 496]
 
 
-@needs_shared
 def test_snapshot_round_trip(search):
     data = pack_snapshot(search.maze, inner_wall_ids(search.maze))
     assert len(data) == snapshot_bytes(search.maze.size)
     assert unpack_snapshot(data, search.maze.size).same_walls(search.maze)
 
 
-@needs_shared
 def test_power_cut_at_every_byte_loses_only_the_record_being_written(search):
     writes = log_writes(search)
     total = sum(len(w.payload) for w in writes)
@@ -72,12 +67,11 @@ def test_power_cut_at_every_byte_loses_only_the_record_being_written(search):
         assert maze.same_walls(restore(search.records[: cut // 2], size)[0]), cut
 
 
-@needs_shared
 def test_replay_cli_restores_a_power_cut_image(tmp_path, search):
     log = tmp_path / "cut.bin"
     runner = CliRunner()
     for cut in (0, 1, 77, 2 * len(search.records) - 1):
-        out = runner.invoke(main, ["explore", str(CLASSIC), "--strategy", "closing-stop", "--log", str(log),
+        out = runner.invoke(main, ["explore", str(CLASSIC), "--strategy", "stop", "--log", str(log),
                                    "--power-cut", str(cut)])
         assert out.exit_code == 0, out.output
         replay = runner.invoke(main, ["replay", str(log), "--size", "16", "--format", "mazefile"])
@@ -87,7 +81,6 @@ def test_replay_cli_restores_a_power_cut_image(tmp_path, search):
         assert parse_maze(replay.stdout).same_walls(expected)
 
 
-@needs_shared
 def test_scheme_comparison(search):
     reports = {r.name: r for r in compare_schemes(search, cuts=60)}
     log, single, double = (reports[name] for name in SCHEMES)

@@ -1,24 +1,21 @@
-from pathlib import Path
-
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from test_maze_builtin import builtin_maze_params, large_maze_params
 
+from maze.builtin import builtin_path
 from maze.errors import MazeError
 from maze.mazefile import dump_maze, parse_maze
 from maze.model import Maze, central_goals
-
-SHARED_MAZES = Path(__file__).resolve().parents[1].parent / "shared" / "mazes"
-MAZE_FILES = sorted(SHARED_MAZES.rglob("*.txt")) if SHARED_MAZES.is_dir() else []
-needs_shared = pytest.mark.skipif(not MAZE_FILES, reason=f"shared mazes not found at {SHARED_MAZES}")
+from maze.stepmap import UNREACHED, pessimistic, shortest_path, step_map
 
 
-@needs_shared
-@pytest.mark.parametrize("path", MAZE_FILES, ids=lambda p: f"{p.parent.name}/{p.name}")
-def test_every_shared_maze_parses_fully_known(path):
+@pytest.mark.parametrize("path", builtin_maze_params() + large_maze_params())
+def test_every_real_maze_parses_fully_known_with_a_reachable_goal(path):
     maze = parse_maze(path.read_text())
-    assert maze.size == {"classic": 16, "halfsize": 32, "training": 16}[path.parent.name]
+    assert maze.size == (32 if path.stem.startswith("japan") else 16)
     assert maze.known_inner() == maze.size * (maze.size - 1) * 2
+    assert shortest_path(maze, pessimistic(maze))
     assert maze.start == (0, 0)
     assert maze.goals
     # a file with its start and goals marked prints back to itself
@@ -27,12 +24,19 @@ def test_every_shared_maze_parses_fully_known(path):
         assert dump_maze(maze).splitlines() == [ln.rstrip() for ln in text.rstrip("\n").splitlines()]
 
 
-@needs_shared
 def test_classic_goal_is_the_central_2x2_and_halfsize_goals_come_from_the_file():
-    classic = parse_maze((SHARED_MAZES / "classic" / "alljapan-001-1980.txt").read_text())
+    classic = parse_maze(builtin_path("alljapan-001-1980").read_text())
     assert set(classic.goals) == set(central_goals(16))
-    half = parse_maze((SHARED_MAZES / "halfsize" / "japan2009hef.txt").read_text())
+    half = parse_maze(builtin_path("japan2009hef").read_text())
     assert half.goals == ((24, 15),)
+
+
+def test_a_training_maze_without_g_gets_the_farthest_reachable_cell():
+    # its 5x5 active area leaves out the central 2x2
+    mini = parse_maze(builtin_path("minimaze").read_text())
+    assert mini.goals == ((4, 4),)
+    dist = step_map(mini.topo, pessimistic(mini), [0])
+    assert dist[mini.cell_index((4, 4))] == max(d for d in dist if d < UNREACHED)
 
 
 def random_maze(draw, size: int) -> Maze:

@@ -1,7 +1,7 @@
 import re
-from pathlib import Path
 
 import pytest
+from test_maze_builtin import SHARED, builtin_maze_params, large_maze_params
 
 from maze.direction import EAST, NORTH, SOUTH
 from maze.errors import MazeError
@@ -10,11 +10,9 @@ from maze.model import Maze, inner_wall_count
 from maze.restore import apply_records, load_log, records_for, restore, select
 from maze.wallrecord import RECORD_BYTES, WallRecord, encode_log, parse_text_records
 
-SHARED = Path(__file__).resolve().parents[1].parent / "shared"
 SEED = SHARED / "seeds" / "wall-log-backup.md"
-MAZE_FILES = sorted((SHARED / "mazes").rglob("*.txt"))
-needs_seed = pytest.mark.skipif(not SEED.is_file(), reason=f"seed not found at {SEED}")
-needs_mazes = pytest.mark.skipif(not MAZE_FILES, reason="shared mazes not found")
+needs_seed = pytest.mark.skipif(
+    not SEED.is_file(), reason="../shared/seeds/wall-log-backup.md not found beside the clone: the seed's example")
 
 
 def seed_blocks() -> list[str]:
@@ -90,9 +88,8 @@ def test_size_dependent_anomalies_skip_or_refuse():
         load_log(data, 4, strict=True)
 
 
-@needs_mazes
-@pytest.mark.parametrize("path", MAZE_FILES, ids=lambda p: p.name)
-def test_full_log_of_every_shared_maze_restores_it_exactly(path):
+@pytest.mark.parametrize("path", builtin_maze_params() + large_maze_params())
+def test_full_log_of_every_real_maze_restores_it_exactly(path):
     truth = parse_maze(path.read_text())
     data = encode_log(records_for(truth))
     n = truth.size

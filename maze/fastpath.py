@@ -1,0 +1,388 @@
+"""The fastest start-to-goal run under the time model: Dijkstra (scipy's, in C) over a graph of moves.
+
+Points are in half-cell units, X and Y in 0..2N; a wall's midpoint has X + Y odd (X odd: a horizontal wall).
+A node is a wall midpoint the mouse is crossing, with its heading in the seed library's eight directions
+(0 east, 1 north-east, 2 north, ... 7 south-east). Nodes come in three layers so that a straight's price
+depends only on its length: A (just left a turn, at turn speed), B (a straight ended here, a turn must
+follow) and G (crossed into a goal cell: the timed run is over). Edges: straights A->B and A->G, turns
+B->A, and straights from the standing start in the start cell's centre.
+The graph of a maze size is built once; each query drops the edges that cross a blocked wall.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property, lru_cache
+
+import numpy as np
+from scipy.sparse import csr_array
+from scipy.sparse.csgraph import dijkstra
+
+from .direction import DELTA, opposite
+from .errors import MazeError
+from .model import Cell, Maze
+from .motion import HALF_DIAGONAL, TURNS, straight_seconds, turn_seconds
+from .mouseparams import MouseParams
+
+STEP = ((1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1), (1, -1))
+ALONG, DIAGONAL = (0, 2, 4, 6), (1, 3, 5, 7)
+LAYERS = 3  # A, B, G
+MIN_SECONDS = 1e-9  # zero-length straights still need an edge, and scipy drops zero weights
+MAX_CROSSINGS = 4  # the most walls a turn crosses (the 180)
+
+
+@dataclass(frozen=True, order=True)
+class TurnShape:
+    """A turn placed with its entry point at the origin; `offsets` are the walls it crosses, the last one the exit."""
+
+    name: str
+    side: str  # "R" or "L"
+    h_in: int
+    h_out: int
+    x_parity: int  # X % 2 of the entry point: 1 when it enters across a horizontal wall
+    offsets: tuple[tuple[int, int], ...]
+
+    @property
+    def token(self) -> str:
+        return self.side + self.name
+
+    def rotated(self) -> TurnShape:
+        """90 degrees anticlockwise: (x, y) -> (-y, x) swaps which walls are horizontal."""
+        return TurnShape(self.name, self.side, (self.h_in + 2) % 8, (self.h_out + 2) % 8, 1 - self.x_parity,
+                         tuple((-y, x) for x, y in self.offsets))
+
+    def mirrored(self) -> TurnShape:
+        return TurnShape(self.name, "L" if self.side == "R" else "R", (4 - self.h_in) % 8, (4 - self.h_out) % 8,
+                         self.x_parity, tuple((-x, y) for x, y in self.offsets))
+
+    def reversed(self) -> TurnShape:
+        """The same curve run backwards (a 45 out of a diagonal is a 45 into one, run from its far end)."""
+        ex, ey = self.offsets[-1]
+        points = [(x - ex, y - ey) for x, y in self.offsets[-2::-1]] + [(-ex, -ey)]
+        return TurnShape(self.name, "L" if self.side == "R" else "R", opposite(self.h_out), opposite(self.h_in),
+                         (self.x_parity + ex) % 2, tuple(points))
+
+
+# Right-hand turns entering northwards across a horizontal wall at (0, 0) (the V90: north-east across a
+# vertical wall, turning left round the post at (1, 1)). The others are their rotations, mirror images and
+# reversals.
+ALONG_TURNS = (
+    TurnShape("90s", "R", 2, 0, 1, ((1, 1),)),
+    TurnShape("90", "R", 2, 0, 1, ((0, 2), (1, 3), (3, 3))),
+    TurnShape("180", "R", 2, 6, 1, ((0, 2), (1, 3), (2, 2), (2, 0))),
+)
+DIAGONAL_TURNS = (
+    TurnShape("45", "R", 2, 1, 1, ((0, 2), (1, 3))),
+    TurnShape("135", "R", 2, 7, 1, ((0, 2), (1, 3), (2, 2))),
+    TurnShape("V90", "L", 1, 3, 0, ((1, 1), (0, 2))),
+)
+
+
+def turn_shapes(diagonal: bool) -> list[TurnShape]:
+    shapes = set()
+    for base in ALONG_TURNS + (DIAGONAL_TURNS if diagonal else ()):
+        for shape in (base, base.reversed()):
+            for _ in range(4):
+                shape = shape.rotated()
+                shapes.update((shape, shape.mirrored()))
+    return sorted(shapes)
+
+
+@dataclass(frozen=True)
+class Move:
+    token: str  # S3 (3 cells along the walls), D2 (2 diagonal steps), R90, L45, RV90, ...
+    cells: float  # path length in cells
+    seconds: float
+
+
+@dataclass(frozen=True)
+class Route:
+    moves: list[Move]
+    seconds: float
+    points: list[tuple[int, int]]  # half-cell coordinates: the start cell's centre, then every wall crossed
+    walls: list[int]  # wall ids crossed, in order
+    cells: list[Cell]  # the start cell, then each cell entered
+
+    @property
+    def length(self) -> float:
+        return sum(m.cells for m in self.moves)
+
+    @property
+    def sequence(self) -> str:
+        return " ".join(m.token for m in self.moves)
+
+
+def _entered(point: tuple[int, int], previous: tuple[int, int]) -> Cell:
+    """The cell on the far side of the wall at `point` for a mouse coming from `previous`."""
+    x, y = point
+    if x % 2:  # horizontal wall
+        return x // 2, y // 2 if previous[1] < y else y // 2 - 1
+    return (x // 2 if previous[0] < x else x // 2 - 1), y // 2
+
+
+class MoveGraph:
+    """Every move a mouse could make in an N x N maze with all inner walls open, priced for one mouse."""
+
+    def __init__(self, size: int, diagonal: bool, mouse: MouseParams) -> None:
+        self.size, self.diagonal, self.mouse = size, diagonal, mouse
+        self.side = 2 * size + 1
+        self.layer = 8 * self.side ** 2
+        self.start_node = LAYERS * self.layer
+        xs, ys = np.meshgrid(np.arange(self.side), np.arange(self.side))
+        self.px, self.py = xs.ravel(), ys.ravel()
+        self.walls = 2 * size * (size + 1)
+        self.open_sentinel, self.closed_sentinel = self.walls, self.walls + 1
+        wall = np.full(self.side ** 2, self.closed_sentinel)  # model.wall_id of each midpoint, vectorised
+        horizontal = (self.px % 2 == 1) & (self.py % 2 == 0)
+        vertical = (self.px % 2 == 0) & (self.py % 2 == 1)
+        wall[horizontal] = (self.py[horizontal] // 2) * size + self.px[horizontal] // 2
+        wall[vertical] = size * (size + 1) + (self.py[vertical] // 2) * (size + 1) + self.px[vertical] // 2
+        self.wall_at = wall
+        self.headings = ALONG + (DIAGONAL if diagonal else ())
+        self._build_runs()
+        self._build_straights()
+        self._build_turns()
+        self._goal_masks: dict[tuple[Cell, ...], np.ndarray] = {}
+
+    # -- geometry helpers -------------------------------------------------------------------------------------
+    def _index(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        return y * self.side + x
+
+    def _inside(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        return (x >= 0) & (x < self.side) & (y >= 0) & (y < self.side)
+
+    def _stride(self, h: int) -> tuple[int, int]:
+        dx, dy = STEP[h]
+        return (2 * dx, 2 * dy) if h in ALONG else (dx, dy)
+
+    def _entry_points(self, h: int) -> np.ndarray:
+        """Point indices where a straight in heading h may cross a wall (along the walls: only across them)."""
+        mid = (self.px + self.py) % 2 == 1
+        if h in (0, 4):
+            mid &= self.px % 2 == 0
+        elif h in (2, 6):
+            mid &= self.px % 2 == 1
+        return np.flatnonzero(mid)
+
+    def _top_speed(self, h: int) -> float:
+        return self.mouse.run.top_speed if h in ALONG else self.mouse.run.diagonal_top_speed
+
+    def _unit(self, h: int) -> float:
+        return 1.0 if h in ALONG else HALF_DIAGONAL
+
+    # -- the static graph -------------------------------------------------------------------------------------
+    def _build_runs(self) -> None:
+        """For the per-query 'how many open walls lie straight ahead' array: each node's next crossing."""
+        nxt = np.zeros(self.layer, dtype=np.int64)
+        nxt_wall = np.full(self.layer, self.closed_sentinel)
+        for h in self.headings:
+            pts = self._entry_points(h)
+            sx, sy = self._stride(h)
+            qx, qy = self.px[pts] + sx, self.py[pts] + sy
+            ok = self._inside(qx, qy)
+            q = self._index(qx[ok], qy[ok])
+            nxt[pts[ok] * 8 + h] = q * 8 + h
+            nxt_wall[pts[ok] * 8 + h] = self.wall_at[q]
+        self.run_next, self.run_next_wall = nxt, nxt_wall
+
+    def _build_straights(self) -> None:
+        run = self.mouse.run
+        src, dst, key, length, cost_b, cost_g, ends = [], [], [], [], [], [], []
+        for h in self.headings:
+            pts = self._entry_points(h)
+            sx, sy = self._stride(h)
+            top, unit = self._top_speed(h), self._unit(h)
+            for n in range(2 * self.size + 1):
+                ex, ey = self.px[pts] + n * sx, self.py[pts] + n * sy
+                ok = self._inside(ex, ey)
+                if not ok.any():
+                    break
+                p, e = pts[ok], self._index(ex[ok], ey[ok])
+                metres = n * unit * self.mouse.cell
+                src.append(p * 8 + h)
+                dst.append(e * 8 + h)
+                key.append(p * 8 + h)
+                length.append(np.full(len(p), n))
+                cost_b.append(np.full(len(p), max(MIN_SECONDS, straight_seconds(
+                    metres, run.turn_speed, run.turn_speed, top, run.accel))))
+                cost_g.append(np.full(len(p), max(MIN_SECONDS, straight_seconds(
+                    metres, run.turn_speed, None, top, run.accel))))
+                ends.append(self._entered_cells(e, h))
+        self.st_src = np.concatenate(src)
+        self.st_dst = np.concatenate(dst)
+        self.st_key = np.concatenate(key)
+        self.st_len = np.concatenate(length)
+        self.st_cost_b = np.concatenate(cost_b)
+        self.st_cost_g = np.concatenate(cost_g)
+        self.st_end_cell = np.concatenate(ends)
+
+    def _entered_cells(self, points: np.ndarray, h: int) -> np.ndarray:
+        """Flat index of the cell a mouse heading h enters at each wall point (-1 outside the maze)."""
+        x, y = self.px[points], self.py[points]
+        dx, dy = STEP[h]
+        horizontal = x % 2 == 1
+        cx = np.where(horizontal, x // 2, x // 2 - (dx < 0))
+        cy = np.where(horizontal, y // 2 - (dy < 0), y // 2)
+        inside = (cx >= 0) & (cx < self.size) & (cy >= 0) & (cy < self.size)
+        return np.where(inside, cy * self.size + cx, -1)
+
+    def _build_turns(self) -> None:
+        src, dst, walls, shape_ids = [], [], [], []
+        self.shapes = turn_shapes(self.diagonal)
+        costs = []
+        for i, shape in enumerate(self.shapes):
+            pts = np.flatnonzero(((self.px + self.py) % 2 == 1) & (self.px % 2 == shape.x_parity))
+            ok = np.ones(len(pts), dtype=bool)
+            crossed = []
+            for ox, oy in shape.offsets:
+                qx, qy = self.px[pts] + ox, self.py[pts] + oy
+                ok &= self._inside(qx, qy)
+                crossed.append((qx, qy))
+            pts = pts[ok]
+            cols = [self.wall_at[self._index(qx[ok], qy[ok])] for qx, qy in crossed]
+            cols += [np.full(len(pts), self.open_sentinel)] * (MAX_CROSSINGS - len(cols))
+            ex, ey = crossed[-1]
+            src.append(pts * 8 + shape.h_in + self.layer)
+            dst.append(self._index(ex[ok], ey[ok]) * 8 + shape.h_out)
+            walls.append(np.stack(cols, axis=1))
+            shape_ids.append(np.full(len(pts), i))
+            costs.append(np.full(len(pts), turn_seconds(shape.name, self.mouse)))
+        self.tu_src = np.concatenate(src)
+        self.tu_dst = np.concatenate(dst)
+        self.tu_walls = np.concatenate(walls)
+        self.tu_shape = np.concatenate(shape_ids)
+        self.tu_cost = np.concatenate(costs)
+
+    @cached_property
+    def _turn_lookup(self) -> dict[tuple[int, int], int]:
+        return dict(zip(zip(self.tu_src.tolist(), self.tu_dst.tolist()), self.tu_shape.tolist()))
+
+    def _goal_mask(self, goals: tuple[Cell, ...]) -> np.ndarray:
+        if goals not in self._goal_masks:
+            flat = [y * self.size + x for x, y in goals]
+            self._goal_masks[goals] = np.isin(self.st_end_cell, flat)
+        return self._goal_masks[goals]
+
+    # -- queries ----------------------------------------------------------------------------------------------
+    def _runs(self, open_ext: np.ndarray) -> np.ndarray:
+        """Open walls straight ahead of every node: each round extends every run by one wall (at most 2N+1 rounds)."""
+        ahead_open = open_ext[self.run_next_wall]
+        run = np.zeros(self.layer, dtype=np.int64)
+        for _ in range(2 * self.size + 1):
+            new = np.where(ahead_open, run[self.run_next] + 1, 0)
+            if np.array_equal(new, run):
+                break
+            run = new
+        return run
+
+    def _start_edges(self, start: Cell, goals: tuple[Cell, ...], run: np.ndarray,
+                     open_ext: np.ndarray) -> tuple[list[int], list[int], list[float]]:
+        """Straights from a standing start in the start cell's centre, along each of its four headings."""
+        p = self.mouse.run
+        cx, cy = 2 * start[0] + 1, 2 * start[1] + 1
+        rows: list[int] = []
+        cols: list[int] = []
+        data: list[float] = []
+        goal_set = set(goals)
+        for h in ALONG:
+            dx, dy = STEP[h]
+            first = self._index(cx + dx, cy + dy)
+            if not open_ext[self.wall_at[first]]:
+                continue
+            for n in range(1, int(run[first * 8 + h]) + 2):
+                x, y = cx + (2 * n - 1) * dx, cy + (2 * n - 1) * dy
+                node = self._index(x, y) * 8 + h
+                metres = (n - 0.5) * self.mouse.cell
+                rows.append(self.start_node)
+                cols.append(node + self.layer)
+                data.append(straight_seconds(metres, 0.0, p.turn_speed, p.top_speed, p.accel))
+                if _entered((x, y), (x - dx, y - dy)) in goal_set:
+                    rows.append(self.start_node)
+                    cols.append(node + 2 * self.layer)
+                    data.append(straight_seconds(metres, 0.0, None, p.top_speed, p.accel))
+        return rows, cols, data
+
+    def _solve(self, blocked: bytes | bytearray, start: Cell, goals: tuple[Cell, ...]) -> tuple[csr_array, np.ndarray,
+                                                                                                np.ndarray]:
+        open_ext = np.concatenate([np.frombuffer(bytes(blocked), dtype=np.uint8) == 0, [True, False]])
+        run = self._runs(open_ext)
+        st_ok = self.st_len <= run[self.st_key]
+        to_goal = st_ok & self._goal_mask(goals)
+        tu_ok = open_ext[self.tu_walls].all(axis=1)
+        s_rows, s_cols, s_data = self._start_edges(start, goals, run, open_ext)
+        rows = np.concatenate([self.st_src[st_ok], self.st_src[to_goal], self.tu_src[tu_ok], s_rows])
+        cols = np.concatenate([self.st_dst[st_ok] + self.layer, self.st_dst[to_goal] + 2 * self.layer,
+                               self.tu_dst[tu_ok], s_cols])
+        data = np.concatenate([self.st_cost_b[st_ok], self.st_cost_g[to_goal], self.tu_cost[tu_ok], s_data])
+        n = self.start_node + 1
+        graph = csr_array((data, (rows.astype(np.int32), cols.astype(np.int32))), shape=(n, n))
+        dist, pred = dijkstra(graph, directed=True, indices=self.start_node, return_predecessors=True)
+        return graph, dist, pred
+
+    def fastest(self, blocked: bytes | bytearray, start: Cell, goals: tuple[Cell, ...]) -> Route | None:
+        """The fastest run through walls not blocked (1 = blocked, indexed by wall id); None if there is none."""
+        _, dist, pred = self._solve(blocked, start, goals)
+        g = dist[2 * self.layer: 3 * self.layer]
+        best = int(np.argmin(g))
+        if not np.isfinite(g[best]):
+            return None
+        nodes = [best + 2 * self.layer]
+        while nodes[-1] != self.start_node:
+            nodes.append(int(pred[nodes[-1]]))
+        return self._route(nodes[::-1], dist, start)
+
+    def _point(self, node: int) -> tuple[tuple[int, int], int]:
+        p, h = divmod(node % self.layer, 8)
+        return (p % self.side, p // self.side), h
+
+    def _edge(self, u: int, v: int, start: Cell) -> tuple[list[tuple[int, int]], str, float]:
+        """The walls edge u->v crosses (as points), its token ('' for a zero-length straight) and its length."""
+        (vx, vy), h = self._point(v)
+        if u == self.start_node:
+            cx, cy = 2 * start[0] + 1, 2 * start[1] + 1
+            dx, dy = STEP[h]
+            n = (abs(vx - cx) + abs(vy - cy) + 1) // 2
+            return [(cx + (2 * k - 1) * dx, cy + (2 * k - 1) * dy) for k in range(1, n + 1)], f"S{n - 0.5:g}", n - 0.5
+        (ux, uy), _ = self._point(u)
+        if u // self.layer == 0:  # a straight from A
+            sx, sy = self._stride(h)
+            n = max(abs(vx - ux) // max(abs(sx), 1), abs(vy - uy) // max(abs(sy), 1))
+            token = f"{'S' if h in ALONG else 'D'}{n}" if n else ""
+            return [(ux + k * sx, uy + k * sy) for k in range(1, n + 1)], token, n * self._unit(h)
+        shape = self.shapes[self._turn_lookup[(u, v)]]
+        return [(ux + ox, uy + oy) for ox, oy in shape.offsets], shape.token, TURNS[shape.name].cells
+
+    def _route(self, nodes: list[int], dist: np.ndarray, start: Cell) -> Route:
+        points = [(2 * start[0] + 1, 2 * start[1] + 1)]
+        moves: list[Move] = []
+        for u, v in zip(nodes, nodes[1:]):
+            crossed, token, cells = self._edge(u, v, start)
+            points += crossed
+            if token:
+                moves.append(Move(token, cells, float(dist[v] - dist[u])))
+        cells = [start] + [_entered(p, q) for q, p in zip(points, points[1:])]
+        walls = [int(self.wall_at[self._index(x, y)]) for x, y in points[1:]]
+        return Route(moves, float(dist[nodes[-1]]), points, walls, cells)
+
+
+@lru_cache(maxsize=4)
+def move_graph(size: int, diagonal: bool, mouse: MouseParams) -> MoveGraph:
+    return MoveGraph(size, diagonal, mouse)
+
+
+def fastest_route(maze: Maze, blocked: bytes | bytearray, diagonal: bool, mouse: MouseParams) -> Route | None:
+    return move_graph(maze.size, diagonal, mouse).fastest(blocked, maze.start, maze.goals)
+
+
+def run_of_cells(maze: Maze, cells: list[Cell], diagonal: bool, mouse: MouseParams) -> Route:
+    """The fastest way to run one given cell path: every wall is blocked except those the path passes."""
+    blocked = bytearray([1]) * maze.topo.wall_count
+    for (x, y), (nx, ny) in zip(cells, cells[1:]):
+        d = next((d for d, step in DELTA.items() if step == (nx - x, ny - y)), None)
+        if d is None:
+            raise MazeError(f"cells {(x, y)} and {(nx, ny)} are not neighbours")
+        blocked[maze.wid(x, y, d)] = 0
+    route = move_graph(maze.size, diagonal, mouse).fastest(blocked, cells[0], (cells[-1],))
+    if route is None:
+        raise MazeError("the cell path cannot be run")
+    return route
