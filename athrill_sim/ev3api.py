@@ -20,6 +20,7 @@ from hakoniwa.protocol import MOTOR_PORTS, RESET_ANGLE_PORTS, RX_GUEST_BASE, TX_
 # TOPPERS error codes.
 E_OK = 0
 E_TMOUT = -50
+TMO_FEVR = -1
 E_PAR = -17
 E_ID = -18
 E_OBJ = -41
@@ -68,7 +69,10 @@ class Ev3Api:
 
     # -- kernel --------------------------------------------------------------------------------------
     def tslp_tsk(self, timeout_us: int) -> int:
-        """Sleep; the task is woken by the timeout (E_TMOUT), as in TOPPERS."""
+        """Sleep; the task is woken by the timeout (E_TMOUT), as in TOPPERS. TMO_FEVR sleeps for good: this
+        mock's one task has nobody to wake it."""
+        if timeout_us == TMO_FEVR:
+            self.kernel.sleep_forever()
         self.kernel.sleep(int(timeout_us))
         return E_TMOUT
 
@@ -144,7 +148,10 @@ class Ev3Api:
         return c_div(mm, 10)
 
     def ev3_touch_sensor_is_pressed(self, port: int) -> bool:
-        return self._sensor(port, TOUCH_SENSOR, "h", Rx.TOUCH0, "ev3_touch_sensor_is_pressed") > TOUCH_THRESHOLD
+        """EV3RT numbers touch sensors in port order: the first configured one reads slot 0, the next slot 1."""
+        earlier = sum(t == TOUCH_SENSOR for t in self._sensors[:max(port, 0)])
+        slot = Rx.TOUCH0 if earlier == 0 else Rx.TOUCH1
+        return self._sensor(port, TOUCH_SENSOR, "h", slot, "ev3_touch_sensor_is_pressed") > TOUCH_THRESHOLD
 
     def ev3_button_is_pressed(self, button: int) -> bool:
         if not LEFT_BUTTON <= button <= BACK_BUTTON:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import os
 import time
+from typing import NoReturn
 
 from hakoniwa.protocol import NEVER_WAKES, MappedFile, Rx, Tx
 from hakoniwa.timebase import PHYSICS_STEP_US
@@ -66,6 +67,13 @@ class Kernel:
     def finish(self) -> None:
         """The task returned: outputs stay as they are and no wake-up will ever be due."""
         self._publish(NEVER_WAKES)
+
+    def sleep_forever(self) -> NoReturn:
+        """The task sleeps with no timeout: published as never waking, it waits until it is killed (or the
+        physics process is gone)."""
+        self.finish()
+        wait_for(lambda: False, self._check_physics, spin_s=0.0, nap_s=TEST_WAIT_NAP_S)
+        raise AssertionError("unreachable")
 
     def _publish(self, wake_us: int) -> None:
         a = self.athrill

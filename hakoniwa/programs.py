@@ -104,6 +104,19 @@ def python_program(spec: str) -> Program:
                    (*mock, "--run-dir", "{run_dir}", "--test", "{test}"), check_argv=(*mock, "--check"))
 
 
+def native_program(source: Path) -> Program:
+    """A user's EV3RT C program (a .c file or a workspace folder), built now, before any test starts."""
+    from athrill_sim.native import NativeBuildError
+    from athrill_sim.native.build import build_app
+
+    try:
+        exe = build_app(source)
+    except NativeBuildError as e:
+        raise ProgramError(str(e)) from None
+    return Program(f"native C app {source}", SyncMode.LOCKSTEP, True,
+                   (str(exe), "--run-dir", "{run_dir}", "--test", "{test}"))
+
+
 def elf_program(image: Path, athrill2: str | None) -> Program:
     exe = find_athrill2(athrill2)
     memory = "".join(f"{kind}, 0x{addr:08X}, {arg}\n" for kind, addr, arg in ATHRILL_MEMORY)
@@ -135,19 +148,25 @@ def is_v850_elf(path: Path) -> bool:
 
 
 def resolve_program(spec: str, *, athrill2: str | None = None) -> Program:
-    """The program `--app SPEC` names: a built-in or `module:function` Python program, or a v850 ELF."""
-    from athrill_sim.apps import BUILTIN
+    """The program `--app SPEC` names: a built-in or `module:function` Python program, an EV3RT C program
+    (a .c file, a workspace folder or a built-in C name), or a v850 ELF."""
+    from athrill_sim.apps import BUILTIN, C_BUILTIN
 
     path = Path(spec)
+    builtins = ", ".join([*BUILTIN, *C_BUILTIN])
     if spec in BUILTIN:
         return python_program(spec)
+    if spec in C_BUILTIN:
+        return native_program(C_BUILTIN[spec])
+    if path.is_dir() or (path.is_file() and path.suffix == ".c"):
+        return native_program(path)
     if path.is_file():
         if is_v850_elf(path):
             return elf_program(path, athrill2)
-        raise ProgramError(f"--app {spec}: not a v850 ELF image, a built-in app ({', '.join(BUILTIN)}) "
+        raise ProgramError(f"--app {spec}: not a v850 ELF image, a C file (.c), a built-in app ({builtins}) "
                            "or module:function")
     module, _, func = spec.partition(":")
     if not (module and func):
-        raise ProgramError(f"--app {spec}: no such file, and not a built-in app ({', '.join(BUILTIN)}) "
+        raise ProgramError(f"--app {spec}: no such file or folder, and not a built-in app ({builtins}) "
                            "or module:function")
     return python_program(spec)

@@ -1,30 +1,45 @@
-"""Simulated seconds per wall second: raw MuJoCo stepping vs. the full three-process trial.
+"""Simulated seconds per wall second, and what starting an Athrill costs per test, for every kind of program.
 
-(a) steps the very model the physics process uses, in this process, with constant motor commands: what
-    MuJoCo alone costs. Both the one-call-per-step loop and MuJoCo's batched `nstep` are shown.
-(b) runs real tests: a `hakoniwa-physics` process (which starts a fresh `athrill-sim` per test) driven by
-    this script acting as the test controller over the mapped files. Process start-up of the physics
-    process is excluded (it happens once per campaign); Athrill's start-up is included (once per test).
+(a) raw MuJoCo: the very model the physics process uses, stepped in this process with constant motor
+    commands (one `mj_step` call per step, and MuJoCo's batched `nstep`).
+(b) three-process trials at the paper's gains: a `hakoniwa-physics` process driven by this script acting as
+    the test controller, once with the Python mock (`line_trace`) and once with the C tracer built natively
+    (`line_trace_c`), in the same run. The physics process's own start is excluded (once per campaign); the
+    Athrill's start is included (once per test, overlapped with the previous test by the pre-launch).
+(c) the start of one Athrill process: spawn to its first answer on a test that has already begun (what a test
+    would wait for without the pre-launch): Python mock, native C tracer, and the real TOPPERS athrill2 running
+    the EV3RT sample image (spawn to its clock first moving; it is started with its test, never ahead).
+(d) the real emulator's trials (hakoniwa sync) on the sample image, which drives until TIME_OVER.
+Rows that need something absent (no C compiler, no athrill2, no ../shared) print why instead of a number.
 """
 
 from __future__ import annotations
 
+import os
+import statistics
 import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
+from typing import Callable
 
 import click
 import mujoco
 
 from hakoniwa.course import load_course
-from hakoniwa.launch import physics_command
+from hakoniwa.launch import BenchOptions
+from hakoniwa.programs import Program, ProgramError, resolve_program
+from hakoniwa.protocol import MappedFile, Rx, SyncMode, Tx, open_athrill, open_unity
+from hakoniwa.sync import HAKONIWA_START_US
 from hakoniwa.world import World
 from testctl.paper import BEST_GAINS, line_trace_params
 from testctl.runner import TrialRunner
 
 PAPER = line_trace_params(*BEST_GAINS)
+REPO = Path(__file__).resolve().parents[1]
+ASP_IMAGE = REPO.parent / "shared" / "third_party" / "athrill" / "ev3rt-ble_sample" / "asp"
+START_TIMEOUT_S = 60.0
 
 
 def raw_rate(sim_s: float, batched: bool) -> float:
@@ -48,40 +63,126 @@ def raw_rate(sim_s: float, batched: bool) -> float:
     return sim_s / (time.perf_counter() - start)
 
 
-def trial_rate(tests: int, params: dict[int, float]) -> tuple[float, list]:
+def trial_rate(bench: BenchOptions, tests: int, *, warm_up: bool = True) -> tuple[float, list]:
+    """Sim-s per wall-s of `tests` trials at the paper's gains (after a warm-up trial: the first spare Athrill,
+    caches)."""
     with tempfile.TemporaryDirectory(prefix="hako-bench-") as tmp:
         run_dir = Path(tmp)
-        proc = subprocess.Popen(physics_command(run_dir, "oval", []))
+        proc = subprocess.Popen(bench.physics_command(run_dir, []))
         try:
             runner = TrialRunner.attach(run_dir, proc)
-            runner.run_test(params)  # warm-up: first spare Athrill, caches
-            results = [runner.run_test(params) for _ in range(tests)]
+            if warm_up:
+                runner.run_test(PAPER)
+            results = [runner.run_test(PAPER) for _ in range(tests)]
             runner.end()
             proc.wait(timeout=30)
         finally:
             if proc.poll() is None:
                 proc.kill()
-    sim = sum((r.goal_time_us or load_course().time_limit_us) for r in results) / 1e6
-    wall = sum(r.wall_s for r in results)
-    return sim / wall, results
+    limit_us = bench.time_limit_s * 1e6 if bench.time_limit_s else load_course(bench.course).time_limit_us
+    sim = sum((r.goal_time_us or limit_us) for r in results) / 1e6
+    return sim / sum(r.wall_s for r in results), results
+
+
+def sign_of_life(program: Program, unity: MappedFile, athrill: MappedFile) -> Callable[[], bool]:
+    """Set the files up for one start of `program`; returns what tells that the started process runs: a
+    lockstep program's first answer, the real emulator's clock moving."""
+    if program.sync == SyncMode.HAKONIWA:
+        unity.unity_time_us, athrill.athrill_time_us = HAKONIWA_START_US, 0
+        return lambda: athrill.athrill_time_us > 0
+    answers = athrill.read_u32(Tx.ANSWER_SEQ)
+    return lambda: athrill.read_u32(Tx.ANSWER_SEQ) != answers
+
+
+def start_costs(program: Program, samples: int) -> list[float]:
+    """Wall seconds from spawning `program` for a test that has already begun to its first sign of life."""
+    with tempfile.TemporaryDirectory(prefix="hako-start-") as tmp, open(os.devnull, "wb") as log:
+        run_dir = Path(tmp)
+        unity, athrill = open_unity(run_dir, create=True), open_athrill(run_dir, create=True)
+        unity.write_u32(Rx.PHYSICS_PID, os.getpid())
+        program.prepare(run_dir)
+        costs = []
+        for seq in range(1, samples + 1):
+            unity.write_u32(Rx.TEST_SEQ, seq)
+            alive = sign_of_life(program, unity, athrill)
+            start = time.perf_counter()
+            proc = program.spawn(run_dir, seq, log)
+            try:
+                while not alive():
+                    if proc.poll() is not None or time.perf_counter() - start > START_TIMEOUT_S:
+                        raise RuntimeError(f"{program.description} did not start (exit {proc.returncode})")
+                    time.sleep(0.0002)
+                costs.append(time.perf_counter() - start)
+            finally:
+                proc.kill()
+                proc.wait()
+        unity.close()
+        athrill.close()
+    return costs
+
+
+def ms(costs: list[float]) -> str:
+    return f"{statistics.median(costs) * 1e3:8.1f} ms median (min {min(costs) * 1e3:.1f}, max {max(costs) * 1e3:.1f})"
+
+
+def describe(results: list) -> str:
+    events = sorted({r.event.name for r in results})
+    laps = sorted({r.lap_time_s for r in results if r.lap_time_s is not None})
+    return f"events {events}" + (f", laps {laps} s" if laps else "")
 
 
 @click.command()
 @click.option("--sim-seconds", default=60.0, show_default=True, help="Simulated seconds for (a).")
-@click.option("--tests", default=5, show_default=True, help="Tests for (b), after one warm-up test.")
-def main(sim_seconds: float, tests: int) -> None:
-    """Print simulated-seconds-per-wall-second of (a) raw MuJoCo and (b) full three-process trials."""
-    a_loop = raw_rate(sim_seconds, batched=False)
-    a_batched = raw_rate(sim_seconds, batched=True)
-    b, results = trial_rate(tests, PAPER)
-    events = {r.event.name for r in results}
-    laps = {r.lap_time_s for r in results}
-    print(f"(a) raw MuJoCo, one mj_step call per 1 ms step : {a_loop:7.1f} x real time")
-    print(f"(a) raw MuJoCo, batched mj_step(nstep=100)     : {a_batched:7.1f} x real time")
-    print(f"(b) three-process trial (paper gains, {tests} tests) : {b:7.1f} x real time "
-          f"(events {sorted(events)}, lap times {sorted(laps)})")
-    print(f"(b)/(a) vs. one call per step                  : {b / a_loop:7.2f}")
-    print(f"(b)/(a) vs. batched                             : {b / a_batched:7.2f}")
+@click.option("--tests", default=5, show_default=True, help="Trials per program in (b), after a warm-up trial.")
+@click.option("--starts", default=10, show_default=True, help="Process starts measured per program in (c).")
+@click.option("--real-tests", default=1, show_default=True, help="Trials of the real emulator in (d).")
+@click.option("--athrill2", default=str(REPO / "build" / "athrill" / "athrill2"), show_default=True,
+              help="The real TOPPERS emulator (scripts/build_athrill2.sh builds it).")
+def main(sim_seconds: float, tests: int, starts: int, real_tests: int, athrill2: str) -> None:
+    """Print simulated-seconds-per-wall-second and start costs as a table."""
+    a_loop, a_batched = raw_rate(sim_seconds, batched=False), raw_rate(sim_seconds, batched=True)
+    rows = [("(a) raw MuJoCo, one mj_step call per 1 ms step", f"{a_loop:8.1f} x real time"),
+            ("(a) raw MuJoCo, batched mj_step(nstep=100)", f"{a_batched:8.1f} x real time")]
+    kinds = {"Python mock (line_trace)": BenchOptions(app="line_trace"),
+             "native C (line_trace_c)": BenchOptions(app="line_trace_c"),
+             "real athrill2 (ble_sample asp)": BenchOptions(app=str(ASP_IMAGE), athrill2=athrill2)}
+    programs: dict[str, Program | str] = {}
+    for label, bench in kinds.items():
+        try:
+            programs[label] = resolve_program(bench.app, athrill2=bench.athrill2)
+        except ProgramError as e:
+            programs[label] = f"skipped: {e}"
+
+    rates = {}
+    for label in list(kinds)[:2]:
+        if isinstance(programs[label], str):
+            rows.append((f"(b) three-process trial, {label}", programs[label]))
+            continue
+        rates[label], results = trial_rate(kinds[label], tests)
+        rows.append((f"(b) three-process trial, {label}, {tests} tests",
+                     f"{rates[label]:8.1f} x real time = {rates[label] / a_batched:.2f} of batched raw "
+                     f"({describe(results)})"))
+    if len(rates) == 2:
+        python, native = rates.values()
+        rows.append(("(b) native C / Python mock trial rate", f"{native / python:8.2f}"))
+
+    for label, program in programs.items():
+        value = program if isinstance(program, str) else ms(start_costs(program, starts))
+        rows.append((f"(c) start per test, {label}" + ("" if isinstance(program, str) else f", {starts} starts"),
+                     value))
+
+    real = list(kinds)[2]
+    if isinstance(programs[real], str):
+        rows.append((f"(d) trial, {real}", programs[real]))
+    else:
+        rate, results = trial_rate(kinds[real], real_tests, warm_up=False)
+        rows.append((f"(d) trial, {real}, hakoniwa sync, {real_tests} tests",
+                     f"{rate:8.1f} sim-s per wall-s ({describe(results)}, "
+                     f"{statistics.mean(r.distance_m for r in results):.2f} m)"))
+
+    width = max(len(name) for name, _ in rows)
+    for name, value in rows:
+        print(f"{name:<{width}} : {value}")
 
 
 if __name__ == "__main__":

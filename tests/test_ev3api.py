@@ -106,3 +106,14 @@ def test_led_and_buttons(api):
     assert not api.ev3_button_is_pressed(ENTER_BUTTON)
     api.bus.unity.write_i32(Rx.BUTTONS, 1 << ENTER_BUTTON)
     assert api.ev3_button_is_pressed(ENTER_BUTTON)
+
+
+def test_touch_sensors_are_numbered_in_port_order(api):
+    """As EV3RT does: the sample's touch sensors on ports 3 and 4 read slots 0 (RX 112) and 1 (RX 124)."""
+    from athrill_sim.ev3api import EV3_PORT_4
+
+    api.ev3_sensor_config(EV3_PORT_3, TOUCH_SENSOR)
+    api.ev3_sensor_config(EV3_PORT_4, TOUCH_SENSOR)
+    api.bus.unity.write_i32(Rx.TOUCH1, 4095)
+    assert not api.ev3_touch_sensor_is_pressed(EV3_PORT_3)
+    assert api.ev3_touch_sensor_is_pressed(EV3_PORT_4)

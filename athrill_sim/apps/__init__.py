@@ -1,8 +1,12 @@
-"""Robot programs that run on the mock Athrill, by name. A user program is given as `module:function`."""
+"""Robot programs that run on the mock Athrill, by name. A user program is given as `module:function`.
+
+`C_BUILTIN` names the C programs shipped beside them, which run natively (see `athrill_sim.native`).
+"""
 
 from __future__ import annotations
 
 import importlib
+from pathlib import Path
 from typing import Callable
 
 from athrill_sim.ev3api import Ev3Api
@@ -10,6 +14,7 @@ from athrill_sim.ev3api import Ev3Api
 App = Callable[[Ev3Api], None]
 
 BUILTIN = {"line_trace": "athrill_sim.apps.line_trace:main_task"}
+C_BUILTIN = {"line_trace_c": Path(__file__).with_name("line_trace.c")}
 
 
 def load_app(spec: str) -> App:

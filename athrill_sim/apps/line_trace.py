@@ -4,7 +4,7 @@ Kp, Ki, Kd and the motor power are read through guest memory at 0x090F0000 + 540
 C code dereferences its pointers; the test controller writes them into unity_mmap.bin before the start.
 The C variables are floats: every arithmetic result is rounded to float32 exactly where C rounds it (float
 operations round each result; `integral * 0.01` is a double expression, rounded once on assignment), so
-this program and `athrill_sim/native/apps/line_trace.c` compute bit for bit the same steering.
+this program and `athrill_sim/apps/line_trace.c` compute bit for bit the same steering.
 """
 
 from __future__ import annotations

@@ -1,0 +1,34 @@
+"""The C headers generated from the Python side, so that the native runtime cannot disagree with it: the wire
+layout (`hakoniwa.protocol.c_header`, the only place that knows a byte offset) and the lockstep's timing (the
+physics step, and the mock kernel's way of waiting for a snapshot)."""
+
+from __future__ import annotations
+
+from athrill_sim import kernel as mock_kernel
+from hakoniwa import waiting
+from hakoniwa.protocol import c_header
+from hakoniwa.timebase import PHYSICS_STEP_US
+
+LAYOUT_HEADER = "hako_layout.h"
+TIMING_HEADER = "hako_timing.h"
+
+
+def timing_header() -> str:
+    values = {
+        "PHYSICS_STEP_US": PHYSICS_STEP_US,
+        "SNAPSHOT_SPIN_FROM": mock_kernel.SNAPSHOT_SPIN_FROM,
+        "SNAPSHOT_SPIN_S": mock_kernel.SNAPSHOT_SPIN_S,
+        "TEST_WAIT_NAP_S": mock_kernel.TEST_WAIT_NAP_S,
+        "NAP_S": waiting.NAP_S,
+        "CHECK_EVERY_S": waiting.CHECK_EVERY_S,
+    }
+    lines = ["/* Generated from hakoniwa.timebase, hakoniwa.waiting and athrill_sim.kernel; do not edit. */",
+             "#ifndef HAKO_TIMING_H", "#define HAKO_TIMING_H"]
+    lines += [f"#define HAKO_{name} {value!r}" for name, value in values.items()]
+    lines.append("#endif")
+    return "\n".join(lines) + "\n"
+
+
+def generated_headers() -> dict[str, str]:
+    """{file name: text} of every generated header."""
+    return {LAYOUT_HEADER: c_header(), TIMING_HEADER: timing_header()}

@@ -1,0 +1,207 @@
+/*
+ * EV3RT's sensor, motor, LED and button API over guest memory, mirroring athrill_sim/ev3api.py call for
+ * call: the same reads (the low byte of the colour slots, 16 bits of the gyro, ultrasonic and touch slots,
+ * ultrasonic millimetres returned as centimetres), the same error codes, the same flags. Every access goes
+ * through the guest windows, exactly as a program's own pointer would, so the API and raw addresses always
+ * agree.
+ */
+#include "ev3api.h"
+#include "runtime.h"
+
+#define RX(offset) ((uintptr_t)HAKO_RX_GUEST_BASE + (offset))
+#define TX(offset) ((uintptr_t)HAKO_TX_GUEST_BASE + (offset))
+
+static sensor_type_t sensors[TNUM_SENSOR_PORT];
+static motor_type_t motors[TNUM_MOTOR_PORT];
+
+static uint8_t read_u8(uintptr_t addr) { return *(volatile const uint8_t *)addr; }
+static uint16_t read_u16(uintptr_t addr) { return *(volatile const uint16_t *)addr; }
+static int16_t read_i16(uintptr_t addr) { return *(volatile const int16_t *)addr; }
+static int32_t read_i32(uintptr_t addr) { return *(volatile const int32_t *)addr; }
+static uint32_t read_u32(uintptr_t addr) { return *(volatile const uint32_t *)addr; }
+static void write_i32(uintptr_t addr, int32_t value) { *(volatile int32_t *)addr = value; }
+
+static bool sensor_port_ok(sensor_port_t port) { return (int)port >= 0 && (int)port < TNUM_SENSOR_PORT; }
+static bool motor_port_ok(motor_port_t port) { return (int)port >= 0 && (int)port < TNUM_MOTOR_PORT; }
+
+/* -- configuration ------------------------------------------------------------------------------------ */
+
+ER ev3_sensor_config(sensor_port_t port, sensor_type_t type)
+{
+    if (!sensor_port_ok(port))
+        return E_ID;
+    sensors[port] = type;
+    return E_OK;
+}
+
+ER_UINT ev3_sensor_get_type(sensor_port_t port) { return sensor_port_ok(port) ? (ER_UINT)sensors[port] : E_ID; }
+
+ER ev3_motor_config(motor_port_t port, motor_type_t type)
+{
+    if (!motor_port_ok(port))
+        return E_ID;
+    if ((int)type < NONE_MOTOR || (int)type > UNREGULATED_MOTOR)
+        return E_PAR;
+    motors[port] = type;
+    write_i32(TX(HAKO_TX_MOTOR_BRAKE + 4 * port), 0); /* configured idle, as EV3RT does */
+    return E_OK;
+}
+
+ER_UINT ev3_motor_get_type(motor_port_t port) { return motor_port_ok(port) ? (ER_UINT)motors[port] : E_ID; }
+
+/* -- sensors ------------------------------------------------------------------------------------------ */
+
+/* Whether `port` has a sensor of `kind`; if not, EV3RT's warning in the log (and the caller reads 0). */
+static bool sensor_ready(sensor_port_t port, sensor_type_t kind, const char *name)
+{
+    ER ercd = !sensor_port_ok(port) ? E_ID : sensors[port] != kind ? E_OBJ : E_OK;
+    if (ercd != E_OK)
+        hako_log("%s(): ercd %d", name, ercd);
+    return ercd == E_OK;
+}
+
+uint8_t ev3_color_sensor_get_reflect(sensor_port_t port)
+{
+    return sensor_ready(port, COLOR_SENSOR, __func__) ? read_u8(RX(HAKO_RX_COLOR0_REFLECT)) : 0;
+}
+
+uint8_t ev3_color_sensor_get_ambient(sensor_port_t port)
+{
+    return sensor_ready(port, COLOR_SENSOR, __func__) ? read_u8(RX(HAKO_RX_COLOR0_AMBIENT)) : 0;
+}
+
+colorid_t ev3_color_sensor_get_color(sensor_port_t port)
+{
+    return sensor_ready(port, COLOR_SENSOR, __func__) ? (colorid_t)read_u8(RX(HAKO_RX_COLOR0_COLOR)) : COLOR_NONE;
+}
+
+void ev3_color_sensor_get_rgb_raw(sensor_port_t port, rgb_raw_t *val)
+{
+    bool ready = sensor_ready(port, COLOR_SENSOR, __func__);
+    val->r = ready ? read_u16(RX(HAKO_RX_COLOR0_RGB + 0)) : 0;
+    val->g = ready ? read_u16(RX(HAKO_RX_COLOR0_RGB + 4)) : 0;
+    val->b = ready ? read_u16(RX(HAKO_RX_COLOR0_RGB + 8)) : 0;
+}
+
+int16_t ev3_gyro_sensor_get_angle(sensor_port_t port)
+{
+    return sensor_ready(port, GYRO_SENSOR, __func__) ? read_i16(RX(HAKO_RX_GYRO_ANGLE)) : 0;
+}
+
+int16_t ev3_gyro_sensor_get_rate(sensor_port_t port)
+{
+    return sensor_ready(port, GYRO_SENSOR, __func__) ? read_i16(RX(HAKO_RX_GYRO_RATE)) : 0;
+}
+
+ER ev3_gyro_sensor_reset(sensor_port_t port)
+{
+    if (!sensor_port_ok(port))
+        return E_ID;
+    if (sensors[port] != GYRO_SENSOR)
+        return E_OBJ;
+    write_i32(TX(HAKO_TX_GYRO_RESET), 1); /* the physics process clears it once it has zeroed the angle */
+    return E_OK;
+}
+
+int16_t ev3_ultrasonic_sensor_get_distance(sensor_port_t port)
+{
+    return sensor_ready(port, ULTRASONIC_SENSOR, __func__) ? (int16_t)(read_i16(RX(HAKO_RX_ULTRASONIC_MM)) / 10) : 0;
+}
+
+/* EV3RT numbers touch sensors in port order: the first configured one reads slot 0, the next slot 1. */
+static uint32_t touch_slot(sensor_port_t port)
+{
+    int earlier = 0;
+    for (int p = 0; p < port; p++)
+        earlier += sensors[p] == TOUCH_SENSOR;
+    return earlier == 0 ? HAKO_RX_TOUCH0 : HAKO_RX_TOUCH1;
+}
+
+bool_t ev3_touch_sensor_is_pressed(sensor_port_t port)
+{
+    return sensor_ready(port, TOUCH_SENSOR, __func__) && read_i16(RX(touch_slot(port))) > ADC_RES / 2;
+}
+
+bool_t ev3_button_is_pressed(button_t button)
+{
+    if ((int)button < LEFT_BUTTON || (int)button > BACK_BUTTON)
+        return false;
+    return (read_u32(RX(HAKO_RX_BUTTONS)) >> button) & 1;
+}
+
+/* -- motors ------------------------------------------------------------------------------------------- */
+
+static ER motor_error(motor_port_t port)
+{
+    if (!motor_port_ok(port))
+        return E_ID;
+    return motors[port] == NONE_MOTOR ? E_OBJ : E_OK;
+}
+
+int32_t ev3_motor_get_counts(motor_port_t port)
+{
+    return motor_error(port) == E_OK ? read_i32(RX(HAKO_RX_MOTOR_ANGLE + 4 * port)) : 0;
+}
+
+ER ev3_motor_reset_counts(motor_port_t port)
+{
+    ER ercd = motor_error(port);
+    if (ercd != E_OK)
+        return ercd;
+    if (port < HAKO_RESET_ANGLE_PORTS)
+        write_i32(TX(HAKO_TX_MOTOR_RESET_ANGLE + 4 * port), 1); /* the physics process clears it */
+    return E_OK;
+}
+
+ER ev3_motor_set_power(motor_port_t port, int power)
+{
+    ER ercd = motor_error(port);
+    if (ercd != E_OK)
+        return ercd;
+    write_i32(TX(HAKO_TX_MOTOR_POWER + 4 * port), power > 100 ? 100 : power < -100 ? -100 : power);
+    return E_OK;
+}
+
+int ev3_motor_get_power(motor_port_t port)
+{
+    return motor_error(port) == E_OK ? read_i32(TX(HAKO_TX_MOTOR_POWER + 4 * port)) : 0;
+}
+
+ER ev3_motor_stop(motor_port_t port, bool_t brake)
+{
+    ER ercd = motor_error(port);
+    if (ercd != E_OK)
+        return ercd;
+    write_i32(TX(HAKO_TX_MOTOR_POWER + 4 * port), 0);
+    write_i32(TX(HAKO_TX_MOTOR_BRAKE + 4 * port), brake ? 1 : 0);
+    return E_OK;
+}
+
+ER ev3_motor_steer(motor_port_t left_motor, motor_port_t right_motor, int power, int turn_ratio)
+{
+    ER ercd = motor_error(left_motor);
+    if (ercd == E_OK)
+        ercd = motor_error(right_motor);
+    if (ercd != E_OK)
+        return ercd;
+    if (turn_ratio < -100 || turn_ratio > 100)
+        return E_PAR;
+    int left = power, right = power;
+    if (turn_ratio >= 0)
+        right = power - power * turn_ratio / 50;
+    else
+        left = power + power * turn_ratio / 50;
+    ev3_motor_set_power(left_motor, left);
+    ev3_motor_set_power(right_motor, right);
+    return E_OK;
+}
+
+/* -- LED ---------------------------------------------------------------------------------------------- */
+
+ER ev3_led_set_color(ledcolor_t color)
+{
+    if (color != LED_OFF && color != LED_RED && color != LED_GREEN && color != LED_ORANGE)
+        return E_PAR;
+    write_i32(TX(HAKO_TX_LED), (int32_t)color);
+    return E_OK;
+}

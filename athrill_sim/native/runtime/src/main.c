@@ -1,0 +1,47 @@
+/*
+ * athrill-native: the Athrill process for a user's EV3RT program built for this machine. The physics
+ * process starts one per test, one test ahead: it maps the files, waits until its test starts, and then
+ * runs the program's kernel in lockstep with physics until it is killed, the program ends, or physics is
+ * gone. Exit status: HAKO_EXIT_BENCH_FAULT when the files cannot be used, 2 for a bad command line, 0
+ * otherwise; a crash in the program ends it by its signal, as it would end a real program.
+ */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "runtime.h"
+
+static void usage(const char *problem)
+{
+    fprintf(stderr, "athrill-native: %s\nusage: athrill-native --run-dir DIR [--test N]\n", problem);
+    exit(2);
+}
+
+int main(int argc, char **argv)
+{
+    const char *run_dir = NULL;
+    long long test = -1;
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--run-dir") == 0 && i + 1 < argc) {
+            run_dir = argv[++i];
+        } else if (strcmp(argv[i], "--test") == 0 && i + 1 < argc) {
+            char *end;
+            errno = 0;
+            test = strtoll(argv[++i], &end, 10);
+            if (errno != 0 || *end != '\0' || test < 0 || test > UINT32_MAX)
+                usage("--test takes a test number");
+        } else {
+            usage("unknown argument");
+        }
+    }
+    if (run_dir == NULL)
+        usage("--run-dir is required");
+    hako_files_open(run_dir);
+    hako_window_map();
+    if (test >= 0)
+        hako_wait_for_test((uint32_t)test);
+    hako_announce();
+    hako_window_load();
+    hako_kernel_run((int64_t)hako_rx_unity_time());
+}

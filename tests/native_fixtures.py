@@ -1,0 +1,88 @@
+"""Building small EV3RT C programs for the native mock, and playing the physics side of the lockstep to one run
+directly (no MuJoCo), for the tests of athrill_sim/native.
+
+Tests that build need a C compiler; without one they skip with the reason in pytest's summary.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import time
+from pathlib import Path
+
+import pytest
+
+from hakoniwa.protocol import MappedFile, Rx, Tx, open_athrill, open_unity
+
+NO_CC = "needs a C compiler (cc) to build native apps"
+
+
+def need_cc() -> None:
+    from athrill_sim.native import NativeBuildError
+    from athrill_sim.native.build import find_compiler
+
+    try:
+        find_compiler()
+    except NativeBuildError:
+        pytest.skip(NO_CC)
+
+
+def build(folder: Path, source: str, cfg: str | None = None, name: str = "app.c") -> Path:
+    """Write a program (and its app.cfg) into `folder` and build it; returns the native Athrill."""
+    from athrill_sim.native.build import build_app
+
+    need_cc()
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / name).write_text(source)
+    if cfg is not None:
+        (folder / "app.cfg").write_text(cfg)
+    return build_app(folder if cfg is not None else folder / name)
+
+
+class FakePhysics:
+    """The physics side of the lockstep over real files: answers each wake-up by moving the unity time to it."""
+
+    def __init__(self, run_dir: Path) -> None:
+        run_dir.mkdir(parents=True, exist_ok=True)
+        self.run_dir = run_dir
+        self.unity: MappedFile = open_unity(run_dir, create=True)
+        self.athrill: MappedFile = open_athrill(run_dir, create=True)
+        self.unity.write_u32(Rx.PHYSICS_PID, os.getpid())
+        self.answers = 0
+
+    def start(self, exe: Path, test: int | None = None) -> subprocess.Popen:
+        args = [str(exe), "--run-dir", str(self.run_dir)] + (["--test", str(test)] if test is not None else [])
+        return subprocess.Popen(args, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                text=True)
+
+    def next_wake(self, proc: subprocess.Popen, timeout_s: float = 10.0) -> int:
+        """Wait for the program's next answer and return the wake-up time it published."""
+        deadline = time.monotonic() + timeout_s
+        while self.athrill.read_u32(Tx.ANSWER_SEQ) == self.answers:
+            assert proc.poll() is None, f"exited {proc.returncode}: {proc.communicate()[1]}"
+            assert time.monotonic() < deadline, "no answer"
+            time.sleep(0.0005)
+        self.answers += 1
+        return int(self.athrill.read("q", Tx.NEXT_WAKE))
+
+    def wakes(self, proc: subprocess.Popen, until_us: int) -> list[int]:
+        """Run the program in lockstep until its wake-up time passes `until_us`; the wake-ups it published."""
+        seen = []
+        while True:
+            wake = self.next_wake(proc)
+            seen.append(wake)
+            if wake > until_us:
+                return seen
+            self.unity.unity_time_us = wake
+
+    def close(self) -> None:
+        self.unity.close()
+        self.athrill.close()
+
+
+def finish(proc: subprocess.Popen) -> str:
+    """Stop the program (as the physics process does after a test) and return its log."""
+    if proc.poll() is None:
+        proc.kill()
+    return proc.communicate(timeout=10)[1]

@@ -1,0 +1,178 @@
+"""Building native apps: the generated headers, app.cfg and Makefile.inc, the cache, and build errors."""
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from athrill_sim import kernel as mock_kernel
+from athrill_sim.native import NativeBuildError
+from athrill_sim.native.appcfg import kernel_config
+from athrill_sim.native.build import build_app, first_error
+from athrill_sim.native.headers import generated_headers
+from athrill_sim.native.workspace import find_app, read_makefile_inc
+from hakoniwa import protocol, waiting
+from hakoniwa.programs import ProgramError, resolve_program
+from hakoniwa.timebase import PHYSICS_STEP_US
+from native_fixtures import build, need_cc
+
+
+def protocol_values() -> dict[str, int | str]:
+    """What hako_layout.h must say, taken from protocol.py itself rather than from c_header()."""
+    p = protocol
+    values: dict[str, int | str] = {
+        name: getattr(p, name) for name in ("FILE_SIZE", "HEADER_SIZE", "PACKET_SIZE", "WINDOW_SIZE",
+                                            "LAYOUT_VERSION", "EXT_OFF", "EXT_SIZE", "RX_GUEST_BASE", "TX_GUEST_BASE",
+                                            "MOTOR_PORTS", "RESET_ANGLE_PORTS", "TOUCH_PRESSED", "EXIT_BENCH_FAULT",
+                                            "NEVER_WAKES")}
+    values |= {"UNITY_FILE": p.UNITY_FILE, "ATHRILL_FILE": p.ATHRILL_FILE, "UNITY_MAGIC": p.UNITY_MAGIC.decode(),
+               "ATHRILL_MAGIC": p.ATHRILL_MAGIC.decode()}
+    for prefix, cls in (("HDR", p.Header), ("RX", p.Rx), ("TX", p.Tx)):
+        values |= {f"{prefix}_{k}": v for k, v in vars(cls).items() if isinstance(v, int)}
+    for prefix, enum in (("EVENT", p.Event), ("CRASH", p.CrashKind), ("SYNC", p.SyncMode), ("COLOR", p.ColorId)):
+        values |= {f"{prefix}_{m.name}": m.value for m in enum}
+    return values
+
+
+def test_the_generated_layout_header_says_what_protocol_py_says(tmp_path):
+    need_cc()
+    expected = protocol_values()
+    for name, text in generated_headers().items():
+        (tmp_path / name).write_text(text)
+    prints = "\n".join(f'    printf("{k} %s\\n", {f"HAKO_{k}" if isinstance(v, str) else f"str(HAKO_{k})"});'
+                       for k, v in expected.items())
+    (tmp_path / "dump.c").write_text(
+        '#include <stdio.h>\n#include "hako_layout.h"\n'
+        'static char buf[64][32]; static int n;\n'
+        'static const char *str(long long v) { snprintf(buf[n % 64], 32, "%lld", v); return buf[n++ % 64]; }\n'
+        f"int main(void)\n{{\n{prints}\n    return 0;\n}}\n")
+    from athrill_sim.native.build import find_compiler
+
+    subprocess.run([str(find_compiler()), "-o", str(tmp_path / "dump"), str(tmp_path / "dump.c")], check=True)
+    out = subprocess.run([str(tmp_path / "dump")], capture_output=True, text=True, check=True).stdout
+    got = dict(line.split(" ", 1) for line in out.splitlines())
+    assert got == {k: str(v) for k, v in expected.items()}
+
+
+def test_the_generated_timing_header_is_the_mock_kernels_timing():
+    text = generated_headers()["hako_timing.h"]
+    assert f"#define HAKO_PHYSICS_STEP_US {PHYSICS_STEP_US}\n" in text
+    assert f"#define HAKO_SNAPSHOT_SPIN_FROM {mock_kernel.SNAPSHOT_SPIN_FROM!r}\n" in text
+    assert f"#define HAKO_NAP_S {waiting.NAP_S!r}\n" in text
+
+
+def same(cfg: Path) -> str:
+    """A stand-in for the C preprocessor where the .cfg needs none."""
+    return cfg.read_text()
+
+
+def test_app_cfg_declares_tasks_and_cyclic_handlers_with_ids(tmp_path):
+    cfg = tmp_path / "app.cfg"
+    cfg.write_text('INCLUDE("app_common.cfg");\nextern void not_an_api(intptr_t exinf);\n'
+                   'DOMAIN(TDOM_APP) {\nCRE_TSK(MAIN_TASK, { TA_ACT, 0, main_task, PRI + 1, 4096, NULL });\n'
+                   'CRE_TSK(TRACER_TASK, { TA_NULL, 0, tracer_task, PRI + 2, STACK_SIZE, NULL });\n'
+                   'EV3_CRE_CYC(TICK, { TA_STA, 3, tick, 4, 1 });\n'
+                   'CRE_CYC(KICK, { TA_NULL, { TNFY_ACTTSK, TRACER_TASK }, 4U * 1000U, 1U * 1000U });\n}\n'
+                   'ATT_MOD("app.o");\n')
+    config = kernel_config(cfg, same)
+    header, source = config.header(), config.source()
+    for line in ("#define MAIN_TASK 1", "#define TRACER_TASK 2", "#define TICK 1", "#define KICK 2",
+                 "#define TNUM_TSKID 2", "#define TNUM_CYCID 2"):
+        assert line + "\n" in header
+    assert '{"MAIN_TASK", (TA_ACT), (intptr_t)(0), main_task, (PRI + 1), (4096)},' in source
+    assert '{TNFY_HANDLER, (intptr_t)(3), tick}, ((RELTIM)(4) * 1000U), ((RELTIM)(1) * 1000U)},' in source
+    assert '{"KICK", (TA_NULL), {TNFY_ACTTSK, TRACER_TASK}, (4U * 1000U), (1U * 1000U)},' in source
+    assert "void tick(intptr_t exinf);" in source and "not_an_api" not in source
+
+
+@pytest.mark.parametrize("cfg, message", [
+    ("CRE_SEM(SEM1, { TA_NULL, 1, 1 });", "CRE_SEM is not supported by the native mock"),
+    ('INCLUDE("mine.cfg");', 'INCLUDE("mine.cfg"): no such file'),
+    ("CRE_TSK(A, { TA_ACT, 0, main_task, 10 });", "CRE_TSK(A) takes 6 values in braces, got 4"),
+    ("CRE_TSK(A, { TA_ACT, 0, main_task, 10, 4096, NULL });\nCRE_TSK(A, { TA_ACT, 0, t2, 10, 4096, NULL });",
+     "A is declared twice"),
+])
+def test_app_cfg_errors_name_the_problem(tmp_path, cfg, message):
+    (tmp_path / "app.cfg").write_text(cfg)
+    with pytest.raises(NativeBuildError, match=message.replace("(", r"\(").replace(")", r"\)")):
+        kernel_config(tmp_path / "app.cfg", same)
+
+
+def test_makefile_inc_names_the_sources_and_refuses_cplusplus(tmp_path):
+    (tmp_path / "app.c").write_text("")
+    (tmp_path / "util").mkdir()
+    (tmp_path / "util" / "pid.c").write_text("")
+    (tmp_path / "Makefile.inc").write_text(
+        "mkfile_path := $(dir $(lastword $(MAKEFILE_LIST)))\nAPPL_DIRS += $(mkfile_path)util\n"
+        "ifdef USE_CXX\n\tAPPL_CXXOBJS += tracer.o\nelse\n\tAPPL_COBJS += pid.o\nendif\n"
+        "INCLUDES += -I$(mkfile_path)util\nCOPTS += -DGAIN=2 -O3\n")
+    assert read_makefile_inc(tmp_path / "Makefile.inc")["APPL_COBJS"] == ["pid.o"]
+    app = find_app(tmp_path)
+    assert app.sources == (tmp_path / "app.c", tmp_path / "util" / "pid.c")
+    assert app.include_dirs == (tmp_path / "util",) and app.defines == ("-DGAIN=2",)
+    (tmp_path / "Makefile.inc").write_text("SRCLANG := c++\n")
+    with pytest.raises(NativeBuildError, match="C\\+\\+"):
+        find_app(tmp_path)
+
+
+def test_a_build_is_cached_until_a_source_changes(tmp_path, monkeypatch):
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    source = '#include "ev3api.h"\nvoid main_task(intptr_t unused) { tslp_tsk(%d); }\n'
+    exe = build(tmp_path / "app", source % 1000)
+    built_at = exe.stat().st_mtime_ns
+    assert build_app(tmp_path / "app" / "app.c") == exe and exe.stat().st_mtime_ns == built_at
+    assert build(tmp_path / "copy", source % 1000) == exe  # the same program elsewhere
+    assert build(tmp_path / "app", source % 2000) != exe
+    assert exe.parent.parent == tmp_path / "cache" / "hakoniwa-py" / "native"
+
+
+def test_a_compile_error_is_a_one_line_program_error_with_the_compilers_first_message(tmp_path):
+    need_cc()
+    (tmp_path / "broken.c").write_text('#include "ev3api.h"\nvoid main_task(intptr_t u)\n{\n    int x = 1\n}\n')
+    with pytest.raises(ProgramError) as e:
+        resolve_program(str(tmp_path / "broken.c"))
+    message = str(e.value)
+    assert "\n" not in message
+    assert "broken.c does not build: broken.c:5:1: error: expected ',' or ';' before '}' token" in message
+
+
+def test_an_unsupported_ev3rt_call_is_a_link_error_that_names_it(tmp_path):
+    need_cc()
+    (tmp_path / "app.c").write_text('#include "ev3api.h"\nvoid main_task(intptr_t u) '
+                                    '{ ev3_speaker_play_tone(440, 100); }\n')
+    with pytest.raises(NativeBuildError, match="undefined reference to `ev3_speaker_play_tone'.*not in the native"):
+        build_app(tmp_path / "app.c")
+
+
+def test_first_error_skips_warnings_and_linker_noise():
+    out = ("app.c: In function 'f':\napp.c:3:5: warning: unused variable 'x'\n"
+           "/usr/bin/ld: /tmp/cc1.o: in function `main_task':\napp.c:(.text+0x1d): undefined reference to `wai_sem'\n"
+           "collect2: error: ld returned 1 exit status\n")
+    assert first_error(out).startswith("undefined reference to `wai_sem' (not in the native")
+    twice = ("/usr/bin/ld: /tmp/cc2.o: in function `main':\napp.c:(.text.startup+0x0): multiple definition of "
+             "`main'; /tmp/cc3.o:main.c:(.text.startup+0x0): first defined here\n"
+             "collect2: error: ld returned 1 exit status\n")
+    assert first_error(twice).startswith("multiple definition of `main'")
+
+
+def test_without_a_c_compiler_a_c_app_is_a_one_line_error(tmp_path, monkeypatch):
+    monkeypatch.setenv("PATH", str(tmp_path))
+    monkeypatch.delenv("CC", raising=False)
+    (tmp_path / "app.c").write_text("")
+    with pytest.raises(ProgramError, match="no C compiler"):
+        resolve_program(str(tmp_path / "app.c"))
+
+
+def test_hako_trial_with_a_broken_c_app_fails_before_any_test(tmp_path):
+    need_cc()
+    (tmp_path / "broken.c").write_text("void main_task(long u) { undeclared(); = }\n")
+    run_dir = tmp_path / "run"
+    out = subprocess.run([sys.executable, "-m", "hakoniwa.cli", "trial", "--app", str(tmp_path / "broken.c"),
+                          "--run-dir", str(run_dir)], capture_output=True, text=True, timeout=120,
+                         env=dict(os.environ))
+    assert out.returncode != 0
+    assert "Traceback" not in out.stderr and len(out.stderr.strip().splitlines()) == 1
+    assert "broken.c does not build: broken.c:1:" in out.stderr and "error:" in out.stderr
+    assert not (run_dir / "physics.log").exists()  # no test started

@@ -1,0 +1,272 @@
+"""The native runtime on its own: its lockstep, guest windows, scheduler and EV3RT API, against files played
+by a stand-in for the physics process (no MuJoCo), and the API checked call for call against the Python mock."""
+
+import signal
+import subprocess
+import time
+
+import pytest
+
+from athrill_sim.bus import MemoryBus
+from athrill_sim.ev3api import (COLOR_SENSOR, ENTER_BUTTON, EV3_PORT_1, EV3_PORT_2, EV3_PORT_3, EV3_PORT_4,
+                                EV3_PORT_A, EV3_PORT_B, EV3_PORT_C, EV3_PORT_D, GYRO_SENSOR, LARGE_MOTOR,
+                                LED_ORANGE, LEFT_BUTTON, TOUCH_SENSOR, ULTRASONIC_SENSOR, Ev3Api)
+from athrill_sim.kernel import Kernel
+from hakoniwa.protocol import EXIT_BENCH_FAULT, NEVER_WAKES, Rx, Tx
+from native_fixtures import FakePhysics, build, finish
+
+# (C expression, the same call on the Python mock): run in this order by both, every result logged.
+API_CALLS = [
+    ("ev3_color_sensor_get_reflect(EV3_PORT_1)", lambda a: a.ev3_color_sensor_get_reflect(EV3_PORT_1)),
+    ("ev3_sensor_config(EV3_PORT_1, COLOR_SENSOR)", lambda a: a.ev3_sensor_config(EV3_PORT_1, COLOR_SENSOR)),
+    ("ev3_sensor_config(9, COLOR_SENSOR)", lambda a: a.ev3_sensor_config(9, COLOR_SENSOR)),
+    ("ev3_color_sensor_get_reflect(EV3_PORT_1)", lambda a: a.ev3_color_sensor_get_reflect(EV3_PORT_1)),
+    ("ev3_color_sensor_get_ambient(EV3_PORT_1)", lambda a: a.ev3_color_sensor_get_ambient(EV3_PORT_1)),
+    ("ev3_color_sensor_get_color(EV3_PORT_1)", lambda a: a.ev3_color_sensor_get_color(EV3_PORT_1)),
+    ("({ rgb_raw_t v; ev3_color_sensor_get_rgb_raw(EV3_PORT_1, &v); v.r; })",
+     lambda a: a.ev3_color_sensor_get_rgb_raw(EV3_PORT_1)[0]),
+    ("({ rgb_raw_t v; ev3_color_sensor_get_rgb_raw(EV3_PORT_1, &v); v.g; })",
+     lambda a: a.ev3_color_sensor_get_rgb_raw(EV3_PORT_1)[1]),
+    ("ev3_ultrasonic_sensor_get_distance(EV3_PORT_2)", lambda a: a.ev3_ultrasonic_sensor_get_distance(EV3_PORT_2)),
+    ("ev3_sensor_config(EV3_PORT_2, ULTRASONIC_SENSOR)", lambda a: a.ev3_sensor_config(EV3_PORT_2, ULTRASONIC_SENSOR)),
+    ("ev3_ultrasonic_sensor_get_distance(EV3_PORT_2)", lambda a: a.ev3_ultrasonic_sensor_get_distance(EV3_PORT_2)),
+    ("ev3_sensor_config(EV3_PORT_3, GYRO_SENSOR)", lambda a: a.ev3_sensor_config(EV3_PORT_3, GYRO_SENSOR)),
+    ("ev3_gyro_sensor_get_angle(EV3_PORT_3)", lambda a: a.ev3_gyro_sensor_get_angle(EV3_PORT_3)),
+    ("ev3_gyro_sensor_get_rate(EV3_PORT_3)", lambda a: a.ev3_gyro_sensor_get_rate(EV3_PORT_3)),
+    ("ev3_gyro_sensor_reset(EV3_PORT_3)", lambda a: a.ev3_gyro_sensor_reset(EV3_PORT_3)),
+    ("ev3_gyro_sensor_reset(EV3_PORT_2)", lambda a: a.ev3_gyro_sensor_reset(EV3_PORT_2)),
+    ("ev3_sensor_config(EV3_PORT_4, TOUCH_SENSOR)", lambda a: a.ev3_sensor_config(EV3_PORT_4, TOUCH_SENSOR)),
+    ("ev3_touch_sensor_is_pressed(EV3_PORT_4)", lambda a: a.ev3_touch_sensor_is_pressed(EV3_PORT_4)),
+    ("ev3_touch_sensor_is_pressed(EV3_PORT_3)", lambda a: a.ev3_touch_sensor_is_pressed(EV3_PORT_3)),
+    ("ev3_sensor_get_type(EV3_PORT_2)", lambda a: a.ev3_sensor_get_type(EV3_PORT_2)),
+    ("ev3_sensor_get_type(7)", lambda a: a.ev3_sensor_get_type(7)),
+    ("ev3_button_is_pressed(ENTER_BUTTON)", lambda a: a.ev3_button_is_pressed(ENTER_BUTTON)),
+    ("ev3_button_is_pressed(LEFT_BUTTON)", lambda a: a.ev3_button_is_pressed(LEFT_BUTTON)),
+    ("ev3_button_is_pressed(9)", lambda a: a.ev3_button_is_pressed(9)),
+    ("ev3_motor_get_counts(EV3_PORT_B)", lambda a: a.ev3_motor_get_counts(EV3_PORT_B)),
+    ("ev3_motor_config(EV3_PORT_A, LARGE_MOTOR)", lambda a: a.ev3_motor_config(EV3_PORT_A, LARGE_MOTOR)),
+    ("ev3_motor_config(EV3_PORT_B, LARGE_MOTOR)", lambda a: a.ev3_motor_config(EV3_PORT_B, LARGE_MOTOR)),
+    ("ev3_motor_config(EV3_PORT_C, 7)", lambda a: a.ev3_motor_config(EV3_PORT_C, 7)),
+    ("ev3_motor_config(5, LARGE_MOTOR)", lambda a: a.ev3_motor_config(5, LARGE_MOTOR)),
+    ("ev3_motor_get_type(EV3_PORT_B)", lambda a: a.ev3_motor_get_type(EV3_PORT_B)),
+    ("ev3_motor_get_counts(EV3_PORT_B)", lambda a: a.ev3_motor_get_counts(EV3_PORT_B)),
+    ("ev3_motor_reset_counts(EV3_PORT_B)", lambda a: a.ev3_motor_reset_counts(EV3_PORT_B)),
+    ("ev3_motor_reset_counts(EV3_PORT_D)", lambda a: a.ev3_motor_reset_counts(EV3_PORT_D)),
+    ("ev3_motor_set_power(EV3_PORT_B, 250)", lambda a: a.ev3_motor_set_power(EV3_PORT_B, 250)),
+    ("ev3_motor_get_power(EV3_PORT_B)", lambda a: a.ev3_motor_get_power(EV3_PORT_B)),
+    ("ev3_motor_set_power(EV3_PORT_D, 10)", lambda a: a.ev3_motor_set_power(EV3_PORT_D, 10)),
+    ("ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 15, -33)", lambda a: a.ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 15, -33)),
+    ("ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 20, 101)", lambda a: a.ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 20, 101)),
+    ("ev3_motor_steer(EV3_PORT_A, EV3_PORT_D, 20, 0)", lambda a: a.ev3_motor_steer(EV3_PORT_A, EV3_PORT_D, 20, 0)),
+    ("ev3_motor_stop(EV3_PORT_B, true)", lambda a: a.ev3_motor_stop(EV3_PORT_B, True)),
+    ("ev3_led_set_color(LED_ORANGE)", lambda a: a.ev3_led_set_color(LED_ORANGE)),
+    ("ev3_led_set_color(9)", lambda a: a.ev3_led_set_color(9)),
+]
+
+SENSORS = {Rx.COLOR0_REFLECT: 0x1234_0049, Rx.COLOR0_AMBIENT: 0x0105, Rx.COLOR0_COLOR: 6,
+           Rx.COLOR0_RGB: 0x0001_0203, Rx.COLOR0_RGB + 4: 0x0001_FFFF, Rx.GYRO_ANGLE: -90, Rx.GYRO_RATE: 0x0001_FFFF,
+           Rx.ULTRASONIC_MM: 427, Rx.TOUCH0: 4095, Rx.BUTTONS: 1 << ENTER_BUTTON,
+           Rx.MOTOR_ANGLE + 4 * EV3_PORT_B: 530}
+ACTUATORS = (0, Tx.GYRO_RESET + 4)
+
+
+def api_probe_source() -> str:
+    calls = "\n".join(f'    syslog(LOG_NOTICE, "= %d", (int)({c}));' for c, _ in API_CALLS)
+    return f'#include "ev3api.h"\n\nvoid main_task(intptr_t unused)\n{{\n{calls}\n    tslp_tsk(1000);\n}}\n'
+
+
+def test_the_api_answers_and_writes_exactly_as_the_python_mock(tmp_path, capsys):
+    exe = build(tmp_path / "probe", api_probe_source())
+    native, mock = FakePhysics(tmp_path / "native"), FakePhysics(tmp_path / "mock")
+    for side in (native, mock):
+        for offset, value in SENSORS.items():
+            side.unity.write_i32(offset, value)
+    proc = native.start(exe)
+    assert native.next_wake(proc) == 1000
+    native_log = finish(proc)
+
+    bus = MemoryBus(mock.run_dir)
+    api = Ev3Api(bus, Kernel(bus.unity, bus.athrill))
+    for _, call in API_CALLS:
+        api.syslog(f"= {int(call(api))}")
+    assert native_log.splitlines() == capsys.readouterr().err.splitlines()
+    assert native.athrill.read_i32s(*ACTUATORS) == mock.athrill.read_i32s(*ACTUATORS)
+    assert native.athrill.read_i32(Tx.LED) == 0b11 and native.athrill.read_i32(Tx.MOTOR_BRAKE + 4) == 1
+    bus.close()
+
+
+WINDOWS_APP = r'''
+#include "ev3api.h"
+#define REFLECT (*(volatile int32_t *)(0x090F0000 + 12))
+
+void main_task(intptr_t unused)
+{
+    ev3_motor_config(EV3_PORT_B, LARGE_MOTOR);
+    syslog(LOG_NOTICE, "Kp %.3f reflect %d", *(volatile float *)(0x090F0000 + 540), (int)REFLECT);
+    ev3_motor_reset_counts(EV3_PORT_B);
+    *(volatile int32_t *)(0x090F1000 + 800) = 1234;
+    tslp_tsk(2500);
+    syslog(LOG_NOTICE, "reflect %d at %d us", (int)REFLECT, (int)({ SYSTIM t; get_tim(&t); t; }));
+    ev3_motor_set_power(EV3_PORT_B, 42);
+    tslp_tsk(1000);
+}
+'''
+
+
+def test_raw_guest_addresses_see_the_files_and_untouched_bytes_are_never_written_back(tmp_path):
+    exe = build(tmp_path / "app", WINDOWS_APP)
+    bench = FakePhysics(tmp_path / "run")
+    bench.unity.write_f32(Rx.KP, 1.539)
+    bench.unity.write_i32(Rx.COLOR0_REFLECT, 60)
+    proc = bench.start(exe)
+    assert bench.next_wake(proc) == 3000  # 2.5 ms, rounded up to whole physics steps
+    a = bench.athrill
+    assert a.read_u32(Tx.ATHRILL_PID) == proc.pid
+    assert a.read_i32(Tx.MOTOR_RESET_ANGLE + 4 * EV3_PORT_B) == 1
+    assert a.read_i32(800) == 1234
+    a.write_i32(Tx.MOTOR_RESET_ANGLE + 4 * EV3_PORT_B, 0)  # the physics process applies and clears the flag
+    a.write_i32(Tx.START, 1)  # the controller, meanwhile
+    bench.unity.write_i32(Rx.COLOR0_REFLECT, 77)  # the next snapshot
+    bench.unity.unity_time_us = 3000
+    assert bench.next_wake(proc) == 4000
+    assert a.read_i32(Tx.MOTOR_RESET_ANGLE + 4 * EV3_PORT_B) == 0  # not written back: the program left it
+    assert a.read_i32(Tx.START) == 1
+    assert a.read_i32(Tx.MOTOR_POWER + 4 * EV3_PORT_B) == 42 and a.read_i32(800) == 1234
+    assert a.athrill_time_us == 3000 and a.unity_time_us == 3000
+    log = finish(proc)
+    assert "Kp 1.539 reflect 60" in log and "reflect 77 at 3000 us" in log
+
+
+@pytest.mark.parametrize("address", ["0x090F2000", "0x090EFFFC", "0x08000000"])
+def test_a_read_outside_the_windows_is_a_segfault(tmp_path, address):
+    source = f'#include "ev3api.h"\nvoid main_task(intptr_t u) {{ syslog(LOG_NOTICE, "%d", ' \
+             f'*(volatile int *)({address})); }}\n'
+    exe = build(tmp_path / "app", source)
+    proc = FakePhysics(tmp_path / "run").start(exe)
+    assert proc.wait(timeout=10) == -signal.SIGSEGV
+
+
+def test_unusable_files_are_a_bench_fault(tmp_path):
+    exe = build(tmp_path / "app", EMPTY_APP)
+    bench = FakePhysics(tmp_path / "run")
+    bench.close()
+    (tmp_path / "run" / "athrill_mmap.bin").write_bytes(b"ETTX" + bytes(100))
+    proc = bench.start(exe)
+    assert proc.wait(timeout=10) == EXIT_BENCH_FAULT
+    assert "bench fault: " in (err := finish(proc)) and "size 104 bytes, expected 8192" in err
+
+
+EMPTY_APP = '#include "ev3api.h"\nvoid main_task(intptr_t unused) { }\n'
+SLEEPER_APP = '#include "ev3api.h"\nvoid main_task(intptr_t unused) { for (;;) tslp_tsk(100000); }\n'
+
+
+def test_a_program_whose_tasks_all_end_never_wakes_and_exits(tmp_path):
+    exe = build(tmp_path / "app", EMPTY_APP)
+    bench = FakePhysics(tmp_path / "run")
+    proc = bench.start(exe)
+    assert bench.next_wake(proc) == NEVER_WAKES
+    assert proc.wait(timeout=10) == 0
+
+
+def test_a_prelaunched_program_waits_for_its_own_test(tmp_path):
+    exe = build(tmp_path / "app", SLEEPER_APP)
+    bench = FakePhysics(tmp_path / "run")
+    bench.unity.write_u32(Rx.TEST_SEQ, 1)
+    proc = bench.start(exe, test=2)
+    time.sleep(0.3)
+    assert proc.poll() is None and bench.athrill.read_u32(Tx.ATHRILL_PID) == 0  # waiting, hands off the files
+    bench.unity.write_u32(Rx.TEST_SEQ, 2)
+    assert bench.wakes(proc, 250_000) == [100_000, 200_000, 300_000]
+    finish(proc)
+
+
+def test_a_prelaunched_program_whose_test_never_comes_exits_quietly(tmp_path):
+    exe = build(tmp_path / "app", SLEEPER_APP)
+    bench = FakePhysics(tmp_path / "run")
+    proc = bench.start(exe, test=2)
+    bench.unity.write_u32(Rx.TEST_SEQ, 3)
+    assert proc.wait(timeout=10) == 0
+    assert "test 2 will not run (physics is at test 3)" in finish(proc)
+
+
+def test_a_program_whose_physics_process_is_gone_exits_quietly(tmp_path):
+    exe = build(tmp_path / "app", SLEEPER_APP)
+    bench = FakePhysics(tmp_path / "run")
+    physics = subprocess.Popen(["sleep", "60"])
+    bench.unity.write_u32(Rx.PHYSICS_PID, physics.pid)
+    proc = bench.start(exe)
+    assert bench.next_wake(proc) == 100_000
+    physics.kill()
+    physics.wait()
+    assert proc.wait(timeout=10) == 0
+    assert "is gone" in finish(proc)
+
+
+SCHEDULING_CFG = """
+INCLUDE("app_common.cfg");
+#include "app.h"
+CRE_TSK(MAIN_TASK, { TA_ACT, 0, main_task, MAIN_PRIORITY, STACK_SIZE, NULL });
+CRE_TSK(HIGH_TASK, { TA_NULL, 7, high_task, MAIN_PRIORITY - 1, STACK_SIZE, NULL });
+CRE_TSK(LOW_TASK, { TA_ACT, 0, low_task, MAIN_PRIORITY + 1, STACK_SIZE, NULL });
+CRE_TSK(PERIODIC_TASK, { TA_NULL, 0, periodic_task, MAIN_PRIORITY, STACK_SIZE, NULL });
+EV3_CRE_CYC(TICK, { TA_STA, 0, tick, 30, 0 });
+CRE_CYC(KICK, { TA_NULL, { TNFY_ACTTSK, PERIODIC_TASK }, 40 * 1000, 5 * 1000 });
+"""
+SCHEDULING_APP = r"""
+#include "ev3api.h"
+#include "app.h"
+
+static void say(const char *what) { syslog(LOG_NOTICE, "%s", what); }
+
+void tick(intptr_t exinf) { syslog(LOG_NOTICE, "tick (tslp_tsk in a handler: %d)", tslp_tsk(1000)); }
+void high_task(intptr_t exinf) { syslog(LOG_NOTICE, "high %d", (int)exinf); }
+void periodic_task(intptr_t exinf) { say("periodic"); }
+void low_task(intptr_t exinf)
+{
+    say("low");
+    dly_tsk(20000);
+    say("low after 20 ms");
+    ext_tsk();
+    say("never");
+}
+void main_task(intptr_t exinf)
+{
+    say("main");
+    syslog(LOG_NOTICE, "act_tsk(HIGH_TASK) %d", act_tsk(HIGH_TASK));
+    syslog(LOG_NOTICE, "act_tsk(99) %d", act_tsk(99));
+    syslog(LOG_NOTICE, "sta_cyc(KICK) %d", sta_cyc(KICK));
+    syslog(LOG_NOTICE, "tslp_tsk(50 ms) %d", tslp_tsk(50000));
+    syslog(LOG_NOTICE, "wup_tsk(LOW_TASK) %d", wup_tsk(LOW_TASK));
+    syslog(LOG_NOTICE, "slp_tsk after a wup_tsk of itself %d", (wup_tsk(TSK_SELF), slp_tsk()));
+    ev3_stp_cyc(TICK);
+    stp_cyc(KICK);
+}
+"""
+SCHEDULING_H = "#define MAIN_PRIORITY (TMIN_APP_TPRI + 2)\nvoid main_task(intptr_t);\n"
+
+
+def test_tasks_and_cyclic_handlers_run_in_priority_and_time_order(tmp_path):
+    (tmp_path / "app").mkdir()
+    (tmp_path / "app" / "app.h").write_text(SCHEDULING_H)
+    exe = build(tmp_path / "app", SCHEDULING_APP, SCHEDULING_CFG)
+    bench = FakePhysics(tmp_path / "run")
+    proc = bench.start(exe)
+    assert bench.wakes(proc, 60_000) == [5_000, 20_000, 30_000, 45_000, 50_000, NEVER_WAKES]
+    assert proc.wait(timeout=10) == 0
+    log = [line.split("] ", 1) for line in finish(proc).splitlines()]
+    assert [(stamp.strip("[ s"), what) for stamp, what in log] == [
+        ("0.000", "tick (tslp_tsk in a handler: -25)"),  # E_CTX; handlers run before tasks
+        ("0.000", "main"),
+        ("0.000", "high 7"),  # a higher priority activated: it runs first
+        ("0.000", "act_tsk(HIGH_TASK) 0"),
+        ("0.000", "act_tsk(99) -18"),
+        ("0.000", "sta_cyc(KICK) 0"),
+        ("0.000", "low"),
+        ("0.005", "periodic"),  # KICK: phase 5 ms after sta_cyc
+        ("0.020", "low after 20 ms"),
+        ("0.030", "tick (tslp_tsk in a handler: -25)"),
+        ("0.045", "periodic"),
+        ("0.050", "tslp_tsk(50 ms) -50"),  # E_TMOUT
+        ("0.050", "wup_tsk(LOW_TASK) -41"),  # E_OBJ: it has ended
+        ("0.050", "slp_tsk after a wup_tsk of itself 0"),
+    ]
