@@ -3,11 +3,13 @@
 A course lives in a folder with `course.toml` and the floor image it names, so a user adds a course by
 copying a folder, not by writing code. The color sensor reads the floor the way Unity's does: the point
 below the sensor is looked up in the floor image (bilinearly, as a texture sampler would). The same folder
-describes the robot's wiring (which motor ports drive the wheels), since a course is built for a robot.
+describes the robot's wiring (which motor ports drive the wheels), since a course is built for a robot,
+and the levels of the seeded noise tests may turn on (`[noise]`, see docs/NOISE.md).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import tomllib
 from dataclasses import dataclass
@@ -15,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from hakoniwa.noise import DEFAULT_NOISE, NoiseLevels
 from hakoniwa.protocol import MOTOR_PORTS, ColorId
 from hakoniwa.robot import DEFAULT_WIRING, Wiring
 from hakoniwa.timebase import US_PER_S
@@ -83,6 +86,7 @@ class Course:
     reflect_black: float
     color_areas: tuple[ColorArea, ...] = ()
     wiring: Wiring = DEFAULT_WIRING
+    noise: NoiseLevels = DEFAULT_NOISE
 
     @property
     def extent(self) -> tuple[float, float, float, float]:
@@ -157,6 +161,24 @@ def _wiring(table: object, where: str) -> Wiring:
     return Wiring(ports["left_motor"], ports["right_motor"])
 
 
+def _noise(table: object, where: str) -> NoiseLevels:
+    """The `[noise]` table: any of `NoiseLevels`' keys, each a number >= 0; absent keys keep the defaults."""
+    if table is None:
+        return DEFAULT_NOISE
+    where = f"{where} [noise]"
+    if not isinstance(table, dict):
+        raise CourseError(f"{where}: must be a table")
+    known = NoiseLevels.keys()
+    unknown = sorted(set(table) - set(known))
+    if unknown:
+        raise CourseError(f"{where}: unknown key {unknown[0]!r} (known: {', '.join(known)})")
+    levels = {key: _number(table, key, where) for key in known if key in table}
+    for key, value in levels.items():
+        if value < 0:
+            raise CourseError(f"{where}: '{key}' must not be negative, got {value:g}")
+    return dataclasses.replace(DEFAULT_NOISE, **levels)
+
+
 def load_course(name_or_path: str | Path = DEFAULT_COURSE) -> Course:
     """Load a built-in course by name, or a course folder (or its course.toml) by path."""
     path = Path(name_or_path)
@@ -215,4 +237,5 @@ def load_course(name_or_path: str | Path = DEFAULT_COURSE) -> Course:
         reflect_black=black,
         color_areas=areas,
         wiring=_wiring(spec.get("robot"), where),
+        noise=_noise(spec.get("noise"), where),
     )

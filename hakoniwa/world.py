@@ -15,6 +15,7 @@ import numpy as np
 
 from hakoniwa import robot
 from hakoniwa.course import Course
+from hakoniwa.noise import NoiseDraw, StartOffset
 from hakoniwa.protocol import ColorId
 from hakoniwa.timebase import PHYSICS_STEP_US, US_PER_S
 
@@ -106,11 +107,28 @@ class World:
         mujoco.mj_step(self.model, self.data, nstep=n)
 
     # -- actuators -----------------------------------------------------------------------------------
-    def set_motor_power(self, left: int, right: int) -> None:
-        """Motor power in percent, -100..100, as EV3RT takes it."""
+    def set_motor_power(self, left: int, right: int, gains: tuple[float, float] | None = None) -> None:
+        """Motor power in percent, -100..100, as EV3RT takes it; `gains` (noise) multiply the wheel speeds
+        the powers command."""
         scale = robot.MAX_WHEEL_SPEED / 100.0
         self.data.ctrl[0] = max(-100, min(100, left)) * scale
         self.data.ctrl[1] = max(-100, min(100, right)) * scale
+        if gains is not None:
+            self.data.ctrl[0] *= gains[0]
+            self.data.ctrl[1] *= gains[1]
+
+    def put_down(self, offset: StartOffset) -> None:
+        """Back to the saved start state, with the robot put down `offset` away from the start pose (a
+        person placing it by hand), at rest."""
+        self.reset()
+        q = self.data.qpos
+        q[0] += offset.dx_m
+        q[1] += offset.dy_m
+        half = math.radians(offset.dyaw_deg) / 2
+        turned = np.empty(4)
+        mujoco.mju_mulQuat(turned, np.array([math.cos(half), 0.0, 0.0, math.sin(half)]), q[3:7].copy())
+        q[3:7] = turned
+        mujoco.mj_forward(self.model, self.data)
 
     # -- geometry ------------------------------------------------------------------------------------
     def position(self) -> tuple[float, float]:
@@ -130,21 +148,27 @@ class World:
         return self.data.sensordata[self._wall_contact] > 0
 
     # -- sensors -------------------------------------------------------------------------------------
-    def sensors(self) -> Sensors:
+    def sensors(self, noise: NoiseDraw | None = None) -> Sensors:
+        """The readings now; with `noise`, reflect, gyro rate and ultrasonic carry one draw of sensor noise,
+        and the colour id and RGB derive from the noisy reflect. (The gyro angle's drift is the server's:
+        it counts turns.)"""
         d = self.data
         sx, sy = (float(v) for v in d.site_xpos[self._color_site][:2])
         reflect = self.course.reflect_at(sx, sy)
-        color, rgb = self.course.color_at(sx, sy, reflect)
         _, _, yaw = self.pose()
-        yaw_rate = float(d.qvel[5])
+        rate_dps = -math.degrees(float(d.qvel[5]))  # clockwise positive, as the angle
+        ultrasonic_mm = self._ultrasonic_mm(yaw)
+        if noise is not None:
+            reflect, rate_dps, ultrasonic_mm = noise.reading(reflect, rate_dps, ultrasonic_mm)
+        color, rgb = self.course.color_at(sx, sy, reflect)
         return Sensors(
             reflect=round(reflect),
             ambient=0,
             color=color,
             rgb=rgb,
-            ultrasonic_mm=self._ultrasonic_mm(yaw),
+            ultrasonic_mm=ultrasonic_mm,
             gyro_angle_deg=self.gyro_angle_deg(yaw),
-            gyro_rate_dps=-round(math.degrees(yaw_rate)),  # clockwise positive, as the angle
+            gyro_rate_dps=round(rate_dps),
             touch=self.touching_wall(),
             wheel_angles_deg=self.wheel_angles_deg(),
         )

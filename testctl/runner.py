@@ -2,12 +2,14 @@
 
 This is the only module of the controller that touches the mapped files, and it touches only what the
 paper gives the controller: the parameter area and the event/goal-time words of unity_mmap.bin, and the
-start/end flags of athrill_mmap.bin.
+start/end flags of athrill_mmap.bin, plus the noise seed and scale of each test (`Rx.NOISE_SEED`,
+`Rx.NOISE_SCALE`; docs/NOISE.md).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import math
 import subprocess
 import time
 from pathlib import Path
@@ -19,6 +21,7 @@ from testctl.result import TestResult
 from hakoniwa.waiting import pid_alive, wait_for
 
 POLL_S = 0.002  # a test takes about a second; a 2 ms nap costs nothing and leaves the CPU to the bench
+MAX_NOISE_SCALE = 1e6  # far beyond any use; keeps the f32 field finite
 
 
 class PhysicsGone(RuntimeError):
@@ -28,15 +31,21 @@ class PhysicsGone(RuntimeError):
 class TrialRunner:
     @classmethod
     def attach(cls, run_dir: Path, physics: subprocess.Popen, timeout_s: float = 60.0) -> "TrialRunner":
-        """Connect to a physics process that is still starting: its files appear once its world is built."""
+        """Connect to a physics process that is still starting: its files appear once its world is built.
+        Files an earlier run left in the directory are not its files: they name another physics process."""
         deadline = time.monotonic() + timeout_s
         while True:
             try:
-                return cls(run_dir)
-            except ProtocolError:
-                if physics.poll() is not None or time.monotonic() > deadline:
-                    raise
-                time.sleep(0.05)
+                runner = cls(run_dir)
+                if runner._physics_pid == physics.pid:
+                    return runner
+                runner.close()
+                problem: Exception = ProtocolError(f"{run_dir}: the physics process {physics.pid} made no files")
+            except ProtocolError as e:
+                problem = e
+            if physics.poll() is not None or time.monotonic() > deadline:
+                raise problem
+            time.sleep(0.05)
 
     def __init__(self, run_dir: Path, *, test_timeout_s: float = 600.0) -> None:
         self.run_dir = Path(run_dir)
@@ -51,13 +60,25 @@ class TrialRunner:
                 raise ProtocolError(f"parameter offset {offset} is outside the parameter area")
             self.unity.write_f32(offset, float(value))
 
-    def run_test(self, params: Mapping[int, float]) -> TestResult:
-        """One test with `params` ({data offset: value}); blocks until the physics process reports an event
-        and has reset for the next test."""
+    def write_noise(self, seed: int, scale: float) -> None:
+        """The noise of the next test: `seed` (u32) picks the draw, `scale` multiplies the course's noise
+        levels (0: none at all, the exactly repeatable bench; 1: the course's levels)."""
+        if not 0 <= seed <= 0xFFFFFFFF:
+            raise ValueError(f"noise seed must be in 0..{0xFFFFFFFF}, got {seed}")
+        if not (math.isfinite(scale) and 0 <= scale <= MAX_NOISE_SCALE):
+            raise ValueError(f"noise scale must be a number in 0..{MAX_NOISE_SCALE:g}, got {scale!r}")
+        self.unity.write_u32(Rx.NOISE_SEED, seed)
+        self.unity.write_f32(Rx.NOISE_SCALE, float(scale))
+
+    def run_test(self, params: Mapping[int, float], *, noise_seed: int = 0, noise_scale: float = 0.0) -> TestResult:
+        """One test with `params` ({data offset: value}) and the noise draw `noise_seed` at `noise_scale`
+        (by default none); blocks until the physics process reports an event and has reset for the next
+        test."""
         start = time.monotonic()
         u = self.unity
         self._wait(lambda: u.read_i32(Rx.EVENT) == Event.NONE, "reset before the test")
         self.write_params(params)
+        self.write_noise(noise_seed, noise_scale)
         self.athrill.write_i32(Tx.START, 1)
         self._wait(lambda: u.read_i32(Rx.EVENT) != Event.NONE, "an event")
         event = Event(u.read_i32(Rx.EVENT))

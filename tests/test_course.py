@@ -3,6 +3,7 @@ import shutil
 import pytest
 
 from hakoniwa.course import COURSES_DIR, CourseError, load_course
+from hakoniwa.noise import DEFAULT_NOISE
 
 
 def copy_oval(tmp_path):
@@ -34,6 +35,11 @@ def test_a_copied_folder_is_a_course(tmp_path):
     (lambda t: t.replace("[[checkpoint]]", "[[unused]]"), "at least one"),
     (lambda t: t.replace("hx = 0.05", "hx = 0"), "half sizes"),
     (lambda t: t.replace("origin = [-1.5, -0.9]", "origin = 3"), "origin"),
+    (lambda t: t.replace("reflect_sd = 0.5", 'reflect_sd = "loud"'), r"\[noise\]: 'reflect_sd' must be a number"),
+    (lambda t: t.replace("ultrasonic_sd_mm = 5.0", "ultrasonic_sd_mm = -1"), "'ultrasonic_sd_mm' must not be negative"),
+    (lambda t: t.replace("[noise]\n", "[noise]\nsonar_sd = 1\n"), "unknown key 'sonar_sd'"),
+    (lambda t: t.replace("wall_height = 0.1", "wall_height = 0.1\nnoise = 3").replace("[noise]", "[unused]"),
+     r"\[noise\]: must be a table"),
 ])
 def test_bad_course_files_are_clear_errors(tmp_path, edit, message):
     folder = copy_oval(tmp_path)
@@ -53,3 +59,22 @@ def test_unreadable_floor_image(tmp_path):
 def test_unknown_course_lists_the_builtin_ones(tmp_path):
     with pytest.raises(CourseError, match="built-in courses: oval"):
         load_course(tmp_path / "missing")
+
+
+def without_noise_table(text: str) -> str:
+    return text[: text.index("[noise]")]
+
+
+def test_the_oval_writes_out_the_default_noise_levels():
+    assert load_course("oval").noise == DEFAULT_NOISE
+
+
+def test_noise_levels_left_out_keep_their_defaults(tmp_path):
+    folder = copy_oval(tmp_path)
+    toml = folder / "course.toml"
+    toml.write_text(without_noise_table(toml.read_text()))
+    assert load_course(folder).noise == DEFAULT_NOISE
+    toml.write_text(toml.read_text() + "[noise]\nstart_yaw_sd_deg = 0\nmotor_gain_sd = 0.05\n")
+    noise = load_course(folder).noise
+    assert (noise.start_yaw_sd_deg, noise.motor_gain_sd) == (0.0, 0.05)
+    assert noise.reflect_sd == DEFAULT_NOISE.reflect_sd
