@@ -11,54 +11,47 @@ import json
 import os
 import tempfile
 from pathlib import Path
-from typing import Callable
 
 import click
 
-from hakoniwa.clickutil import HELP, Float32
+from hakoniwa.clickutil import Float32, HELP, SECONDS, option_group
 from hakoniwa.launch import (INTERRUPTED, BenchOptions, controller_command, describe_exit, exit_status,
                              run_physics)
 from hakoniwa.rundir import TRAJECTORY_FILE, diagnose
 from testctl import paper
-from testctl.options import campaign_options, forward, plan
+from testctl.options import campaign_options, noise_options, plan
 
 POWER = Float32(-100.0, 100.0)
-POSITIVE = click.FloatRange(min=0, min_open=True, max=1e9)
 
 _BENCH_OPTIONS = [
     click.option("--course", default="oval", show_default=True, help="Built-in course name or course folder."),
     click.option("--app", default="line_trace", show_default=True,
-                 help="Robot program: a built-in name, a Python module:function, or a v850 ELF image (run in "
-                      "the real athrill2)."),
+                 help="Robot program: a built-in name (line_trace, line_trace_c), a Python module:function, an "
+                      "EV3RT C program (app.c or its workspace folder), or a v850 ELF image (run in the real "
+                      "athrill2)."),
     click.option("--athrill2", default=None, help="The TOPPERS athrill2 emulator for an ELF --app [default: on PATH]."),
-    click.option("--athrill-timeout", type=POSITIVE, default=10.0, show_default=True,
+    click.option("--athrill-timeout", type=SECONDS, default=10.0, show_default=True,
                  help="Wall seconds a silent Athrill is waited for before the test counts as a crash."),
-    click.option("--time-limit", type=POSITIVE, default=60.0, show_default=True,
+    click.option("--time-limit", type=SECONDS, default=60.0, show_default=True,
                  help="Simulated seconds before a test ends as TIME_OVER."),
 ]
 
 
-def bench_options(f: Callable) -> Callable:
-    for option in reversed(_BENCH_OPTIONS):
-        f = option(f)
-    return f
+bench_options = option_group(_BENCH_OPTIONS)
 
 
 def _bench(course: str, app: str, athrill2: str | None, athrill_timeout: float, time_limit: float) -> BenchOptions:
     return BenchOptions(course, app, athrill2, athrill_timeout, time_limit)
 
 
-def report_death(code: int, run_dir: Path, resume: Path | None) -> None:
-    """Exit like the bench did, saying what died if nobody else could, and how to resume a campaign."""
+def report_death(code: int, run_dir: Path) -> None:
+    """Exit like the bench did, saying what died if nobody else could."""
     if code == 0:
         return
     if code < 0:
         damaged = diagnose(run_dir)
         click.echo(f"hako: the physics process {describe_exit(code)}"
                    + (f" ({damaged})" if damaged else ""), err=True)
-    if resume is not None and code not in (1, 2, INTERRUPTED):
-        click.echo(f"hako: every finished test is in {resume / 'journal.jsonl'}; continue with: "
-                   f"hako run --resume {resume}", err=True)
     raise SystemExit(exit_status(code))
 
 
@@ -85,14 +78,15 @@ def _writable_file(path: Path, option: str) -> None:
 @click.option("--kd", type=Float32(), default=paper.BEST_GAINS[2], show_default=True, help="Derivative gain.")
 @click.option("--power", type=POWER, default=paper.MOTOR_POWER, show_default=True,
               help="Base motor power [%], -100..100.")
+@noise_options
 @bench_options
 @click.option("--run-dir", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Keep the run's files here (default: a temporary folder).")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 @click.option("--trajectory", type=click.Path(dir_okay=False, path_type=Path), default=None,
               help="Draw the course and the robot's path into this PNG.")
-def trial(kp: float, ki: float, kd: float, power: float, run_dir: Path | None, as_json: bool,
-          trajectory: Path | None, **bench) -> None:
+def trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: float, run_dir: Path | None,
+          as_json: bool, trajectory: Path | None, **bench) -> None:
     """Run one test with the given parameters and print the event and lap time."""
     if trajectory is not None:
         _writable_file(trajectory, "--trajectory")
@@ -105,8 +99,9 @@ def trial(kp: float, ki: float, kd: float, power: float, run_dir: Path | None, a
         except OSError as e:
             raise click.ClickException(f"--run-dir {rd}: {e.strerror}") from None
         ctl = controller_command("trial", "--kp", repr(kp), "--ki", repr(ki), "--kd", repr(kd),
-                                 "--power", repr(power), "--out", str(out))
-        report_death(run_physics(options.physics_command(rd, ctl)), rd, None)
+                                 "--power", repr(power), "--seed", str(seed), "--noise", repr(noise),
+                                 "--out", str(out))
+        report_death(run_physics(options.physics_command(rd, ctl)), rd)
         result = json.loads(out.read_text())
         if trajectory is not None:
             from hakoniwa.course import load_course
@@ -126,18 +121,88 @@ def trial(kp: float, ki: float, kd: float, power: float, run_dir: Path | None, a
 
 @main.command(context_settings=HELP)
 @bench_options
+@click.option("--benches", type=click.IntRange(min=1), default=None,
+              help="Benches run in parallel (Dask workers of a local cluster) [half the CPU cores, at least 1].")
+@click.option("--scheduler", default=None, metavar="tcp://HOST:PORT",
+              help="Run on the workers of this Dask cluster instead (each needs only hakoniwa-py installed).")
 @campaign_options
-def run(course: str, app: str, athrill2: str | None, athrill_timeout: float, time_limit: float,
-        **options) -> None:
+def run(benches: int | None, scheduler: str | None, course: str, app: str, athrill2: str | None,
+        athrill_timeout: float, time_limit: float, **options) -> None:
     """Search the robot program's parameters by Bayesian optimization, as in the paper: 5 random sets, then
-    --trials sets proposed by GPyOpt (EI); each set tested until 3 successes or 3 failures; the objective is
-    the mean lap time (60 s for a failure). Every test is journaled; kill and --resume at any time."""
-    bench = _bench(course, app, athrill2, athrill_timeout, time_limit)
-    p = plan(**options)
-    args = forward({**options, "out": None if p.resume else p.out_dir})
+    --trials sets proposed by GPyOpt (EI), --batch at a time; each set tested until 3 successes or 3
+    failures; the objective is the mean lap time (60 s for a failure). Tests run on --benches benches at once.
+    Every test is journaled; kill and --resume at any time."""
+    if benches is not None and scheduler is not None:
+        raise click.UsageError("--benches starts a local cluster; with --scheduler the cluster's workers are the benches")
+    n = benches or default_benches()
+    p = plan(**options, default_batch=n)
+    bench = _campaign_bench(p.bench, course, app, athrill2, athrill_timeout, time_limit)
+    check_bench(bench)
     run_dir = p.out_dir / "run"
-    code = run_physics(bench.physics_command(run_dir, controller_command("campaign", *args)))
-    report_death(code, run_dir, p.out_dir)
+    from testctl.bench import Bench
+    from testctl.cluster import ClusterError, DaskExecutor
+    from testctl.session import run_campaign
+
+    try:
+        executor = DaskExecutor(bench, benches=None if scheduler else n, scheduler=scheduler)
+    except ClusterError as e:
+        raise click.ClickException(str(e)) from None
+    local = Bench(bench, run_dir)
+    try:
+        run_campaign(p, executor, bench_info=bench_info(bench),
+                     trial_once=lambda spec: (local.run(spec), run_dir), course_folder=Path(bench.course),
+                     failures=(ClusterError,))
+    finally:
+        local.close()
+        executor.close()
+
+
+def check_bench(bench: BenchOptions) -> None:
+    """Load the course and check the program here, once, so that a bad one is one line before any worker
+    starts (and a C program is built once, into the cache every local worker then hits)."""
+    from hakoniwa.course import CourseError, load_course
+    from hakoniwa.programs import ProgramError, resolve_program
+
+    try:
+        load_course(bench.course)
+        program = resolve_program(bench.app, athrill2=bench.athrill2)
+        program.finish_check(program.start_check())
+    except (CourseError, ProgramError) as e:
+        raise click.ClickException(str(e)) from None
+
+
+def default_benches() -> int:
+    return max(1, (os.cpu_count() or 2) // 2)
+
+
+# What the journal records of the bench: what decides results (not where athrill2 lives), by BenchOptions
+# field, with the option that sets it.
+RECORDED_BENCH = {"course": "course", "app": "app", "time_limit_s": "time_limit"}
+
+
+def bench_info(bench: BenchOptions) -> dict:
+    return {field: getattr(bench, field) for field in RECORDED_BENCH}
+
+
+def _campaign_bench(stored: dict, course: str, app: str, athrill2: str | None, athrill_timeout: float,
+                    time_limit: float) -> BenchOptions:
+    """The bench for a campaign: as given, with paths made absolute for workers elsewhere; a resumed campaign
+    runs on the bench its journal records, and giving another is an error."""
+    given = BenchOptions(_absolute(course), _absolute(app), athrill2, athrill_timeout, time_limit)
+    if not stored:
+        return given
+    ctx = click.get_current_context()
+    differ = [f"--{option.replace('_', '-')} {getattr(given, field)!r} (given) vs {stored[field]!r} (journal)"
+              for field, option in RECORDED_BENCH.items()
+              if ctx.get_parameter_source(option) == click.core.ParameterSource.COMMANDLINE
+              and getattr(given, field) != stored.get(field)]
+    if differ:
+        raise click.UsageError("--resume runs on the campaign's own bench: " + "; ".join(differ))
+    return BenchOptions(stored["course"], stored["app"], athrill2, athrill_timeout, stored["time_limit_s"])
+
+
+def _absolute(spec: str) -> str:
+    return str(Path(spec).resolve()) if Path(spec).exists() else spec
 
 
 if __name__ == "__main__":

@@ -4,6 +4,7 @@ end up as float32 in the mapped files."""
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import click
 
@@ -30,3 +31,18 @@ class Float32(click.ParamType):
         if not self.low <= x <= self.high:
             self.fail(f"{value!r} is outside {self.low:g}..{self.high:g}", param, ctx)
         return x
+
+
+SECONDS = Float32(0.001, 1e6)  # a time limit or timeout: positive, finite
+NOISE_SCALE = Float32(0.0, 100.0)
+
+
+def option_group(options: list[Callable]) -> Callable[[Callable], Callable]:
+    """One decorator for a list of click options that several commands share."""
+
+    def decorate(f: Callable) -> Callable:
+        for option in reversed(options):
+            f = option(f)
+        return f
+
+    return decorate

@@ -11,7 +11,7 @@ from pathlib import Path
 import click
 
 from hakoniwa.course import CourseError, load_course
-from hakoniwa.clickutil import HELP
+from hakoniwa.clickutil import HELP, SECONDS
 from hakoniwa.launch import describe_exit, die_with_parent
 from hakoniwa.programs import ProgramError, resolve_program
 from hakoniwa.rundir import RunDirBusy, RunDirLock
@@ -19,7 +19,6 @@ from hakoniwa.timebase import US_PER_S
 
 RUN_DIR_ENV = "HAKO_RUN_DIR"
 COURSE_ENV = "HAKO_COURSE"
-POSITIVE = click.FloatRange(min=0, min_open=True, max=1e9)
 
 
 @click.command(context_settings={"ignore_unknown_options": True, **HELP})
@@ -27,11 +26,12 @@ POSITIVE = click.FloatRange(min=0, min_open=True, max=1e9)
               help="Folder for unity_mmap.bin, athrill_mmap.bin, logs and the last trajectory (one run each).")
 @click.option("--course", default="oval", show_default=True, help="Built-in course name or course folder.")
 @click.option("--app", default="line_trace", show_default=True,
-              help="Robot program: a built-in name, a Python module:function, or a v850 ELF image.")
+              help="Robot program: a built-in name, a Python module:function, an EV3RT C program (app.c or its "
+                   "workspace folder), or a v850 ELF image.")
 @click.option("--athrill2", default=None, help="The TOPPERS athrill2 emulator for an ELF --app [default: on PATH].")
-@click.option("--athrill-timeout", type=POSITIVE, default=10.0, show_default=True,
+@click.option("--athrill-timeout", type=SECONDS, default=10.0, show_default=True,
               help="Wall seconds a silent Athrill is waited for before the test counts as a crash.")
-@click.option("--time-limit", type=POSITIVE, default=None,
+@click.option("--time-limit", type=SECONDS, default=None,
               help="Simulated seconds before TIME_OVER [default: the course's].")
 @click.argument("controller", nargs=-1, type=click.UNPROCESSED)
 def main(run_dir: Path, course: str, app: str, athrill2: str | None, athrill_timeout: float,

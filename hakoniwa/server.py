@@ -5,6 +5,10 @@ anything has to happen: an event check, a trajectory sample, or (depending on th
 `sync.py`) Athrill's next wake-up or the edge of the allowed time difference. Nothing here depends on
 wall time except the watchdog that declares a silent or dead Athrill a crash.
 
+Each test may carry seeded noise (`noise.py`): the controller's seed and scale are read at the test's
+start, the robot is put down with that test's start-pose jitter, and sensor snapshots and motor commands
+draw from that test's generators. Scale 0 draws nothing, and the code paths are the noise-free ones.
+
 The mapped files belong to this process: it checks them (size, magic, version) at every test start and
 repairs them if someone damaged them, so a damaged file never turns into a string of crashed tests that
 would be charged to the parameters under test.
@@ -13,13 +17,17 @@ would be charged to the parameters under test.
 from __future__ import annotations
 
 import csv
+import math
 import os
+import subprocess
+import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
 from hakoniwa.course import Course
 from hakoniwa.launcher import AthrillLauncher, kill
+from hakoniwa.noise import NoiseDraw
 from hakoniwa.programs import Program
 from hakoniwa.rundir import PHYSICS_LOG, TRAJECTORY_FILE
 from hakoniwa.protocol import (MOTOR_PORTS, RESET_ANGLE_PORTS, TOUCH_PRESSED, CrashKind, Event, MappedFile, Rx,
@@ -32,6 +40,10 @@ from hakoniwa.world import World
 IDLE_POLL_S = 0.0005
 ACTUATORS_END = Tx.GYRO_RESET + 4  # TX body bytes a test starts with cleared
 OUR_EXT = (Rx.TEST_SEQ, Rx.CRASH_DETAIL + 4)  # RX bytes of our extension the physics side writes
+
+
+class ControllerGone(Exception):
+    """The controller died during a test."""
 
 
 @dataclass(frozen=True)
@@ -77,7 +89,9 @@ class PhysicsServer:
         self._gyro_zero = 0.0
         self._yaw = (0.0, 0.0)  # (last wrapped reading, unwrapped angle): a gyro counts whole turns
         self._trajectory: list[tuple[int, float, float, float]] = []
+        self._noise: NoiseDraw | None = None  # this test's noise; None: the noise-free bench
         self._athrill_proc = None
+        self._controller_gone = threading.Event()
         self._log = open(self.run_dir / PHYSICS_LOG, "a")
 
     # -- streams -------------------------------------------------------------------------------------
@@ -91,7 +105,10 @@ class PhysicsServer:
 
     # -- what the sync loops use ---------------------------------------------------------------------
     def advance_to(self, target_us: int) -> bool:
-        """Step the world to `target_us` and run what is due there; True once the test has an event."""
+        """Step the world to `target_us` and run what is due there; True once the test has an event.
+        Raises ControllerGone when the controller died: nobody would read this test's result."""
+        if self._controller_gone.is_set():
+            raise ControllerGone
         self.world.step((target_us - self.now_us) // PHYSICS_STEP_US)
         self.now_us = target_us
         self.scheduler.advance_to(target_us)
@@ -103,10 +120,10 @@ class PhysicsServer:
     def publish_sensors(self) -> None:
         """The sensor snapshot for `now_us`, then the unity time (last: a reader that sees the new time sees
         the values it belongs to)."""
-        s = self.world.sensors()
+        s = self.world.sensors(self._noise)
         u = self.unity
         u.write_i32s(Rx.COLOR0_AMBIENT, [s.ambient, int(s.color), s.reflect, *s.rgb])
-        u.write_i32s(Rx.GYRO_ANGLE, [round(self._gyro_angle(s.gyro_angle_deg) - self._gyro_zero), s.gyro_rate_dps])
+        u.write_i32s(Rx.GYRO_ANGLE, [round(self._gyro_reading(s.gyro_angle_deg) - self._gyro_zero), s.gyro_rate_dps])
         u.write_i32(Rx.ULTRASONIC_MM, s.ultrasonic_mm)
         u.write_i32(Rx.TOUCH0, TOUCH_PRESSED if s.touch else 0)
         wiring = self.course.wiring
@@ -119,14 +136,15 @@ class PhysicsServer:
         a = self.athrill
         powers = a.read_i32s(Tx.MOTOR_POWER, MOTOR_PORTS)
         wiring = self.course.wiring
-        self.world.set_motor_power(powers[wiring.left], powers[wiring.right])
+        gains = None if self._noise is None else self._noise.motor_factors()
+        self.world.set_motor_power(powers[wiring.left], powers[wiring.right], gains)
         for port in range(RESET_ANGLE_PORTS):
             if a.read_i32(Tx.MOTOR_RESET_ANGLE + 4 * port):
                 left, right = self.world.wheel_angles_deg()
                 self._angle_zero[port] = {wiring.left: left, wiring.right: right}.get(port, 0.0)
                 a.write_i32(Tx.MOTOR_RESET_ANGLE + 4 * port, 0)
         if a.read_i32(Tx.GYRO_RESET):
-            self._gyro_zero = self._gyro_angle(self.world.gyro_angle_deg())
+            self._gyro_zero = self._gyro_reading(self.world.gyro_angle_deg())
             a.write_i32(Tx.GYRO_RESET, 0)
 
     def _gyro_angle(self, wrapped_deg: float) -> float:
@@ -134,6 +152,22 @@ class PhysicsServer:
         total += (wrapped_deg - last + 180.0) % 360.0 - 180.0
         self._yaw = (wrapped_deg, total)
         return total
+
+    def _gyro_reading(self, wrapped_deg: float) -> float:
+        """The gyro's whole-turn angle now, with the drift of this test's gyro bias."""
+        total = self._gyro_angle(wrapped_deg)
+        return total if self._noise is None else total + self._noise.gyro_drift_deg(self.now_us)
+
+    def _read_noise(self) -> NoiseDraw | None:
+        """This test's noise from the seed and scale the controller wrote; None for scale 0 (or a scale that
+        is not a finite number >= 0, which is logged: the controller's `TrialRunner` never writes one)."""
+        seed, scale = self.unity.read_u32(Rx.NOISE_SEED), self.unity.read_f32(Rx.NOISE_SCALE)
+        if scale == 0:
+            return None
+        if not (math.isfinite(scale) and scale > 0):
+            self._log.write(f"noise scale {scale!r} is not a finite number >= 0: this test runs without noise\n")
+            return None
+        return NoiseDraw(self.course.noise, seed, scale)
 
     # -- one test ------------------------------------------------------------------------------------
     def check_files(self) -> None:
@@ -146,6 +180,10 @@ class PhysicsServer:
 
     def _start_test(self, seq: int) -> None:
         self.check_files()
+        self._noise = self._read_noise()
+        if self._noise is not None:
+            self.world.put_down(self._noise.start)
+        self.task.reset(self.world.position())
         self.now_us = 0
         self._event, self._event_us, self._max_diff_us = Event.NONE, 0, 0
         self._angle_zero = [0.0] * MOTOR_PORTS
@@ -184,6 +222,8 @@ class PhysicsServer:
                               crash.detail if crash else 0, time.monotonic() - wall_start)
         self._finish(outcome)
         why = f" ({crash.kind.name.lower()}: {crash})" if crash else ""
+        if self._noise is not None:
+            self._log.write(f"test {seq}: {self._noise.describe()}\n")
         self._log.write(f"test {seq}: {outcome.event.name}{why} at {outcome.time_us} us, "
                         f"{outcome.checkpoints} checkpoints, {outcome.distance_mm} mm, "
                         f"max time diff {outcome.max_time_diff_us} us, wall {outcome.wall_s:.3f} s\n")
@@ -226,11 +266,13 @@ class PhysicsServer:
         self._publish_event(Event.NONE, 0)
 
     # -- the process loop ----------------------------------------------------------------------------
-    def serve(self, controller=None) -> int:
+    def serve(self, controller: subprocess.Popen | None = None) -> int:
         """Poll the flags until end = 1 or the controller exits; returns the controller's exit status (0
-        without a controller)."""
+        without a controller). A controller that dies mid-test ends the test at once."""
         a = self.athrill
         in_test = False
+        if controller is not None:
+            threading.Thread(target=lambda: (controller.wait(), self._controller_gone.set()), daemon=True).start()
         try:
             while True:
                 if controller is not None and controller.poll() is not None:
@@ -239,7 +281,10 @@ class PhysicsServer:
                     return controller.wait() if controller is not None else 0
                 start = a.read_i32(Tx.START)
                 if start == 1 and not in_test:
-                    self.run_test()
+                    try:
+                        self.run_test()
+                    except ControllerGone:
+                        return controller.wait() if controller is not None else 0
                     in_test = True
                 elif start == 0 and in_test:
                     self.reset()

@@ -43,11 +43,12 @@ class AthrillCrash(Exception):
 
 
 def exit_crash(proc: subprocess.Popen, *, started: bool) -> AthrillCrash:
-    """The crash an exited Athrill stands for. One that never got going, or that says the mapped files were
-    unusable, is the bench's fault; one that died while running the program is the program's."""
+    """The crash an exited Athrill stands for. One that says the mapped files were unusable, or that exited
+    before it got going (before it opened them), is the bench's fault; one killed by a signal, or that exited
+    once running, is the program's."""
     code = proc.returncode
     assert code is not None
-    bench = code == EXIT_BENCH_FAULT or not started
+    bench = code == EXIT_BENCH_FAULT or (code > 0 and not started)
     kind = CrashKind.BENCH if bench else CrashKind.PROGRAM
     return AthrillCrash(kind, code, f"athrill {describe_exit(code)}")
 
@@ -72,14 +73,12 @@ def watchdog(proc: subprocess.Popen, timeout_s: float, progress: Callable[[], in
 
 def run_lockstep(server: PhysicsServer, proc: subprocess.Popen) -> None:
     a = server.athrill
-    answers = [0]
 
     def await_answer(last: int) -> int:
         """Wait for Athrill's answer to the snapshot at `server.now_us`; apply it and return its wake time."""
         check = watchdog(proc, server.athrill_timeout_s, lambda: a.read_u32(Tx.ANSWER_SEQ),
-                         lambda: answers[0] > 0)
+                         lambda: a.read_u32(Tx.ATHRILL_PID) == proc.pid)
         wait_for(lambda: a.read_u32(Tx.ANSWER_SEQ) != last, check)
-        answers[0] += 1
         now = server.now_us
         next_wake = a.read("q", Tx.NEXT_WAKE)
         diff = a.athrill_time_us - now

@@ -1,12 +1,19 @@
-"""A parameter-search campaign: the paper's experiment loop (section 3.4.3, 4.1) made resumable.
+"""A parameter-search campaign: the paper's experiment loop (section 3.4.3, 4.1), in parallel and resumable.
 
-`init_points` random parameter sets, then `trials` sets proposed by the sampler; each set is tested until the
-repetition rule decides it, and every test goes to the journal before the next one starts. The journal is the
-campaign's only state: resuming rebuilds everything from it, continues an interrupted set with its remaining
-repetitions, and, because suggestions depend only on (seed, set index, finished sets), proposes the same
-sets an uninterrupted run would have.
+`init_points` random parameter sets, then `trials` sets proposed by the sampler, in rounds of `batch` sets
+(each round proposed at once, later points of a round taking the earlier ones as pending). Every set is
+tested until the repetition rule decides it; its repetitions run in parallel as far as the rule allows
+(`RepetitionRule.still_needed`), on as many benches as the executor has. Every test goes to the journal as
+soon as it finishes.
 
-The campaign knows nothing of processes or mmap files: it calls `run_test({data offset: value})`.
+What a campaign produces depends only on its configuration: proposals are a pure function of (seed, round,
+the decided sets before the round), each test's noise seed of (seed, set, repetition), and a set's verdict of
+its results in repetition order; so neither the number of benches nor the order in which tests finish changes
+the journal's sets and results. That is also what makes `--resume` exact: it rebuilds the decided sets from
+the journal, proposes the current round again (and checks it against the journal), and runs only the
+repetitions that are missing.
+
+The campaign knows nothing of processes or mapped files: it hands `TestSpec`s to an executor.
 """
 
 from __future__ import annotations
@@ -20,22 +27,27 @@ from typing import Any
 
 import numpy as np
 
+from testctl.executor import Executor, SerialExecutor, TestSpec
 from testctl.journal import JOURNAL_FILE, Journal, JournalError, TestRecord, now_timestamp, read_journal
+from testctl.noise_seed import noise_seed
 from testctl.objective import RepetitionRule, Verdict
 from testctl.result import TestResult
 from testctl.sampler import SAMPLERS, RandomSampler, Sampler
 from testctl.space import ParameterSpace
 
 PHASE_INIT = "init"  # the random initial design
-PHASE_BO = "bo"  # an optimization iteration, whichever sampler proposes it
+PHASE_BO = "bo"  # an optimization round, whichever sampler proposes it
+MAX_BENCH_FAULTS_IN_A_ROW = 5  # then the bench is broken, not unlucky: stop rather than spin
 
-RunTest = Callable[[Mapping[int, float]], TestResult]
+
+class BenchBroken(RuntimeError):
+    """The bench spoiled test after test; the campaign stops (its journal is intact and resumable)."""
 
 
 @dataclass(frozen=True)
 class CampaignConfig:
-    """Everything that determines a campaign's sequence of parameter sets. Only `trials` may change on
-    resume (to extend a campaign); the rest is checked against the journal's header."""
+    """Everything that determines a campaign's sets and results. Only `trials` may change on resume (to
+    extend a campaign); the rest is checked against the journal's header."""
 
     space: ParameterSpace = field(default_factory=ParameterSpace.default)
     trials: int = 100
@@ -44,6 +56,8 @@ class CampaignConfig:
     max_crashes: int = 3
     seed: int = 0
     optimizer: str = "gpyopt"
+    batch: int = 1
+    noise: float = 1.0
 
     def __post_init__(self) -> None:
         if self.optimizer not in SAMPLERS:
@@ -54,6 +68,10 @@ class CampaignConfig:
             raise ValueError(f"init_points must be at least 1, got {self.init_points}")
         if self.seed < 0:
             raise ValueError(f"seed must be at least 0, got {self.seed}")
+        if self.batch < 1:
+            raise ValueError(f"batch must be at least 1, got {self.batch}")
+        if not 0.0 <= self.noise <= 100.0:
+            raise ValueError(f"noise must be a scale in 0..100, got {self.noise}")
         RepetitionRule(self.repeats, self.max_crashes)  # validates both
 
     @property
@@ -67,27 +85,44 @@ class CampaignConfig:
     def phase(self, index: int) -> str:
         return PHASE_INIT if index < self.init_points else PHASE_BO
 
+    def rounds(self) -> list[range]:
+        """The set indices of each round: the initial design, then batches of `batch` sets."""
+        out = [range(0, min(self.init_points, self.total_sets))]
+        start = self.init_points
+        while start < self.total_sets:
+            out.append(range(start, min(start + self.batch, self.total_sets)))
+            start += self.batch
+        return out
+
     def header(self) -> dict[str, Any]:
         options = {f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name != "space"}
         return {"space": self.space.to_dict(), "options": options}
 
     @classmethod
     def from_header(cls, header: Mapping[str, Any]) -> CampaignConfig:
+        """The configuration in a journal's header. A format-1 journal (before batches and noise) was a
+        one-set-at-a-time campaign on a noise-free bench."""
         try:
-            return cls(space=ParameterSpace.from_dict(header["space"]), **header["options"])
+            options = {"batch": 1, "noise": 0.0, **header["options"]}
+            return cls(space=ParameterSpace.from_dict(header["space"]), **options)
         except (KeyError, TypeError, ValueError) as e:  # SpaceError is a ValueError
             raise JournalError(f"the journal header does not describe a campaign: {e}") from None
 
 
 @dataclass(frozen=True)
 class SetResult:
-    """A decided parameter set: its point (in `space.names` order), verdict and tests."""
+    """A decided parameter set: its point (in `space.names` order), verdict and counted tests."""
 
     index: int
     phase: str
     x: tuple[float, ...]
     verdict: Verdict
     tests: tuple[TestRecord, ...]
+
+    @property
+    def number(self) -> int:
+        """The set's number for people (figures, tables, summaries): from 1."""
+        return self.index + 1
 
     @property
     def value(self) -> float:
@@ -99,7 +134,7 @@ class SetResult:
         return sum(t.result.wall_s for t in self.tests)
 
 
-def best_set(sets: list[SetResult]) -> SetResult | None:
+def best_set(sets: list[SetResult] | tuple[SetResult, ...]) -> SetResult | None:
     """The successful set with the shortest mean lap (the earliest on a tie), or None before any success."""
     return min((s for s in sets if s.verdict.success), key=lambda s: s.value, default=None)
 
@@ -113,6 +148,8 @@ class Progress:
     tests_done: int
     best: SetResult | None
     last_test: TestRecord | None
+    running: int = 0  # tests on the benches now
+    benches: int = 1
 
 
 @dataclass(frozen=True)
@@ -120,10 +157,12 @@ class CampaignSummary:
     config: CampaignConfig
     sets: tuple[SetResult, ...]
     best: SetResult | None
-    n_tests: int  # all tests in the journal, including earlier sessions
+    n_tests: int  # all tests in the journal, including earlier sessions and bench faults
     tests_run: int  # tests run by this session
     wall_s: float  # this session's wall time
     test_wall_s: float  # wall time of all tests in the journal
+    bench_faults: int  # tests the bench spoiled (journaled, never scored)
+    proposal_s: tuple[float, ...] = ()  # the sampler's own wall time for each round this session proposed
 
 
 def load_config(out_dir: Path) -> CampaignConfig:
@@ -132,25 +171,53 @@ def load_config(out_dir: Path) -> CampaignConfig:
     return CampaignConfig.from_header(header)
 
 
+@dataclass
+class _OpenSet:
+    """A set being tested: its results so far by repetition, and the repetitions still out on benches."""
+
+    index: int
+    x: tuple[float, ...]
+    results: dict[int, TestResult] = field(default_factory=dict)
+    records: dict[int, TestRecord] = field(default_factory=dict)
+    out: set[int] = field(default_factory=set)
+
+    def ordered(self) -> list[TestResult]:
+        return [self.results[r] for r in sorted(self.results)]
+
+
 class Campaign:
-    """Runs (or, with `resume=True`, continues) the campaign journaled in `out_dir`."""
+    """Runs (or, with `resume=True`, continues) the campaign journaled in `out_dir`.
+
+    `executor` runs the tests: an `Executor`, or simply a function TestSpec -> TestResult (run one at a time).
+    `bench_info` describes the bench (course, program, time limit) for the journal's header: a resumed
+    campaign runs on the same bench.
+    """
 
     def __init__(
         self,
         config: CampaignConfig,
         out_dir: Path,
-        run_test: RunTest,
+        executor: Executor | Callable[[TestSpec], TestResult],
         *,
         on_progress: Callable[[Progress], None] | None = None,
         resume: bool = False,
+        bench_info: Mapping[str, Any] | None = None,
     ) -> None:
         self.config = config
+        self.bench_info = dict(bench_info or {})
         self.out_dir = Path(out_dir)
-        self.run_test = run_test
+        self.executor = executor if isinstance(executor, Executor) else SerialExecutor(executor)
         self.on_progress = on_progress
         self.resume = resume
         self._init_sampler: Sampler = RandomSampler(config.seed)
         self._bo_sampler: Sampler = SAMPLERS[config.optimizer](config.seed)
+        self._done: list[SetResult] = []
+        self._faults_in_a_row = 0
+        self._proposal_s: list[float] = []
+
+    @property
+    def _space(self) -> ParameterSpace:
+        return self.config.space
 
     def run(self) -> CampaignSummary:
         started = time.monotonic()
@@ -160,55 +227,145 @@ class Campaign:
             self._check_header(journal)
         else:
             self.out_dir.mkdir(parents=True, exist_ok=True)
-            journal = Journal.create(path, self.config.header())
+            journal = Journal.create(path, {**self.config.header(), "bench": self.bench_info})
         with journal:
-            done, pending = self._replay(journal.records)
-            n_tests = len(journal.records)
-            self._report(done, n_tests, None)
-            while len(done) < self.config.total_sets:
-                index = len(done)
-                records, pending = pending, []  # only the first set may have been interrupted
-                x = self._space.from_named(records[0].params) if records else self._suggest(done, index)
-                verdict = self.config.rule.judge([r.result for r in records])
-                while not verdict.decided:
-                    record = TestRecord(
-                        index,
-                        self.config.phase(index),
-                        self._space.to_named(x),
-                        len(records) + 1,
-                        self.run_test(self._space.to_offsets(x)),
-                        now_timestamp(),
-                    )
-                    journal.append(record)
-                    records.append(record)
-                    verdict = self.config.rule.judge([r.result for r in records])
-                    self._report(done, len(journal.records), record)
-                done.append(SetResult(index, self.config.phase(index), x, verdict, tuple(records)))
-                self._report(done, len(journal.records), None)
-            all_records = journal.records
+            n_before = len(journal.records)
+            by_set = self._group(journal.records)
+            self._report(len(journal.records), None)
+            for round_index, indices in enumerate(self.config.rounds()):
+                if all(self._decided(by_set.get(i, [])) for i in indices):
+                    self._done.extend(self._decided(by_set[i]) for i in indices)  # type: ignore[misc]
+                    continue
+                t0 = time.perf_counter()
+                points = self._propose(round_index, indices)
+                self._proposal_s.append(time.perf_counter() - t0)
+                points = self._check_against_journal(indices, points, by_set)
+                self._run_round([_OpenSet(i, x) for i, x in zip(indices, points)], by_set, journal)
+            self._done.extend(s for i in sorted(by_set) if i >= self.config.total_sets
+                              for s in [self._decided(by_set[i])] if s is not None)
+            records = journal.records
+        sets = tuple(sorted(self._done, key=lambda s: s.index))
         return CampaignSummary(
             config=self.config,
-            sets=tuple(done),
-            best=best_set(done),
-            n_tests=len(all_records),
-            tests_run=len(all_records) - n_tests,
+            sets=sets,
+            best=best_set(sets),
+            n_tests=len(records),
+            tests_run=len(records) - n_before,
             wall_s=time.monotonic() - started,
-            test_wall_s=sum(r.result.wall_s for r in all_records),
+            test_wall_s=sum(r.result.wall_s for r in records),
+            bench_faults=sum(r.result.bench_fault for r in records),
+            proposal_s=tuple(self._proposal_s),
         )
 
-    @property
-    def _space(self) -> ParameterSpace:
-        return self.config.space
+    # -- one round ------------------------------------------------------------------------------------
+    def _run_round(self, open_sets: list[_OpenSet], by_set: dict[int, list[TestRecord]], journal: Journal) -> None:
+        ex = self.executor
+        live: dict[int, _OpenSet] = {}
+        for s in open_sets:
+            for r in by_set.get(s.index, []):
+                if not r.result.bench_fault:
+                    s.results[r.rep], s.records[r.rep] = r.result, r
+            self._launch(s)
+            if s.out:
+                live[s.index] = s
+            else:  # decided before an interruption
+                self._close(s)
+        while live:
+            spec, result, bench = ex.next_result()
+            s = live[spec.set_index]
+            record = TestRecord(spec.set_index, self.config.phase(spec.set_index), self._space.to_named(s.x),
+                                spec.rep, result, now_timestamp(), spec.noise_seed, bench)
+            journal.append(record)
+            if result.bench_fault:
+                self._faults_in_a_row += 1
+                if self._faults_in_a_row >= MAX_BENCH_FAULTS_IN_A_ROW:
+                    raise BenchBroken(f"the bench failed {self._faults_in_a_row} tests in a row "
+                                      f"({result.crash_reason()}); see the bench's athrill.log and physics.log")
+                ex.submit(spec)  # the same repetition, the same noise: as if it had not happened
+                self._report(len(journal.records), record)
+                continue
+            self._faults_in_a_row = 0
+            s.out.discard(spec.rep)
+            s.results[spec.rep], s.records[spec.rep] = result, record
+            if not s.out:
+                self._launch(s)
+                if not s.out:
+                    del live[s.index]
+                    self._close(s)
+            self._report(len(journal.records), record)
 
-    def _suggest(self, done: list[SetResult], index: int) -> tuple[float, ...]:
+    def _close(self, s: _OpenSet) -> None:
+        verdict = self.config.rule.judge(s.ordered())
+        tests = tuple(s.records[r] for r in sorted(s.records))
+        self._done.append(SetResult(s.index, self.config.phase(s.index), s.x, verdict, tests))
+
+    def _launch(self, s: _OpenSet) -> None:
+        """Submit as many further repetitions of `s` as the rule says every continuation needs."""
+        needed = self.config.rule.still_needed(s.ordered())
+        params = self._space.to_offsets(s.x)
+        first = max(s.results, default=0) + 1
+        for rep in range(first, first + needed):
+            s.out.add(rep)
+            self.executor.submit(TestSpec(s.index, rep, params, noise_seed(self.config.seed, s.index, rep),
+                                          self.config.noise))
+
+    # -- proposals ------------------------------------------------------------------------------------
+    def _propose(self, round_index: int, indices: range) -> list[tuple[float, ...]]:
+        if round_index == 0:  # each initial point drawn for its own set index, as journals of format 1 have it
+            X, Y = np.empty((0, self._space.dim)), np.empty((0, 1))
+            return [self._init_sampler.suggest(self._space, X, Y, i) for i in indices]
+        done = sorted((s for s in self._done if s.index < indices.start), key=lambda s: s.index)
         X = np.array([s.x for s in done], dtype=float).reshape(len(done), self._space.dim)
         Y = np.array([[s.value] for s in done], dtype=float).reshape(len(done), 1)
-        sampler = self._init_sampler if self.config.phase(index) == PHASE_INIT else self._bo_sampler
-        return sampler.suggest(self._space, X, Y, index)
+        # Always a whole batch, of which a last, short round runs the first points: so a campaign extended
+        # on resume proposes what a longer one would have.
+        return self._bo_sampler.suggest_batch(self._space, X, Y, round_index, self.config.batch)[:len(indices)]
 
-    def _report(self, done: list[SetResult], tests_done: int, last: TestRecord | None) -> None:
+    def _check_against_journal(self, indices: range, points: list[tuple[float, ...]],
+                               by_set: dict[int, list[TestRecord]]) -> list[tuple[float, ...]]:
+        """A resumed round must propose what the interrupted one did; anything else means the journal belongs
+        to another version of the campaign. The journal's points are the ones kept: on another machine the
+        linear algebra may round the last bits differently."""
+        kept = []
+        for i, x in zip(indices, points):
+            if i in by_set:
+                tested = self._space.from_named(by_set[i][0].params)
+                if not np.allclose(tested, x, rtol=1e-6, atol=1e-9):
+                    raise JournalError(f"set {i + 1} was tested with {dict(by_set[i][0].params)} but this campaign "
+                                       f"proposes {self._space.to_named(x)}: the journal is from another version")
+                x = tested
+            kept.append(x)
+        return kept
+
+    # -- the journal ---------------------------------------------------------------------------------
+    def _group(self, records: list[TestRecord]) -> dict[int, list[TestRecord]]:
+        by_set: dict[int, list[TestRecord]] = {}
+        for r in records:
+            by_set.setdefault(r.set_index, []).append(r)
+        for i, rs in by_set.items():
+            if any(r.params != rs[0].params for r in rs):
+                raise JournalError(f"set {i + 1} has tests with different parameters")
+            try:
+                self._space.from_named(rs[0].params)
+            except KeyError as e:
+                raise JournalError(f"set {i + 1} lacks parameter {e}") from None
+            rs.sort(key=lambda r: r.rep)
+        return by_set
+
+    def _decided(self, records: list[TestRecord]) -> SetResult | None:
+        counted = [r for r in records if not r.result.bench_fault]
+        if not counted:
+            return None
+        verdict = self.config.rule.judge([r.result for r in counted])
+        if not verdict.decided:
+            return None
+        i = counted[0].set_index
+        return SetResult(i, self.config.phase(i), self._space.from_named(counted[0].params), verdict, tuple(counted))
+
+    def _report(self, tests_done: int, last: TestRecord | None) -> None:
         if self.on_progress is not None:
-            self.on_progress(Progress(len(done), self.config.total_sets, tests_done, best_set(done), last))
+            self.on_progress(Progress(len(self._done), self.config.total_sets, tests_done, best_set(self._done),
+                                      last, self.executor.running, self.executor.capacity))
 
     def _check_header(self, journal: Journal) -> None:
         stored = CampaignConfig.from_header(journal.header)
@@ -224,23 +381,3 @@ class Campaign:
         ]
         if differ:
             raise JournalError(f"{journal.path}: the journal was written with other options: {'; '.join(differ)}")
-
-    def _replay(self, records: list[TestRecord]) -> tuple[list[SetResult], list[TestRecord]]:
-        """The decided sets in the journal, and the tests of an undecided last set (empty if none)."""
-        done: list[SetResult] = []
-        current: list[TestRecord] = []
-        for r in records:
-            if r.set_index != len(done):
-                raise JournalError(f"test of set {r.set_index} found where set {len(done)} was expected")
-            if current and r.params != current[0].params:
-                raise JournalError(f"set {r.set_index} has tests with different parameters")
-            try:
-                x = self._space.from_named(r.params)
-            except KeyError as e:
-                raise JournalError(f"set {r.set_index} lacks parameter {e}") from None
-            current.append(r)
-            verdict = self.config.rule.judge([t.result for t in current])
-            if verdict.decided:
-                done.append(SetResult(r.set_index, r.phase, x, verdict, tuple(current)))
-                current = []
-        return done, current

@@ -4,8 +4,13 @@ A campaign of 100 parameter sets takes hours on the bench, and the user may kill
 journal is what makes that cheap. Each line is flushed and fsynced before the next test starts, so a kill
 loses at most the test that was running. A kill in the middle of a write leaves a torn last line; loading
 drops it (and truncates it away before appending), while damage anywhere else is an error, since it means
-the file is not what we wrote. The first line is a header (space and options) written atomically with the
-file, so `--resume` can refuse to continue a campaign under different settings.
+the file is not what we wrote. The first line is a header (space, options and the bench) written atomically
+with the file, so `--resume` can refuse to continue a campaign under different settings.
+
+Tests run on several benches at once finish in any order, so lines are in the order tests finished; a
+reader orders them by (set, repetition) where it matters. Sets are numbered from 1 in the file, as everywhere
+a person reads them (format 1 numbered them from 0; it is still read). A test the bench itself spoiled
+carries `"fault": "bench"`: it is kept for the record, never scored, and its repetition runs again.
 """
 
 from __future__ import annotations
@@ -18,11 +23,12 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import IO, Any
 
-from hakoniwa.protocol import Event
+from hakoniwa.protocol import CrashKind, Event, SyncMode
 from testctl.result import TestResult
 
 JOURNAL_FILE = "journal.jsonl"
-FORMAT = 1
+FORMAT = 2
+READABLE_FORMATS = (1, 2)
 _KIND = "hakoniwa-campaign-journal"
 
 
@@ -32,7 +38,8 @@ class JournalError(RuntimeError):
 
 @dataclass(frozen=True)
 class TestRecord:
-    """One finished test of one parameter set (`rep` counts from 1 and includes crashed attempts)."""
+    """One finished test of one parameter set: `set_index` counts from 0 (written from 1), `rep` from 1,
+    and a repetition spoiled by a bench fault appears again with the same number and noise seed."""
 
     __test__ = False  # not a pytest class
 
@@ -42,28 +49,32 @@ class TestRecord:
     rep: int
     result: TestResult
     timestamp: str
+    noise_seed: int = 0
+    bench: str = ""  # which bench ran it (informative)
 
     def to_json(self) -> str:
-        return json.dumps(
-            {
-                "set": self.set_index,
-                "phase": self.phase,
-                "params": dict(self.params),
-                "rep": self.rep,
-                "event": self.result.event.name,
-                "goal_time_us": self.result.goal_time_us,
-                "lap_time_s": self.result.lap_time_s,
-                "wall_s": self.result.wall_s,
-                "time": self.timestamp,
-            }
-        )
+        r = self.result
+        d = {"set": self.set_index + 1, "phase": self.phase, "params": dict(self.params), "rep": self.rep,
+             "noise_seed": self.noise_seed, **r.to_dict(), "wall_s": r.wall_s, "bench": self.bench,
+             "time": self.timestamp}
+        if r.bench_fault:
+            d["fault"] = "bench"
+        return json.dumps(d)
 
     @classmethod
-    def from_json(cls, line: str) -> TestRecord:
+    def from_json(cls, line: str, fmt: int = FORMAT) -> TestRecord:
         d = json.loads(line)
-        result = TestResult(Event[d["event"]], int(d["goal_time_us"]), float(d["wall_s"]))
+        crash = d.get("crash")
+        result = TestResult(
+            Event[d["event"]], int(d["goal_time_us"]), float(d["wall_s"]), int(d.get("checkpoints", 0)),
+            round(float(d.get("distance_m", 0.0)) * 1000), int(d.get("max_time_diff_us", 0)),
+            SyncMode[d.get("sync", "lockstep").upper()],
+            CrashKind[crash.upper()] if crash else CrashKind.NONE, int(d.get("crash_detail", 0)),
+        )
         params = {str(k): float(v) for k, v in d["params"].items()}
-        return cls(int(d["set"]), str(d["phase"]), params, int(d["rep"]), result, str(d["time"]))
+        set_index = int(d["set"]) - (1 if fmt >= 2 else 0)
+        return cls(set_index, str(d["phase"]), params, int(d["rep"]), result, str(d["time"]),
+                   int(d.get("noise_seed", 0)), str(d.get("bench", "")))
 
 
 def now_timestamp() -> str:
@@ -145,15 +156,17 @@ def _parse(path: Path) -> tuple[dict[str, Any], list[TestRecord], int]:
         raise JournalError(f"{path}: the header line is not JSON") from None
     if not isinstance(header, dict) or header.get("kind") != _KIND:
         raise JournalError(f"{path}: not a campaign journal")
-    if header.get("format") != FORMAT:
-        raise JournalError(f"{path}: journal format {header.get('format')}, expected {FORMAT}")
+    fmt = header.get("format")
+    if fmt not in READABLE_FORMATS:
+        raise JournalError(f"{path}: journal format {fmt}; this version reads formats "
+                           f"{', '.join(map(str, READABLE_FORMATS))}")
     records: list[TestRecord] = []
     good_len = len(lines[0]) + 1
     body = lines[1:]
     # The last element follows the final newline: b"" for an intact file, else a line torn by a kill.
     for i, raw in enumerate(body[:-1]):
         try:
-            records.append(TestRecord.from_json(raw.decode("utf-8")))
+            records.append(TestRecord.from_json(raw.decode("utf-8"), fmt))
         except (ValueError, KeyError, TypeError, AttributeError):
             if i == len(body) - 2:  # a damaged last line: the tail of an interrupted write
                 break

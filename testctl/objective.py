@@ -5,10 +5,16 @@ is tested repeatedly; whichever of success or failure reaches 3 first decides th
 successful set scores the mean lap time of its successes, a failed one the 60 s time limit. Here that rule is
 generalized to `repeats` tests with a strict majority `repeats // 2 + 1` needed for success.
 
-A CRASH (Athrill died or went silent: a bench fault) says nothing about the parameters, unlike a wall hit or
-a time-out, so it is not counted and the test is repeated. Parameters that make the robot program crash every
-time (a NaN, a division by zero in the app) would then be retried forever, so only the first `max_crashes`
-crashes of a set are forgiven; each later one counts as a failure of the parameters.
+A CRASH of the robot program (Athrill died or went silent) may or may not be the parameters' doing, unlike a
+wall hit or a time-out, so it is not counted and the test is repeated. Parameters that make the program crash
+every time (a NaN, a division by zero in the app) would then be retried forever, so only the first
+`max_crashes` crashes of a set are forgiven; each later one counts as a failure of the parameters. A crash the
+bench itself caused (`TestResult.bench_fault`) is no test of the parameters at all: it is ignored here, and
+the campaign runs that repetition again.
+
+Repetitions run in parallel without changing the verdict: `still_needed` is the number of further tests that
+any continuation of the sequential rule must run, so launching exactly that many at once, judging them in
+repetition order, and repeating gives the very verdict the one-at-a-time rule gives.
 """
 
 from __future__ import annotations
@@ -54,10 +60,23 @@ class RepetitionRule:
     def needed(self) -> int:
         return self.repeats // 2 + 1
 
+    @property
+    def failures_needed(self) -> int:
+        return self.repeats - self.needed + 1
+
+    def still_needed(self, results: Sequence[TestResult]) -> int:
+        """How many more tests every way of finishing this set must run (0 once it is decided): so many can
+        run at once. Until that many have come back, neither side can reach its count."""
+        v = self.judge(results)
+        return 0 if v.decided else min(self.needed - v.successes, self.failures_needed - v.failures)
+
     def judge(self, results: Sequence[TestResult]) -> Verdict:
+        """The verdict on a set's results in repetition order (bench faults left out)."""
         successes = failures = crashes = 0
         laps: list[float] = []
         for r in results:
+            if r.bench_fault:
+                continue
             if r.event == Event.GOAL:
                 assert r.lap_time_s is not None
                 successes += 1
@@ -71,6 +90,6 @@ class RepetitionRule:
                 raise ValueError(f"{r.event.name} is not the outcome of a finished test")
         success = successes >= self.needed
         # Failed once success can no longer be reached within `repeats` counted tests.
-        failed = failures > self.repeats - self.needed
+        failed = failures >= self.failures_needed
         value = (sum(laps) / len(laps) if success else self.penalty_s) if success or failed else None
         return Verdict(successes, failures, crashes, tuple(laps), success or failed, success, value)

@@ -1,7 +1,8 @@
 """The campaign's command-line options, declared once for `hako run` and `testctl campaign`.
 
-`hako run` validates them in the user's process (so a bad space file fails before any process starts)
-and forwards the very same options to the controller the physics process starts.
+They are checked in the user's process, before any bench starts, so a bad space file, a folder that takes
+no files or a resume under other settings is a one-line error at once. Nothing heavy is imported here:
+`hako --help` must answer at once.
 """
 
 from __future__ import annotations
@@ -14,7 +15,8 @@ from typing import TYPE_CHECKING, Any, Callable
 
 import click
 
-from testctl.journal import JOURNAL_FILE, JournalError
+from hakoniwa.clickutil import NOISE_SCALE, option_group
+from testctl.journal import JOURNAL_FILE, JournalError, read_journal
 from testctl.space import ParameterSpace, SpaceError
 
 if TYPE_CHECKING:
@@ -23,13 +25,20 @@ if TYPE_CHECKING:
 SMOKE = {"trials": 2, "init_points": 2, "repeats": 1}  # a campaign that exercises every part in seconds
 
 _OPTIONS = [
-    click.option("--trials", type=int, default=None, help="Optimization iterations after the initial points [100]."),
-    click.option("--init-points", type=int, default=None, help="Random initial parameter sets [5]."),
-    click.option("--repeats", type=int, default=None,
+    click.option("--trials", type=click.IntRange(min=0), default=None,
+                 help="Optimization iterations (sets) after the initial points [100]."),
+    click.option("--init-points", type=click.IntRange(min=1), default=None, help="Random initial parameter sets [5]."),
+    click.option("--repeats", type=click.IntRange(min=1), default=None,
                  help="Tests per set at most; the first to a majority decides (3 of 5) [5]."),
-    click.option("--seed", type=int, default=None, help="Seed of the initial design and the optimizer [0]."),
+    click.option("--seed", type=click.IntRange(min=0), default=None,
+                 help="Seed of the initial design, the optimizer and every test's noise [0]."),
     click.option("--optimizer", type=click.Choice(["gpyopt", "random"]), default=None,
                  help="Bayesian optimization with EI, or uniform random search as a baseline [gpyopt]."),
+    click.option("--batch", type=click.IntRange(min=1), default=None,
+                 help="Sets proposed per optimization round (constant liar) [the number of benches]."),
+    click.option("--noise", type=NOISE_SCALE, default=None,
+                 help="Scale of the course's sensor, motor and start-pose noise; 0 = an exactly repeatable "
+                      "bench [1]."),
     click.option("--space", "space_file", type=click.Path(dir_okay=False, path_type=Path), default=None,
                  help="Parameter-space TOML (names, data offsets, ranges, fixed values); default: Kp, Ki, Kd "
                       "in [0, 5], power 15. See docs/space-example.toml."),
@@ -42,23 +51,16 @@ _OPTIONS = [
 ]
 
 
-def campaign_options(f: Callable) -> Callable:
-    for option in reversed(_OPTIONS):
-        f = option(f)
-    return f
+_NOISE_OPTIONS = [
+    click.option("--seed", type=click.IntRange(0, 2**32 - 1), default=0, show_default=True,
+                 help="Which noise draw the test gets."),
+    click.option("--noise", type=NOISE_SCALE, default=1.0, show_default=True,
+                 help="Scale of the course's noise levels; 0 = an exactly repeatable bench."),
+]
 
 
-def forward(params: dict[str, Any]) -> list[str]:
-    """The campaign options given on one command line, as arguments for another."""
-    args: list[str] = []
-    for option in _OPTIONS:
-        param = option(lambda: None).__click_params__[0]
-        value = params.get(param.name)
-        if value is None or value is False:
-            continue
-        flag = param.opts[0]
-        args += [flag] if value is True else [flag, str(value)]
-    return args
+campaign_options = option_group(_OPTIONS)
+noise_options = option_group(_NOISE_OPTIONS)  # for one test: `hako trial`, `testctl trial`
 
 
 @dataclass(frozen=True)
@@ -66,16 +68,17 @@ class CampaignPlan:
     config: CampaignConfig
     out_dir: Path
     resume: bool
+    bench: dict[str, Any]  # the bench the journal records (course, app, time limit), empty for a new one
 
 
 def plan(trials: int | None, init_points: int | None, repeats: int | None, seed: int | None,
-         optimizer: str | None, space_file: Path | None, out: Path | None, resume: Path | None,
-         smoke: bool) -> CampaignPlan:
+         optimizer: str | None, batch: int | None, noise: float | None, space_file: Path | None,
+         out: Path | None, resume: Path | None, smoke: bool, *, default_batch: int = 1) -> CampaignPlan:
     """Turn the options into a campaign, or fail with a one-line click error."""
-    from testctl.campaign import CampaignConfig, load_config  # NumPy: not for --help
+    from testctl.campaign import CampaignConfig  # NumPy: not for --help
 
     given = {k: v for k, v in {"trials": trials, "init_points": init_points, "repeats": repeats, "seed": seed,
-                               "optimizer": optimizer}.items() if v is not None}
+                               "optimizer": optimizer, "batch": batch, "noise": noise}.items() if v is not None}
     try:
         if resume is not None:
             if out is not None and out.resolve() != resume.resolve():
@@ -83,12 +86,13 @@ def plan(trials: int | None, init_points: int | None, repeats: int | None, seed:
             if space_file is not None or set(given) - {"trials"} or smoke:
                 raise click.UsageError("--resume takes the campaign's settings from its journal; only --trials "
                                        "may be given (to extend it)")
-            config = load_config(resume)
+            header, _ = read_journal(resume / JOURNAL_FILE)
+            config = CampaignConfig.from_header(header)
             if trials is not None:
                 config = dataclasses.replace(config, trials=trials)
-            return CampaignPlan(config, resume, True)
+            return CampaignPlan(config, resume, True, dict(header.get("bench", {})))
         space = ParameterSpace.load(space_file) if space_file is not None else ParameterSpace.default()
-        config = CampaignConfig(space=space, **{**(SMOKE if smoke else {}), **given})
+        config = CampaignConfig(space=space, **{"batch": default_batch, **(SMOKE if smoke else {}), **given})
     except (SpaceError, JournalError, ValueError) as e:
         raise click.ClickException(str(e)) from None
     out_dir = out or Path("runs") / f"campaign-{dt.datetime.now():%Y%m%d-%H%M%S}"
@@ -96,7 +100,7 @@ def plan(trials: int | None, init_points: int | None, repeats: int | None, seed:
         raise click.ClickException(f"{out_dir} already holds a campaign; use --resume {out_dir} to continue it "
                                    "or choose another --out")
     make_out_dir(out_dir)
-    return CampaignPlan(config, out_dir, False)
+    return CampaignPlan(config, out_dir, False, {})
 
 
 def make_out_dir(out_dir: Path) -> None:

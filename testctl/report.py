@@ -1,7 +1,9 @@
 """What a campaign leaves for people: results.csv, best.json, and the paper's Fig. 8 and Fig. 9 as PNGs.
 
 Everything here is computed from the campaign summary, so a report can be rewritten from a journal at any
-time (`Campaign(..., resume=True).run()` on a finished campaign runs no test and returns the summary).
+time (`Campaign(..., resume=True).run()` on a finished campaign runs no test and returns the summary), and
+nothing depends on the clock or on which bench ran what: the same campaign gives the same results.csv and
+best.json wherever it ran (wall times stay in the journal). Sets are numbered from 1 everywhere.
 Figures are drawn on a bare `matplotlib.figure.Figure` (Agg), never through pyplot's global state, so this
 works headless and inside a long-running process.
 """
@@ -57,13 +59,13 @@ def write_results_csv(path: Path, summary: CampaignSummary) -> None:
         w = csv.writer(f)
         w.writerow(
             ["set", "phase", *names, "tests", "successes", "failures", "crashes", "success", "objective_s",
-             "best_so_far_s", "wall_s"]
+             "best_so_far_s"]
         )
         for s, b in zip(summary.sets, best):
             v = s.verdict
             w.writerow(
-                [s.index, s.phase, *(repr(c) for c in s.x), len(s.tests), v.successes, v.failures, v.crashes,
-                 int(v.success), repr(s.value), repr(b), f"{s.wall_s:.3f}"]
+                [s.number, s.phase, *(repr(c) for c in s.x), len(s.tests), v.successes, v.failures, v.crashes,
+                 int(v.success), repr(s.value), repr(b)]
             )
 
 
@@ -73,7 +75,7 @@ def best_dict(summary: CampaignSummary) -> dict[str, Any]:
     best = summary.best
     return {
         "success": best is not None,
-        "set": best.index if best else None,
+        "set": best.number if best else None,
         "params": space.to_named(best.x) if best else None,
         "fixed": {f.name: f.value for f in space.fixed},
         "offsets": {str(k): v for k, v in space.to_offsets(best.x).items()} if best else None,
@@ -81,9 +83,11 @@ def best_dict(summary: CampaignSummary) -> dict[str, Any]:
         "laps_s": list(best.verdict.laps) if best else None,
         "n_sets": len(summary.sets),
         "n_tests": summary.n_tests,
-        "test_wall_s": round(summary.test_wall_s, 3),
+        "bench_faults": summary.bench_faults,
         "seed": summary.config.seed,
         "optimizer": summary.config.optimizer,
+        "batch": summary.config.batch,
+        "noise": summary.config.noise,
     }
 
 
@@ -94,26 +98,27 @@ def format_summary(summary: CampaignSummary) -> str:
         best_line = "best: no parameter set succeeded"
     else:
         params = ", ".join(f"{k}={v:.3f}" for k, v in summary.config.space.to_named(best.x).items())
-        best_line = f"best: [{params}] lap {best.value:.2f} s (set {best.index})"
+        best_line = f"best: [{params}] lap {best.value:.2f} s (set {best.number})"
     return "\n".join(
         [
             best_line,
-            f"sets: {len(summary.sets)}, tests: {summary.n_tests} ({summary.tests_run} this run)",
+            f"sets: {len(summary.sets)}, tests: {summary.n_tests} ({summary.tests_run} this run"
+            + (f", {summary.bench_faults} spoiled by the bench and rerun" if summary.bench_faults else "") + ")",
             f"wall time: {summary.wall_s:.1f} s this run, {summary.test_wall_s:.1f} s in tests overall",
         ]
     )
 
 
 def _iteration_axes(fig: Figure, summary: CampaignSummary, top: str, bottom: str) -> tuple[Any, Any]:
-    """Two stacked axes over the set number (1-based, as 'iteration' in the paper), initial design shaded."""
+    """Two stacked axes over the set number (from 1, the paper's 'iteration'), initial design shaded."""
     ax_top, ax_bottom = fig.subplots(2, 1, sharex=True)
     n_init = sum(s.phase == PHASE_INIT for s in summary.sets)
     for ax, label in ((ax_top, top), (ax_bottom, bottom)):
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
         if n_init:
-            ax.axvspan(0.5, n_init + 0.5, color="0.9", zorder=0)
-    ax_bottom.set_xlabel("iteration (parameter set)")
+            ax.axvspan(0.5, n_init + 0.5, color="0.9", zorder=0, label="initial random design")
+    ax_bottom.set_xlabel("parameter set (iteration)")
     ax_bottom.xaxis.set_major_locator(MaxNLocator(integer=True))
     return ax_top, ax_bottom
 
@@ -123,7 +128,7 @@ def plot_fig8(path: Path, summary: CampaignSummary) -> None:
     (failed sets drawn as crosses at the penalty)."""
     fig = Figure(figsize=(8, 6), layout="constrained")
     ax_params, ax_lap = _iteration_axes(fig, summary, "parameter value", "lap time [s]")
-    its = [s.index + 1 for s in summary.sets]
+    its = [s.number for s in summary.sets]
     for i, name in enumerate(summary.config.space.names):
         colour = _PARAM_COLOURS[i] if i < len(_PARAM_COLOURS) else f"C{i}"
         ax_params.plot(its, [s.x[i] for s in summary.sets], ".-", color=colour, label=name, lw=1)
@@ -131,8 +136,10 @@ def plot_fig8(path: Path, summary: CampaignSummary) -> None:
     ok = [s for s in summary.sets if s.verdict.success]
     failed = [s for s in summary.sets if not s.verdict.success]
     ax_lap.plot(its, [s.value for s in summary.sets], "-", color="0.6", lw=0.8)
-    ax_lap.plot([s.index + 1 for s in ok], [s.value for s in ok], "o", color="black", ms=4, label="success")
-    ax_lap.plot([s.index + 1 for s in failed], [s.value for s in failed], "x", color="red", label="failure")
+    ax_lap.plot([s.number for s in ok], [s.value for s in ok], "o", color="black", ms=4,
+                label="success (mean lap)")
+    ax_lap.plot([s.number for s in failed], [s.value for s in failed], "x", color="red",
+                label=f"failure (scored {PENALTY_S:g} s)")
     ax_lap.axhline(PENALTY_S, color="red", ls=":", lw=0.8)
     ax_lap.legend(loc="upper left", bbox_to_anchor=(1.01, 1))
     fig.suptitle("Search values of the control parameters and lap time")
@@ -143,8 +150,10 @@ def plot_fig9(path: Path, summary: CampaignSummary) -> None:
     """Fig. 9: the total parameter change |dx|_1 per iteration and the best objective so far."""
     fig = Figure(figsize=(8, 6), layout="constrained")
     ax_change, ax_best = _iteration_axes(fig, summary, "|Δx|₁", "best lap so far [s]")
-    its = [s.index + 1 for s in summary.sets]
-    ax_change.plot(its[1:], l1_changes(summary.sets), ".-", color="purple", lw=1)
-    ax_best.step(its, best_so_far(summary.sets), where="post", color="black")
+    its = [s.number for s in summary.sets]
+    ax_change.plot(its[1:], l1_changes(summary.sets), ".-", color="purple", lw=1, label="|Δx|₁ from the set before")
+    ax_best.step(its, best_so_far(summary.sets), where="post", color="black", label="best objective so far")
+    for ax in (ax_change, ax_best):
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1))
     fig.suptitle("Total parameter change and best solution so far")
     fig.savefig(path, dpi=100)

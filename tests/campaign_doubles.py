@@ -2,15 +2,18 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable
 
-from hakoniwa.protocol import Event, Rx
+from hakoniwa.protocol import CrashKind, Event, Rx
+from testctl.executor import TestSpec
 from testctl.result import TestResult
 
 
 def result(event: Event, lap_s: float = 0.0) -> TestResult:
     return TestResult(event, round(lap_s * 1e6) if event == Event.GOAL else 0, 0.01)
 
+
+BENCH_FAULT = TestResult(Event.CRASH, 0, 0.01, crash_kind=CrashKind.BENCH, crash_detail=3)
 
 
 class SyntheticBench:
@@ -19,10 +22,11 @@ class SyntheticBench:
     a wall (large Kp) or runs out of time. Counts calls, so tests can check nothing ran twice."""
 
     def __init__(self) -> None:
-        self.calls: list[dict[int, float]] = []
+        self.calls: list[TestSpec] = []
 
-    def __call__(self, params: Mapping[int, float]) -> TestResult:
-        self.calls.append(dict(params))
+    def __call__(self, spec: TestSpec) -> TestResult:
+        self.calls.append(spec)
+        params = spec.params
         assert params[Rx.MOTOR_POWER] == 15.0
         kp, ki, kd = params[Rx.KP], params[Rx.KI], params[Rx.KD]
         lap = 32.0 + 2.0 * ((kp - 1.5) ** 2 + (ki - 4.3) ** 2 + (kd - 4.5) ** 2)
@@ -43,11 +47,11 @@ class KilledAfter:
         self.k = k
         self.n = 0
 
-    def __call__(self, params: Mapping[int, float]) -> TestResult:
+    def __call__(self, spec: TestSpec) -> TestResult:
         if self.n == self.k:
             raise Killed
         self.n += 1
-        return self.bench(params)
+        return self.bench(spec)
 
 
 class ScriptedBench:
@@ -57,7 +61,7 @@ class ScriptedBench:
         self.results = list(results)
         self.n = 0
 
-    def __call__(self, params: Mapping[int, float]) -> TestResult:
+    def __call__(self, spec: TestSpec) -> TestResult:
         r = self.results[self.n]
         self.n += 1
         return r

@@ -30,8 +30,34 @@ def test_round_trip_is_exact(tmp_path: Path) -> None:
     records = write(path, 5)
     header, loaded = read_journal(path)
     assert loaded == records
-    assert header["options"] == {} and header["format"] == 1
+    assert header["options"] == {} and header["format"] == 2
     assert loaded[1].result.lap_time_s == 31.5
+
+
+def test_sets_are_numbered_from_1_in_the_file_and_bench_faults_are_marked(tmp_path: Path) -> None:
+    import json
+
+    from campaign_doubles import BENCH_FAULT
+
+    path = tmp_path / "j.jsonl"
+    fault = TestRecord(0, "init", {"Kp": 1.0}, 1, BENCH_FAULT, "t", noise_seed=77, bench="w0")
+    with Journal.create(path, HEADER) as j:
+        j.append(record(0))
+        j.append(fault)
+    lines = [json.loads(line) for line in path.read_text().splitlines()[1:]]
+    assert [d["set"] for d in lines] == [1, 1]
+    assert "fault" not in lines[0] and lines[1]["fault"] == "bench" and lines[1]["crash"] == "bench"
+    assert read_journal(path)[1][1] == fault
+
+
+def test_a_format_1_journal_is_still_read(tmp_path: Path) -> None:
+    path = tmp_path / "j.jsonl"
+    path.write_text('{"kind": "hakoniwa-campaign-journal", "format": 1, "space": {}, "options": {}}\n'
+                    '{"set": 0, "phase": "init", "params": {"Kp": 1.0}, "rep": 1, "event": "GOAL", '
+                    '"goal_time_us": 33000000, "lap_time_s": 33.0, "wall_s": 0.5, "time": "t"}\n')
+    header, records = read_journal(path)
+    assert header["format"] == 1
+    assert records[0].set_index == 0 and records[0].result.lap_time_s == 33.0
 
 
 def test_create_never_overwrites(tmp_path: Path) -> None:

@@ -9,6 +9,7 @@ from hypothesis import strategies as st
 from campaign_doubles import result
 from hakoniwa.protocol import Event
 from testctl.objective import PENALTY_S, RepetitionRule
+from testctl.result import TestResult
 
 G, T, W, C = Event.GOAL, Event.TIME_OVER, Event.HIT_WALL, Event.CRASH
 
@@ -83,3 +84,31 @@ def test_any_sequence_is_decided_within_repeats_plus_crash_allowance(
     v = judge(rule, events[:n])
     assert v.success == (v.successes >= rule.needed)
     assert v.successes + v.failures <= repeats
+
+
+def test_bench_faults_are_no_test_of_the_parameters() -> None:
+    from hakoniwa.protocol import CrashKind
+
+    fault = TestResult(Event.CRASH, 0, 0.01, crash_kind=CrashKind.BENCH)
+    rule = RepetitionRule(max_crashes=0)
+    v = rule.judge([fault] * 10 + [result(G, 30.0)])
+    assert (v.decided, v.successes, v.failures, v.crashes) == (False, 1, 0, 0)
+
+
+@given(
+    repeats=st.integers(1, 7),
+    max_crashes=st.integers(0, 3),
+    events=st.lists(st.sampled_from([G, T, W, C]), min_size=12, max_size=12),
+)
+def test_launching_what_is_still_needed_gives_the_sequential_verdict(
+    repeats: int, max_crashes: int, events: list[Event]
+) -> None:
+    """Tests launched in groups of `still_needed` (judged in repetition order) end exactly where the
+    one-at-a-time rule ends: no test is wasted, none is missing."""
+    rule = RepetitionRule(repeats, max_crashes)
+    sequential = next(i for i in range(len(events) + 1) if judge(rule, events[:i]).decided)
+    ran = 0
+    while (k := rule.still_needed([result(e, 33.0) for e in events[:ran]])) > 0:
+        assert all(not judge(rule, events[:ran + j]).decided for j in range(k))  # none decides early
+        ran += k
+    assert ran == sequential

@@ -22,8 +22,10 @@ CONFIGS = {
 
 
 def essence(records: list[TestRecord]) -> list[tuple]:
-    """What must match between runs: everything but the clock."""
-    return [(r.set_index, r.phase, r.params, r.rep, r.result.event, r.result.goal_time_us) for r in records]
+    """What must match between runs: everything but the clock, in (set, repetition) order (tests on several
+    benches finish in any order)."""
+    return sorted((r.set_index, r.phase, sorted(r.params.items()), r.rep, r.noise_seed, r.result.event,
+                   r.result.goal_time_us) for r in records)
 
 
 @cache

@@ -36,10 +36,24 @@ def test_default_is_the_papers_experiment() -> None:
 
 def test_example_file_loads_and_round_trips(tmp_path: Path) -> None:
     space = ParameterSpace.load(EXAMPLE)
-    assert space.names == ("Kp", "Ki", "Kd", "threshold")
+    assert space.names == ("Kp", "Ki", "Kd", "motor_power")
     assert ParameterSpace.from_dict(space.to_dict()) == space
-    x = (1.0, 2.0, 3.0, 70.0)
+    x = (1.0, 2.0, 3.0, 20.0)
     assert space.from_named(space.to_named(x)) == x
+
+
+def test_every_parameter_of_the_example_changes_the_lap(tmp_path: Path) -> None:
+    """The example searches what the built-in tracer reads: moving any one parameter moves the lap."""
+    from bench_fixtures import physics
+
+    space = ParameterSpace.load(EXAMPLE)
+    base = (1.539, 4.267, 4.511, 15.0)
+    with physics(tmp_path) as (_, runner):
+        laps = {}
+        for i in range(-1, space.dim):
+            x = tuple(v * (1.3 if j == i else 1.0) for j, v in enumerate(base))
+            laps[i] = runner.run_test(space.to_offsets(x)).goal_time_us
+    assert all(laps[i] != laps[-1] for i in range(space.dim)), laps
 
 
 def test_good_file(tmp_path: Path) -> None:

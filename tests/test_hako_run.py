@@ -51,13 +51,14 @@ def test_resume_refuses_other_settings(tmp_path):
 
 
 def set_tests(records):
-    return [(r.set_index, r.rep, tuple(sorted(r.params.items())), r.result.event, r.result.goal_time_us)
-            for r in records]
+    return sorted((r.set_index, r.rep, tuple(sorted(r.params.items())), r.result.event, r.result.goal_time_us)
+                  for r in records)
 
 
 @pytest.mark.slow
 def test_sigkill_mid_campaign_then_resume_loses_and_repeats_nothing(tmp_path):
-    args = ["--optimizer", "random", "--init-points", "2", "--trials", "4", "--repeats", "3", "--seed", "7"]
+    args = ["--optimizer", "random", "--init-points", "2", "--trials", "4", "--repeats", "3", "--seed", "7",
+            "--noise", "0"]
     killed = tmp_path / "killed"
     proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", *args, "--out", str(killed)],
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -71,18 +72,13 @@ def test_sigkill_mid_campaign_then_resume_loses_and_repeats_nothing(tmp_path):
     _, before = read_journal(journal)
     assert 3 <= len(before) < 12
 
-    deadline = time.monotonic() + 30  # the physics process and the controller die with `hako`
-    while True:
-        r = hako("run", "--resume", str(killed))
-        if "in use by another run" not in r.stderr or time.monotonic() > deadline:
-            break
-        time.sleep(0.5)
+    r = hako("run", "--resume", str(killed))
     assert r.returncode == 0, r.stderr
 
     whole = tmp_path / "whole"
     assert hako("run", *args, "--out", str(whole)).returncode == 0
     _, resumed = read_journal(journal)
     _, uninterrupted = read_journal(whole / JOURNAL_FILE)
-    assert set_tests(resumed[: len(before)]) == set_tests(before)  # nothing finished was lost
+    assert set(set_tests(before)) <= set(set_tests(resumed))  # nothing finished was lost
     assert set_tests(resumed) == set_tests(uninterrupted)  # nothing repeated, nothing skipped
     assert len(resumed) == 12  # deterministic bench: each of 6 sets is decided by 2 equal tests of 3

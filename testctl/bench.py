@@ -1,0 +1,65 @@
+"""A bench as a controller sees it: one physics process serving one run directory, with the Athrill it
+starts for every test. Started on demand, restarted when it dies or spoils a test, closed with end = 1."""
+
+from __future__ import annotations
+
+import subprocess
+from pathlib import Path
+
+from hakoniwa.launch import BenchOptions, die_with_parent
+from testctl.executor import TestSpec
+from testctl.result import TestResult
+from testctl.runner import PhysicsGone, TrialRunner
+
+
+class Bench:
+    def __init__(self, options: BenchOptions, run_dir: Path, *, log=None) -> None:
+        self.options = options
+        self.run_dir = Path(run_dir)
+        self.log = log  # where the physics process's own messages go (default: inherited)
+        self._proc: subprocess.Popen | None = None
+        self._runner: TrialRunner | None = None
+
+    def start(self) -> TrialRunner:
+        if self._runner is None:
+            self.run_dir.mkdir(parents=True, exist_ok=True)
+            self._proc = subprocess.Popen(self.options.physics_command(self.run_dir, []), stdout=self.log,
+                                          stderr=self.log, stdin=subprocess.DEVNULL, preexec_fn=die_with_parent)
+            try:
+                self._runner = TrialRunner.attach(self.run_dir, self._proc)
+            except Exception:
+                self.close()
+                raise
+        return self._runner
+
+    def run(self, spec: TestSpec) -> TestResult:
+        """One test. A bench that died is closed (the next test starts a new one) and the error raised; one
+        that spoiled the test is restarted before the next, so that a broken bench is rebuilt."""
+        runner = self.start()
+        try:
+            result = runner.run_test(spec.params, noise_seed=spec.noise_seed, noise_scale=spec.noise_scale)
+        except PhysicsGone:
+            self.close()
+            raise
+        if result.bench_fault:
+            self.close()
+        return result
+
+    def close(self) -> None:
+        if self._runner is not None:
+            self._runner.end()
+            self._runner.close()
+            self._runner = None
+        if self._proc is not None:
+            try:
+                self._proc.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                self._proc.kill()
+                self._proc.wait()
+            self._proc = None
+
+    def __enter__(self) -> "Bench":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

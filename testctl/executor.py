@@ -1,0 +1,65 @@
+"""Where a campaign's tests run: the interface the campaign talks to, and the simplest executor.
+
+The campaign submits `TestSpec`s (one repetition of one parameter set, with its noise) and takes finished
+ones back in whatever order they finish; a set's verdict never depends on that order. `SerialExecutor` runs
+them one at a time on one bench, in submission order: the controller attached to a single physics process
+(the paper's arrangement), and the campaign's tests. `testctl.cluster` runs them on many benches.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections import deque
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+
+from testctl.result import TestResult
+
+
+@dataclass(frozen=True)
+class TestSpec:
+    """One test to run: repetition `rep` (from 1) of set `set_index` (from 0) with its parameters
+    ({data offset: value}) and the noise draw it gets."""
+
+    __test__ = False  # not a pytest class
+
+    set_index: int
+    rep: int
+    params: Mapping[int, float]
+    noise_seed: int = 0
+    noise_scale: float = 0.0
+
+
+class Executor(ABC):
+    capacity: int = 1  # benches
+
+    @abstractmethod
+    def submit(self, spec: TestSpec) -> None:
+        """Queue a test; it runs when a bench is free."""
+
+    @abstractmethod
+    def next_result(self) -> tuple[TestSpec, TestResult, str]:
+        """Block until a submitted test finishes; return it with its result and the name of its bench."""
+
+    @property
+    @abstractmethod
+    def running(self) -> int:
+        """Tests submitted and not yet returned, at most `capacity` of them on benches."""
+
+
+class SerialExecutor(Executor):
+    def __init__(self, run_test: Callable[[TestSpec], TestResult], name: str = "bench") -> None:
+        self.run_test = run_test
+        self.name = name
+        self._queue: deque[TestSpec] = deque()
+
+    def submit(self, spec: TestSpec) -> None:
+        self._queue.append(spec)
+
+    def next_result(self) -> tuple[TestSpec, TestResult, str]:
+        spec = self._queue.popleft()
+        return spec, self.run_test(spec), self.name
+
+    @property
+    def running(self) -> int:
+        return min(len(self._queue), self.capacity)

@@ -1,0 +1,83 @@
+"""Running a campaign for a person: the progress line, the report files, the best set's trajectory, and a
+clear word when it stops early (how it stopped, and how to continue it)."""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable
+from pathlib import Path
+
+import click
+
+from testctl.campaign import BenchBroken, Campaign, CampaignSummary, SetResult
+from testctl.executor import Executor, TestSpec
+from testctl.journal import JOURNAL_FILE, JournalError
+from testctl.options import CampaignPlan
+from testctl.progress import ProgressLine
+from testctl.result import TestResult
+from testctl.runner import PhysicsGone
+
+BEST_TRAJECTORY_PNG = "best_trajectory.png"
+INTERRUPTED = 130
+
+# Runs one test on a local bench and returns its result and the run directory holding its trajectory.
+TrialOnce = Callable[[TestSpec], tuple[TestResult, Path]]
+
+
+def resume_hint(out_dir: Path) -> str:
+    return f"every finished test is in {out_dir / JOURNAL_FILE}; continue with: hako run --resume {out_dir}"
+
+
+def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial_once: TrialOnce,
+                 course_folder: Path, failures: tuple[type[Exception], ...] = ()) -> None:
+    """Run the campaign `p` on `executor`, write the report, draw the best set, and print the summary. Every
+    way it can stop short is a one-line error with a non-zero exit and the command that continues it."""
+    from testctl.report import format_summary, write_report
+
+    try:
+        with click.progressbar(length=p.config.total_sets, label=f"campaign {p.out_dir}", show_eta=False,
+                               item_show_func=lambda s: s, file=sys.stderr) as bar:
+            summary = Campaign(p.config, p.out_dir, executor, on_progress=ProgressLine(bar), resume=p.resume,
+                               bench_info=bench_info).run()
+        files = write_report(p.out_dir, summary)
+        if summary.best is not None:
+            files.append(draw_best(summary, trial_once, course_folder, p.out_dir / BEST_TRAJECTORY_PNG))
+    except JournalError as e:
+        raise click.ClickException(str(e)) from None
+    except (BenchBroken, PhysicsGone, *failures) as e:
+        raise click.ClickException(f"{e}; {resume_hint(p.out_dir)}") from None
+    except OSError as e:
+        raise click.ClickException(f"cannot write {e.filename or 'the campaign files'}: {e.strerror or e}; "
+                                   f"{resume_hint(p.out_dir)}") from None
+    except KeyboardInterrupt:
+        click.echo(f"\ninterrupted: {resume_hint(p.out_dir)}", err=True)
+        sys.exit(INTERRUPTED)
+    if p.resume and len(summary.sets) > p.config.total_sets:
+        click.echo(f"note: the campaign already has {len(summary.sets)} sets, more than the "
+                   f"{p.config.total_sets} its options ask for; nothing was run, the report was rewritten", err=True)
+    click.echo(format_summary(summary))
+    click.echo("wrote " + ", ".join(str(f) for f in files))
+
+
+def best_spec(summary: CampaignSummary) -> TestSpec:
+    """The best set as one test: with the noise of its first successful repetition, so its lap is one of the
+    laps the campaign measured."""
+    best = summary.best
+    assert best is not None
+    first = next(t for t in best.tests if t.result.success)
+    return TestSpec(best.index, first.rep, summary.config.space.to_offsets(best.x), first.noise_seed,
+                    summary.config.noise)
+
+
+def draw_best(summary: CampaignSummary, trial_once: TrialOnce, course_folder: Path, out: Path) -> Path:
+    from hakoniwa.course import load_course
+    from hakoniwa.plot import draw_trajectory, read_trajectory
+    from hakoniwa.rundir import TRAJECTORY_FILE
+
+    best: SetResult = summary.best  # type: ignore[assignment]
+    result, run_dir = trial_once(best_spec(summary))
+    lap = f"lap {result.lap_time_s:.2f} s" if result.lap_time_s is not None else result.event.name
+    names = " ".join(f"{k}={v:.3f}" for k, v in summary.config.space.to_named(best.x).items())
+    draw_trajectory(load_course(course_folder), read_trajectory(run_dir / TRAJECTORY_FILE), out,
+                    title=f"best: set {best.number}, {names}: {lap} (mean of the set {best.value:.2f} s)")
+    return out

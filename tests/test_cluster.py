@@ -1,0 +1,122 @@
+"""Campaigns on several benches through Dask: a real scheduler and real `dask worker` processes on localhost,
+the same results wherever and in whatever order the tests ran, and a worker killed mid-campaign."""
+
+from __future__ import annotations
+
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from testctl.journal import JOURNAL_FILE, read_journal
+
+DASK = [sys.executable, "-m", "dask"]
+CAMPAIGN = ["--batch", "2", "--trials", "3", "--seed", "1"]
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def hako_run(*args: str, timeout: float = 600) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "hakoniwa.cli", "run", *args], capture_output=True, text=True,
+                          timeout=timeout)
+
+
+def wait_for_workers(address: str, n: int) -> None:
+    from distributed import Client
+
+    with Client(address, timeout=30) as client:
+        client.wait_for_workers(n, timeout=60)
+
+
+class LocalDask:
+    """A scheduler and workers as separate processes, as on a cluster (here all on localhost)."""
+
+    def __init__(self, tmp: Path, workers: int) -> None:
+        self.address = f"tcp://127.0.0.1:{free_port()}"
+        port = self.address.rsplit(":", 1)[1]
+        self.log = open(tmp / "dask.log", "w")
+        self.scheduler = subprocess.Popen([*DASK, "scheduler", "--host", "127.0.0.1", "--port", port,
+                                           "--no-dashboard"], stdout=self.log, stderr=self.log)
+        self.workers = [subprocess.Popen([*DASK, "worker", self.address, "--nthreads", "1", "--no-dashboard",
+                                          "--local-directory", str(tmp / f"w{i}")], stdout=self.log,
+                                         stderr=self.log, start_new_session=True) for i in range(workers)]
+        wait_for_workers(self.address, workers)
+
+    def close(self) -> None:
+        for p in [*self.workers, self.scheduler]:
+            if p.poll() is None:
+                p.terminate()
+        for p in [*self.workers, self.scheduler]:
+            try:
+                p.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                p.kill()
+        self.log.close()
+
+
+def essence(out: Path) -> list[tuple]:
+    _, records = read_journal(out / JOURNAL_FILE)
+    return sorted((r.set_index, r.rep, r.noise_seed, sorted(r.params.items()), r.result.event,
+                   r.result.goal_time_us) for r in records if not r.result.bench_fault)
+
+
+@pytest.fixture(scope="module")
+def local_reference(tmp_path_factory) -> Path:
+    """`hako run --benches 2` on a LocalCluster."""
+    out = tmp_path_factory.mktemp("local") / "campaign"
+    done = hako_run("--benches", "2", *CAMPAIGN, "--out", str(out))
+    assert done.returncode == 0, done.stderr
+    return out
+
+
+@pytest.mark.slow
+def test_a_cluster_of_separate_workers_gives_the_same_results(tmp_path, local_reference):
+    cluster = LocalDask(tmp_path, 2)
+    try:
+        out = tmp_path / "campaign"
+        done = hako_run("--scheduler", cluster.address, *CAMPAIGN, "--out", str(out))
+    finally:
+        cluster.close()
+    assert done.returncode == 0, done.stderr
+    assert (out / "results.csv").read_text() == (local_reference / "results.csv").read_text()
+    assert essence(out) == essence(local_reference)
+    benches = {r.bench for r in read_journal(out / JOURNAL_FILE)[1]}
+    assert len(benches) == 2  # both workers ran tests
+
+
+@pytest.mark.slow
+def test_a_worker_killed_mid_campaign_loses_nothing(tmp_path, local_reference):
+    cluster = LocalDask(tmp_path, 2)
+    out = tmp_path / "campaign"
+    try:
+        proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--scheduler", cluster.address,
+                                 *CAMPAIGN, "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                text=True)
+        deadline = time.monotonic() + 120
+        while not (out / JOURNAL_FILE).is_file() or len(read_journal(out / JOURNAL_FILE)[1]) < 4:
+            assert time.monotonic() < deadline and proc.poll() is None
+            time.sleep(0.2)
+        os.killpg(cluster.workers[0].pid, signal.SIGKILL)  # the worker and the bench it hosts
+        _, err = proc.communicate(timeout=600)
+    finally:
+        cluster.close()
+    assert proc.returncode == 0, err
+    assert essence(out) == essence(local_reference)  # complete, nothing counted twice
+    assert (out / "results.csv").read_text() == (local_reference / "results.csv").read_text()
+
+
+def test_an_unreachable_scheduler_is_a_one_line_error(tmp_path):
+    address = f"tcp://127.0.0.1:{free_port()}"
+    done = hako_run("--scheduler", address, "--smoke", "--out", str(tmp_path / "c"), timeout=120)
+    assert done.returncode != 0
+    assert address in done.stderr and "Traceback" not in done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1

@@ -1,0 +1,136 @@
+"""Faults of the bench itself: damaged files are repaired and never scored, a process that dies is named, and
+Ctrl-C ends a campaign cleanly with the command that continues it."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from bench_fixtures import PAPER, physics
+from hakoniwa.protocol import ATHRILL_FILE, EXIT_BENCH_FAULT, UNITY_FILE, CrashKind, Event
+from hakoniwa.rundir import PHYSICS_LOG
+from hakoniwa.sync import exit_crash
+from testctl.journal import JOURNAL_FILE, read_journal
+
+IDLE_APP = '''
+def main_task(api):
+    while True:  # drives nowhere: a test that lasts until its time limit
+        api.tslp_tsk(100_000)
+'''
+
+
+class Exited:
+    def __init__(self, code: int) -> None:
+        self.returncode = code
+
+
+@pytest.mark.parametrize("code, started, kind", [
+    (EXIT_BENCH_FAULT, True, CrashKind.BENCH),  # the mock could not use the mapped files
+    (1, False, CrashKind.BENCH),  # exited before it opened them: the bench's fault
+    (-signal.SIGSEGV, True, CrashKind.PROGRAM),  # died running the program
+    (-signal.SIGSEGV, False, CrashKind.PROGRAM),  # in the program's own start-up code
+    (1, True, CrashKind.PROGRAM),
+])
+def test_whose_fault_an_exited_athrill_is(code, started, kind):
+    crash = exit_crash(Exited(code), started=started)
+    assert crash.kind == kind and crash.detail == code
+
+
+@pytest.mark.parametrize("victim", [UNITY_FILE, ATHRILL_FILE])
+def test_an_overwritten_magic_is_repaired_not_scored(tmp_path, victim):
+    with physics(tmp_path) as (_, runner):
+        first = runner.run_test(PAPER)
+        for _ in range(2):  # the spare Athrill launched meanwhile may have found the file damaged
+            with open(tmp_path / victim, "r+b") as f:
+                f.write(b"JUNK")
+            again = runner.run_test(PAPER)
+            assert (again.event, again.goal_time_us) == (first.event, first.goal_time_us)
+    assert f"repaired {victim}: " in (tmp_path / PHYSICS_LOG).read_text()
+
+
+def start_trial(tmp_path: Path, *extra: str) -> subprocess.Popen:
+    apps = tmp_path / "apps"
+    apps.mkdir(exist_ok=True)
+    (apps / "idle_app.py").write_text(IDLE_APP)
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(apps), os.environ.get("PYTHONPATH", "")]))
+    return subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "trial", "--app", "idle_app:main_task",
+                             "--time-limit", "3000", "--run-dir", str(tmp_path / "run"), *extra],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
+                            start_new_session=True)
+
+
+def pid_of(module: str, run_dir: Path, timeout_s: float = 60) -> int:
+    """The pid of the process running `python -m module` for this run directory."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        for entry in Path("/proc").iterdir():
+            try:
+                cmd = (entry / "cmdline").read_bytes().split(b"\0")
+            except OSError:
+                continue
+            if cmd[1:3] == [b"-m", module.encode()] and any(str(run_dir).encode() in c for c in cmd):
+                return int(entry.name)
+        time.sleep(0.05)
+    raise AssertionError(f"no {module} process for {run_dir}")
+
+
+def wait_for_test(run_dir: Path) -> None:
+    deadline = time.monotonic() + 60
+    while not (run_dir / "athrill.log").exists():
+        assert time.monotonic() < deadline
+        time.sleep(0.05)
+    time.sleep(0.5)
+
+
+def test_a_killed_physics_process_is_named(tmp_path):
+    proc = start_trial(tmp_path)
+    wait_for_test(tmp_path / "run")
+    os.kill(pid_of("hakoniwa.physics_main", tmp_path / "run"), signal.SIGKILL)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 128 + signal.SIGKILL
+    assert "the physics process was killed by SIGKILL" in err and "Traceback" not in err
+
+
+def test_a_killed_controller_is_named(tmp_path):
+    proc = start_trial(tmp_path)
+    wait_for_test(tmp_path / "run")
+    controller = pid_of("testctl.cli", tmp_path / "run")
+    os.kill(controller, signal.SIGKILL)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 128 + signal.SIGKILL
+    assert f"the test controller (pid {controller}) was killed by SIGKILL" in err and "Traceback" not in err
+
+
+def test_a_truncated_mapped_file_is_a_clear_error(tmp_path):
+    proc = start_trial(tmp_path)
+    wait_for_test(tmp_path / "run")
+    os.truncate(tmp_path / "run" / UNITY_FILE, 0)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode != 0
+    assert "SIGBUS" in err and f"{UNITY_FILE}: size 0 bytes, expected 8192" in err
+    assert "Traceback" not in err
+
+
+@pytest.mark.slow
+def test_ctrl_c_ends_a_campaign_with_130_and_the_resume_command(tmp_path):
+    out = tmp_path / "c"
+    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--trials", "20", "--repeats", "1",
+                             "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)
+    deadline = time.monotonic() + 300
+    while not ((out / JOURNAL_FILE).exists() and len(read_journal(out / JOURNAL_FILE)[1]) >= 2):
+        assert proc.poll() is None and time.monotonic() < deadline
+        time.sleep(0.1)
+    os.killpg(proc.pid, signal.SIGINT)  # what the terminal does on Ctrl-C
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert f"hako run --resume {out}" in err
+    assert "Aborted" not in err and "Traceback" not in err
+    records = read_journal(out / JOURNAL_FILE)[1]
+    assert all(r.result.event != Event.CRASH for r in records)  # the interrupt spoiled no result

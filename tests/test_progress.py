@@ -1,0 +1,42 @@
+"""The progress line's rate and time left come from recent tests, so a campaign that slows down is not
+promised an end it cannot keep."""
+
+from __future__ import annotations
+
+from campaign_doubles import result
+from hakoniwa.protocol import Event
+from testctl.campaign import Progress
+from testctl.journal import TestRecord
+from testctl.progress import RECENT_TESTS, ProgressLine, format_duration
+
+
+class FakeBar:
+    def __init__(self) -> None:
+        self.items: list[str] = []
+        self.done = 0
+
+    def update(self, n: int, current_item: str) -> None:
+        self.done += n
+        self.items.append(current_item)
+
+
+def test_rate_and_time_left_follow_recent_tests():
+    now = [0.0]
+    bar = FakeBar()
+    line = ProgressLine(bar, clock=lambda: now[0])
+    record = TestRecord(0, "init", {}, 1, result(Event.GOAL, 33.0), "t")
+    line(Progress(0, 100, 0, None, None, 0, 2))
+    tests = 0
+    for step in [0.1] * 100 + [1.0] * RECENT_TESTS:  # fast at first, then ten times slower
+        now[0] += step
+        tests += 1
+        line(Progress(tests // 3, 100, tests, None, record, 2, 2))
+    assert line.rate() == 1.0
+    sets_left = 100 - tests // 3
+    assert f"~{format_duration(sets_left * 3 / 1.0)} left" in bar.items[-1]  # 3 tests a set, 1 test/s
+    assert bar.items[-1].startswith("benches 2/2 busy, 1.00 tests/s")
+    assert bar.done == tests // 3
+
+
+def test_durations_read_naturally():
+    assert [format_duration(s) for s in (42, 600, 7200)] == ["42 s", "10 min", "2.0 h"]
