@@ -11,19 +11,12 @@ happens to run. See `hakoniwa/sync.py` for the physics side.
 from __future__ import annotations
 
 import os
-import time
 from typing import NoReturn
 
-from hakoniwa.protocol import NEVER_WAKES, MappedFile, Rx, Tx
+from hakoniwa.protocol import HEADER_SIZE, NEVER_WAKES, Header, MappedFile, Rx, Tx
 from hakoniwa.timebase import PHYSICS_STEP_US
-from hakoniwa.waiting import pid_alive, wait_for
+from hakoniwa.waiting import futex_wake, pid_alive, wait_for, wait_word
 
-# Athrill waits a whole control period (a millisecond or two of wall time) for each snapshot. Spinning through
-# it would take a core from the physics process on a busy machine, and napping alone costs ~0.15 ms of latency
-# per wake-up, ten times a simulated second; so it naps through the first part of the wait, as long as the
-# last wait took, and spins only around the moment the snapshot is due.
-SNAPSHOT_SPIN_FROM = 0.8  # of the previous wait's duration
-SNAPSHOT_SPIN_S = 0.001
 TEST_WAIT_NAP_S = 0.005  # a spare Athrill waits a whole test, mostly for nothing
 
 
@@ -47,7 +40,8 @@ class Kernel:
         self.athrill = athrill
         self.now_us = unity.unity_time_us
         self._check_physics = _watch(unity)
-        self._last_wait_s = 0.0
+        self._snapshot_address = unity.address(Header.UNITY_TIME)  # the physics side rings here
+        self._answer_address = athrill.address(HEADER_SIZE + Tx.ANSWER_SEQ)
         athrill.write_u32(Tx.ATHRILL_PID, os.getpid())
 
     def sleep(self, duration_us: int) -> None:
@@ -58,10 +52,8 @@ class Kernel:
         wake = self.now_us + steps * PHYSICS_STEP_US
         self._publish(wake)
         unity = self.unity
-        start = time.perf_counter()
-        wait_for(lambda: unity.unity_time_us >= wake, self._check_physics, spin_s=SNAPSHOT_SPIN_S,
-                 spin_from_s=SNAPSHOT_SPIN_FROM * self._last_wait_s)
-        self._last_wait_s = time.perf_counter() - start
+        wait_word(self._snapshot_address, lambda: unity.unity_time_us & 0xFFFFFFFF,
+                  lambda: unity.unity_time_us >= wake, self._check_physics)
         self.now_us = wake
 
     def finish(self) -> None:
@@ -81,6 +73,7 @@ class Kernel:
         a.athrill_time_us = self.now_us
         a.unity_time_us = self.unity.unity_time_us  # the echo the real Athrill writes too
         a.write_u32(Tx.ANSWER_SEQ, (a.read_u32(Tx.ANSWER_SEQ) + 1) & 0xFFFFFFFF)  # last
+        futex_wake(self._answer_address)
 
 
 def wait_for_test(unity: MappedFile, test_seq: int) -> None:

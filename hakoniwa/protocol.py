@@ -16,6 +16,7 @@ time is part of every trial.
 
 from __future__ import annotations
 
+import ctypes
 import enum
 import mmap
 import os
@@ -215,9 +216,18 @@ class MappedFile:
             self._mm = mmap.mmap(fd, FILE_SIZE)
         finally:
             os.close(fd)
+        self._view: ctypes.c_char | None = None  # pins the mapping's address while we hand it out
 
     def close(self) -> None:
+        self._view = None
         self._mm.close()
+
+    def address(self, file_offset: int) -> int:
+        """The memory address of a byte of the mapping: a futex on a word of it is a doorbell between
+        processes (`hakoniwa.waiting`)."""
+        if self._view is None:
+            self._view = ctypes.c_char.from_buffer(self._mm)
+        return ctypes.addressof(self._view) + file_offset
 
     def __enter__(self) -> "MappedFile":
         return self

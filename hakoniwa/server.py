@@ -30,11 +30,12 @@ from hakoniwa.launcher import AthrillLauncher, kill
 from hakoniwa.noise import NoiseDraw
 from hakoniwa.programs import Program
 from hakoniwa.rundir import PHYSICS_LOG, TRAJECTORY_FILE
-from hakoniwa.protocol import (MOTOR_PORTS, RESET_ANGLE_PORTS, TOUCH_PRESSED, CrashKind, Event, MappedFile, Rx,
-                               SyncMode, Tx, goal_time_words, open_athrill, open_unity)
+from hakoniwa.protocol import (MOTOR_PORTS, RESET_ANGLE_PORTS, TOUCH_PRESSED, CrashKind, Event, Header, MappedFile,
+                               Rx, SyncMode, Tx, goal_time_words, open_athrill, open_unity)
 from hakoniwa.sync import HAKONIWA_START_US, AthrillCrash, run_hakoniwa, run_lockstep
 from hakoniwa.task import LapTask
 from hakoniwa.timebase import EVENT_CHECK_PERIOD_US, PHYSICS_STEP_US, TRACE_PERIOD_US, Scheduler
+from hakoniwa.waiting import futex_wake
 from hakoniwa.world import World
 
 IDLE_POLL_S = 0.0005
@@ -75,6 +76,7 @@ class PhysicsServer:
         self.unity: MappedFile = open_unity(self.run_dir, create=True)
         self.athrill: MappedFile = open_athrill(self.run_dir, create=True)
         self.unity.write_u32(Rx.PHYSICS_PID, os.getpid())
+        self._unity_time_address = self.unity.address(Header.UNITY_TIME)
         self.launcher = AthrillLauncher(self.run_dir, program)
         self.scheduler = Scheduler(PHYSICS_STEP_US)
         self.scheduler.add("event-check", EVENT_CHECK_PERIOD_US, self._check_events)
@@ -130,6 +132,7 @@ class PhysicsServer:
         for port, angle in ((wiring.left, s.wheel_angles_deg[0]), (wiring.right, s.wheel_angles_deg[1])):
             u.write_i32(Rx.MOTOR_ANGLE + 4 * port, round(angle - self._angle_zero[port]))
         u.unity_time_us = max(self.now_us, HAKONIWA_START_US if self.program.sync == SyncMode.HAKONIWA else 0)
+        futex_wake(self._unity_time_address)  # a lockstep Athrill sleeps on it
 
     def apply_actuators(self) -> None:
         """Motor powers of the wheel ports, and the reset requests, which are cleared once applied."""

@@ -3,7 +3,8 @@
 `lockstep` (our mock and native programs): Athrill's clock is its task's wake-up time and computation
 takes no simulated time. At each `tslp_tsk` Athrill publishes its outputs and the time it will wake
 (`Tx.NEXT_WAKE`), then waits; physics steps to exactly that instant, publishes the sensor snapshot with
-the unity time set to it, and waits for the next answer. At every handshake the time difference is 0, so
+the unity time set to it, and waits for the next answer. Each side sleeps on the word the other changes
+(`hakoniwa.waiting.wait_word`) and is woken by it. At every handshake the time difference is 0, so
 the same parameters give the same event and goal time to the microsecond under any machine load.
 
 `hakoniwa` (the real TOPPERS Athrill): the real protocol. Athrill never blocks: it reads the unity time
@@ -23,9 +24,9 @@ import time
 from typing import TYPE_CHECKING, Callable
 
 from hakoniwa.launch import describe_exit
-from hakoniwa.protocol import EXIT_BENCH_FAULT, CrashKind, Tx
+from hakoniwa.protocol import EXIT_BENCH_FAULT, HEADER_SIZE, CrashKind, Tx
 from hakoniwa.timebase import ALLOWED_TIME_DIFF_US, PHYSICS_STEP_US
-from hakoniwa.waiting import wait_for
+from hakoniwa.waiting import wait_for, wait_word
 
 if TYPE_CHECKING:
     from hakoniwa.server import PhysicsServer
@@ -73,12 +74,13 @@ def watchdog(proc: subprocess.Popen, timeout_s: float, progress: Callable[[], in
 
 def run_lockstep(server: PhysicsServer, proc: subprocess.Popen) -> None:
     a = server.athrill
+    answer_address = a.address(HEADER_SIZE + Tx.ANSWER_SEQ)  # Athrill rings here when it has answered
 
     def await_answer(last: int) -> int:
         """Wait for Athrill's answer to the snapshot at `server.now_us`; apply it and return its wake time."""
-        check = watchdog(proc, server.athrill_timeout_s, lambda: a.read_u32(Tx.ANSWER_SEQ),
-                         lambda: a.read_u32(Tx.ATHRILL_PID) == proc.pid)
-        wait_for(lambda: a.read_u32(Tx.ANSWER_SEQ) != last, check)
+        answer = lambda: a.read_u32(Tx.ANSWER_SEQ)  # noqa: E731
+        check = watchdog(proc, server.athrill_timeout_s, answer, lambda: a.read_u32(Tx.ATHRILL_PID) == proc.pid)
+        wait_word(answer_address, answer, lambda: answer() != last, check)
         now = server.now_us
         next_wake = a.read("q", Tx.NEXT_WAKE)
         diff = a.athrill_time_us - now

@@ -135,7 +135,7 @@ def describe(results: list) -> str:
 @click.option("--sim-seconds", default=60.0, show_default=True, help="Simulated seconds for (a).")
 @click.option("--tests", default=5, show_default=True, help="Trials per program in (b), after a warm-up trial.")
 @click.option("--starts", default=10, show_default=True, help="Process starts measured per program in (c).")
-@click.option("--real-tests", default=1, show_default=True, help="Trials of the real emulator in (d).")
+@click.option("--real-tests", type=click.IntRange(min=0), default=1, show_default=True, help="Trials of the real emulator in (d).")
 @click.option("--athrill2", default=str(REPO / "build" / "athrill" / "athrill2"), show_default=True,
               help="The real TOPPERS emulator (scripts/build_athrill2.sh builds it).")
 def main(sim_seconds: float, tests: int, starts: int, real_tests: int, athrill2: str) -> None:
@@ -174,7 +174,7 @@ def main(sim_seconds: float, tests: int, starts: int, real_tests: int, athrill2:
     real = list(kinds)[2]
     if isinstance(programs[real], str):
         rows.append((f"(d) trial, {real}", programs[real]))
-    else:
+    elif real_tests > 0:
         rate, results = trial_rate(kinds[real], real_tests, warm_up=False)
         rows.append((f"(d) trial, {real}, hakoniwa sync, {real_tests} tests",
                      f"{rate:8.1f} sim-s per wall-s ({describe(results)}, "

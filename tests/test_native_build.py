@@ -59,8 +59,8 @@ def test_the_generated_layout_header_says_what_protocol_py_says(tmp_path):
 def test_the_generated_timing_header_is_the_mock_kernels_timing():
     text = generated_headers()["hako_timing.h"]
     assert f"#define HAKO_PHYSICS_STEP_US {PHYSICS_STEP_US}\n" in text
-    assert f"#define HAKO_SNAPSHOT_SPIN_FROM {mock_kernel.SNAPSHOT_SPIN_FROM!r}\n" in text
-    assert f"#define HAKO_NAP_S {waiting.NAP_S!r}\n" in text
+    assert f"#define HAKO_TEST_WAIT_NAP_S {mock_kernel.TEST_WAIT_NAP_S!r}\n" in text
+    assert f"#define HAKO_CHECK_EVERY_S {waiting.CHECK_EVERY_S!r}\n" in text
 
 
 def same(cfg: Path) -> str:

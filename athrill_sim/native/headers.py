@@ -1,6 +1,6 @@
 """The C headers generated from the Python side, so that the native runtime cannot disagree with it: the wire
 layout (`hakoniwa.protocol.c_header`, the only place that knows a byte offset) and the lockstep's timing (the
-physics step, and the mock kernel's way of waiting for a snapshot)."""
+physics step, and how long the mock kernel sleeps between its checks that the physics process lives)."""
 
 from __future__ import annotations
 
@@ -16,10 +16,7 @@ TIMING_HEADER = "hako_timing.h"
 def timing_header() -> str:
     values = {
         "PHYSICS_STEP_US": PHYSICS_STEP_US,
-        "SNAPSHOT_SPIN_FROM": mock_kernel.SNAPSHOT_SPIN_FROM,
-        "SNAPSHOT_SPIN_S": mock_kernel.SNAPSHOT_SPIN_S,
         "TEST_WAIT_NAP_S": mock_kernel.TEST_WAIT_NAP_S,
-        "NAP_S": waiting.NAP_S,
         "CHECK_EVERY_S": waiting.CHECK_EVERY_S,
     }
     lines = ["/* Generated from hakoniwa.timebase, hakoniwa.waiting and athrill_sim.kernel; do not edit. */",

@@ -3,14 +3,17 @@
  * the other side):
  * - a pre-launched process waits, napping, until RX TEST_SEQ names its test;
  * - to sleep until `wake`, publish NEXT_WAKE, the TX header times (Athrill's clock and the echo of the unity
- *   time), then bump ANSWER_SEQ last; then wait until the RX header's unity time reaches `wake`.
- * Waiting naps through most of a control period and spins only around the moment the snapshot is due, with
- * the mock's own constants (hako_timing.h is generated from it). The process leaves (status 0) when the
- * physics process is gone.
+ *   time), then bump ANSWER_SEQ last and wake the physics process sleeping on it; then sleep on the low word of
+ *   the RX header's unity time until it reaches `wake` (the physics process wakes us when it writes it).
+ * The sleeps are futexes on the shared file mapping, as in hakoniwa/waiting.py, with a timeout to check every
+ * HAKO_CHECK_EVERY_S that the physics process lives; the process leaves (status 0) when it is gone.
  */
 #include <signal.h>
 #include <errno.h>
+#include <limits.h>
+#include <linux/futex.h>
 #include <string.h>
+#include <sys/syscall.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -31,11 +34,16 @@ static void nap(double seconds)
     nanosleep(&ts, NULL);
 }
 
-static void relax(void)
+static void futex_wake(uint32_t *word)
 {
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#endif
+    syscall(SYS_futex, word, FUTEX_WAKE, INT_MAX, NULL, NULL, 0);
+}
+
+/* Sleep while *word still holds `expected`, at most `seconds` (the kernel compares before it sleeps). */
+static void futex_wait(uint32_t *word, uint32_t expected, double seconds)
+{
+    struct timespec ts = {(time_t)seconds, (long)((seconds - (double)(time_t)seconds) * 1e9)};
+    syscall(SYS_futex, word, FUTEX_WAIT, expected, &ts, NULL, 0);
 }
 
 static void check_physics(void)
@@ -74,27 +82,22 @@ void hako_publish(int64_t now_us, int64_t wake_us)
     memcpy(tx + HAKO_HDR_UNITY_TIME, &unity_time, sizeof unity_time);
     uint32_t *answer = (uint32_t *)(tx + HAKO_HEADER_SIZE + HAKO_TX_ANSWER_SEQ);
     __atomic_store_n(answer, *answer + 1, __ATOMIC_RELEASE); /* last: the physics process acts on it */
+    futex_wake(answer);
 }
 
 void hako_wait_snapshot(int64_t wake_us)
 {
-    static double last_wait_s;
-    double start = wall_s();
-    double spin_from = HAKO_SNAPSHOT_SPIN_FROM * last_wait_s;
-    double next_check = start + HAKO_CHECK_EVERY_S;
-    unsigned polls = 0;
+    uint32_t *low_word = (uint32_t *)(hako_rx_file() + HAKO_HDR_UNITY_TIME); /* little-endian: the low half */
+    double next_check = wall_s() + HAKO_CHECK_EVERY_S;
     while ((int64_t)hako_rx_unity_time() < wake_us) {
-        if (++polls & 255) {
-            relax();
-            continue;
-        }
-        double now = wall_s(), waited = now - start;
-        if (!(spin_from <= waited && waited <= spin_from + HAKO_SNAPSHOT_SPIN_S))
-            nap(HAKO_NAP_S);
+        uint32_t expected = __atomic_load_n(low_word, __ATOMIC_ACQUIRE);
+        if ((int64_t)hako_rx_unity_time() >= wake_us)
+            break;
+        futex_wait(low_word, expected, HAKO_CHECK_EVERY_S);
+        double now = wall_s();
         if (now > next_check) {
             next_check = now + HAKO_CHECK_EVERY_S;
             check_physics();
         }
     }
-    last_wait_s = wall_s() - start;
 }

@@ -85,6 +85,8 @@ uint8_t *hako_tx_body(void) { return tx_file + HAKO_HEADER_SIZE; }
 
 uint8_t *hako_tx_file(void) { return tx_file; }
 
+uint8_t *hako_rx_file(void) { return rx_file; }
+
 uint64_t hako_rx_unity_time(void)
 {
     /* Acquire: the physics process writes the snapshot first and its time last. */

@@ -19,6 +19,7 @@ void hako_files_open(const char *run_dir);
 uint8_t *hako_rx_body(void);
 uint8_t *hako_tx_body(void);
 uint8_t *hako_tx_file(void); /* with its header, which lockstep.c writes */
+uint8_t *hako_rx_file(void); /* with its header, whose unity time lockstep.c sleeps on */
 uint64_t hako_rx_unity_time(void);
 uint32_t hako_rx_u32(unsigned offset);
 void hako_bench_fault(const char *format, ...) __attribute__((noreturn, format(printf, 1, 2)));
