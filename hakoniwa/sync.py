@@ -76,9 +76,11 @@ def run_lockstep(server: PhysicsServer, proc: subprocess.Popen) -> None:
     a = server.athrill
     answer_address = a.address(HEADER_SIZE + Tx.ANSWER_SEQ)  # Athrill rings here when it has answered
 
+    def answer() -> int:
+        return a.read_u32(Tx.ANSWER_SEQ)
+
     def await_answer(last: int) -> int:
         """Wait for Athrill's answer to the snapshot at `server.now_us`; apply it and return its wake time."""
-        answer = lambda: a.read_u32(Tx.ANSWER_SEQ)  # noqa: E731
         check = watchdog(proc, server.athrill_timeout_s, answer, lambda: a.read_u32(Tx.ATHRILL_PID) == proc.pid)
         wait_word(answer_address, answer, lambda: answer() != last, check)
         now = server.now_us
@@ -99,7 +101,7 @@ def run_lockstep(server: PhysicsServer, proc: subprocess.Popen) -> None:
         if server.advance_to(target):
             return
         if target == next_wake:
-            last = a.read_u32(Tx.ANSWER_SEQ)
+            last = answer()
             server.publish_sensors()
             next_wake = await_answer(last)
 

@@ -93,23 +93,25 @@ def scaling(benches: list[int], trials: int) -> None:
 @click.option("--benches", default=None, help="Bench counts to compare, e.g. 1,2,4,8 (the first is the baseline).")
 @click.option("--trials", default=20, show_default=True, help="Optimization sets of each --benches campaign.")
 @click.option("--full", is_flag=True, help="Time the paper's `hako run --trials 100`.")
+@click.option("--full-benches", type=int, default=None, help="--benches for --full [hako's default].")
 @click.option("--compare", is_flag=True, help="BO vs random search (long: about 4000 tests).")
 @click.option("--work", type=click.Path(file_okay=False, path_type=Path), default=Path("runs/bench-campaign"),
               show_default=True, help="Where --full and --compare campaigns are written (and reused from).")
 @click.option("--seeds", default="0,1,2", show_default=True, help="Seeds for --compare.")
 @click.option("--reference-sets", default=1000, show_default=True, help="Sets in --compare's big random search.")
-def main(benches: str | None, trials: int, full: bool, compare: bool, work: Path, seeds: str,
-         reference_sets: int) -> None:
+def main(benches: str | None, trials: int, full: bool, full_benches: int | None, compare: bool, work: Path,
+         seeds: str, reference_sets: int) -> None:
     """Print campaign throughput and quality figures."""
     if benches:
         scaling([int(b) for b in benches.split(",")], trials)
     work.mkdir(parents=True, exist_ok=True)
     if full:
-        out = work / "paper-trials100"
-        wall = campaign(out, "--trials", "100", "--seed", "0")
+        more = [] if full_benches is None else ["--benches", str(full_benches)]
+        out = work / ("paper-trials100" + (f"-benches{full_benches}" if more else ""))
+        wall = campaign(out, "--trials", "100", "--seed", "0", *more)
         best = json.loads((out / "best.json").read_text())
         timed = "reused from an earlier run" if wall is None else f"{wall / 60:.1f} min wall"
-        print(f"full `hako run --trials 100` (EI, 5 + 100 sets, first to 3 of 5, noise on): {timed}; "
+        print(f"full `hako run --trials 100 {' '.join(more)}` (EI, 5 + 100 sets, first to 3 of 5, noise on): {timed}; "
               f"{best['n_tests']} tests; best lap {best['lap_time_s']:.2f} s at "
               + ", ".join(f"{k}={v:.3f}" for k, v in best["params"].items()))
     if compare:

@@ -279,8 +279,8 @@ class Campaign:
             if result.bench_fault:
                 self._faults_in_a_row += 1
                 if self._faults_in_a_row >= MAX_BENCH_FAULTS_IN_A_ROW:
-                    raise BenchBroken(f"the bench failed {self._faults_in_a_row} tests in a row "
-                                      f"({result.crash_reason()}); see the bench's athrill.log and physics.log")
+                    raise BenchBroken(f"the bench failed {self._faults_in_a_row} tests in a row, the last on "
+                                      f"{bench}: {result.crash_reason()}")
                 ex.submit(spec)  # the same repetition, the same noise: as if it had not happened
                 self._report(len(journal.records), record)
                 continue
