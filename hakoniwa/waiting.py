@@ -89,10 +89,16 @@ def wait_for(ready: Callable[[], bool], on_idle: Callable[[], None], *, spin_s: 
 
 
 def pid_alive(pid: int) -> bool:
+    """Whether process `pid` still runs. A process that died but that its parent has not yet reaped (a
+    zombie) still answers signals, so on Linux its state is read too."""
     try:
         os.kill(pid, 0)
     except ProcessLookupError:
         return False
     except PermissionError:  # exists, owned by someone else
         return True
-    return True
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as f:
+            return f.read().rsplit(b")", 1)[1].split()[0] not in (b"Z", b"X")
+    except (OSError, IndexError):
+        return True

@@ -120,3 +120,46 @@ def test_an_unreachable_scheduler_is_a_one_line_error(tmp_path):
     assert done.returncode != 0
     assert address in done.stderr and "Traceback" not in done.stderr
     assert len(done.stderr.strip().splitlines()) == 1
+
+
+def descendants(pid: int) -> list[int]:
+    """Every process below `pid` (from /proc)."""
+    children: dict[int, list[int]] = {}
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                ppid = int((entry / "stat").read_text().rsplit(")", 1)[1].split()[1])
+            except (OSError, IndexError, ValueError):
+                continue
+            children.setdefault(ppid, []).append(int(entry.name))
+    out, todo = [], [pid]
+    while todo:
+        for c in children.get(todo.pop(), []):
+            out.append(c)
+            todo.append(c)
+    return out
+
+
+def is_physics(pid: int) -> bool:
+    try:
+        return b"hakoniwa.physics_main" in Path(f"/proc/{pid}/cmdline").read_bytes()
+    except OSError:
+        return False
+
+
+@pytest.mark.slow
+def test_a_bench_killed_mid_campaign_is_rebuilt_and_its_test_rerun(tmp_path, local_reference):
+    out = tmp_path / "campaign"
+    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--benches", "2", *CAMPAIGN, "--out",
+                             str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while not (out / JOURNAL_FILE).is_file() or len(read_journal(out / JOURNAL_FILE)[1]) < 3:
+        assert time.monotonic() < deadline and proc.poll() is None
+        time.sleep(0.2)
+    victims = [p for p in descendants(proc.pid) if is_physics(p)]
+    assert victims
+    os.kill(victims[0], signal.SIGKILL)
+    _, err = proc.communicate(timeout=600)
+    assert proc.returncode == 0, err
+    assert essence(out) == essence(local_reference)
+    assert not [p for p in descendants(proc.pid) if is_physics(p)]
