@@ -82,3 +82,17 @@ def test_sigkill_mid_campaign_then_resume_loses_and_repeats_nothing(tmp_path):
     assert set(set_tests(before)) <= set(set_tests(resumed))  # nothing finished was lost
     assert set_tests(resumed) == set_tests(uninterrupted)  # nothing repeated, nothing skipped
     assert len(resumed) == 12  # deterministic bench: each of 6 sets is decided by 2 equal tests of 3
+
+
+@pytest.mark.slow
+def test_the_papers_arrangement_gives_the_same_campaign(tmp_path):
+    """The physics process starting the controller on its one bench (paper Fig. 3) and `hako run` on a Dask
+    bench give the same results for the same seed."""
+    via_hako = tmp_path / "hako"
+    assert hako("run", "--smoke", "--out", str(via_hako)).returncode == 0
+    paper = tmp_path / "paper"
+    r = subprocess.run([sys.executable, "-m", "hakoniwa.physics_main", "--run-dir", str(tmp_path / "run"), "--",
+                        sys.executable, "-m", "testctl.cli", "campaign", "--smoke", "--out", str(paper)],
+                       capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    assert (paper / "results.csv").read_text() == (via_hako / "results.csv").read_text()
