@@ -52,312 +52,120 @@ mkdir -p "$core_mk" "$tgt/athrill/bin/linux"
 # across libraries: with -j the sub-makes run side by side in the same directory.
 # ---------------------------------------------------------------------------------------------------------
 supplied=()
-write_mk() {  # write_mk NAME  (rules on stdin; kept if the source tree already has them)
-  if [ -f "$core_mk/Makefile.$1" ]; then cat > /dev/null; else cat > "$core_mk/Makefile.$1"; supplied+=("$1"); fi
+# core_lib NAME INCLUDE_DIRS SOURCE_DIRS OBJECTS [PRELUDE] [POSTLUDE]: the rules of one core library, from
+# three lists of words (make variables are expanded by make), plus make lines before and after them. Rules the
+# source tree already has are kept.
+core_lib() {
+  local file="$core_mk/Makefile.$1"
+  if [ -f "$file" ]; then return; fi
+  supplied+=("$1")
+  {
+    printf 'include Makefile.env\n\nLIBTARGET\t:= lib%s.a\n%s\n' "$1" "${5:-}"
+    printf 'IFLAGS\t:=\n'; printf 'IFLAGS\t+= -I%s\n' $2
+    printf 'VPATH\t:=\n'; printf 'VPATH\t+= %s\n' $3
+    printf 'OBJS\t:=\n'; printf 'OBJS\t+= %s\n' $4
+    printf '\nCFLAGS\t:= $(WFLAGS)\nCFLAGS\t+= $(IFLAGS)\n%s\n' "${6:-}"
+    printf '\nall:\t$(LIBTARGET)\n\n$(LIBTARGET):\t$(OBJS)\n\t$(AR) $(AFLAGS) $(LIBTARGET) $(OBJS)\n'
+    printf '\nclean:\n\t$(RM) -f $(OBJS) $(LIBTARGET)\n'
+  } > "$file"
 }
-mk_tail='
-CFLAGS	:= $(WFLAGS)
-CFLAGS	+= $(IFLAGS)
-
-all:	$(LIBTARGET)
-
-$(LIBTARGET):	$(OBJS)
-	$(AR) $(AFLAGS) $(LIBTARGET) $(OBJS)
-
-clean:
-	$(RM) -f $(OBJS) $(LIBTARGET)
-'
 
 # libmain: the emulator's entry point, option parsing and the CPU-emulation main loop.
-write_mk main <<EOF
-include Makefile.env
-
-LIBTARGET	:= libmain.a
-
-IFLAGS	:= -I\$(CORE_DIR)/inc
-IFLAGS	+= -I\$(CORE_DIR)/main
-IFLAGS	+= -I\$(CORE_DIR)/cpu
-IFLAGS	+= -I\$(CORE_DIR)/bus
-IFLAGS	+= -I\$(CORE_DIR)/lib
-IFLAGS	+= -I\$(CORE_DIR)/lib/dwarf
-IFLAGS	+= -I\$(CORE_DIR)/device/mpu
-IFLAGS	+= -I\$(CORE_DIR)/device/peripheral/serial/fifo
-IFLAGS	+= -I\$(CORE_DIR)/debugger/interaction
-IFLAGS	+= -I\$(CORE_DIR)/debugger/interaction/inc
-IFLAGS	+= -I\$(CORE_DIR)/debugger/executor
-IFLAGS	+= -I\$(TARGET_DIR)/cpu
-IFLAGS	+= -I\$(TARGET_DIR)/cpu/config
-IFLAGS	+= -I\$(TARGET_DIR)/device
-IFLAGS	+= -I\$(TARGET_DIR)/debugger/interaction/inc
-
-VPATH	:=	\$(CORE_DIR)/main
-VPATH	+=	\$(CORE_DIR)/main/option
-
-OBJS	:=	main.o
-OBJS	+=	cpuemu.o
-OBJS	+=	option.o
-$mk_tail
-EOF
+core_lib main \
+  '$(CORE_DIR)/inc $(CORE_DIR)/main $(CORE_DIR)/cpu $(CORE_DIR)/bus $(CORE_DIR)/lib
+  $(CORE_DIR)/lib/dwarf $(CORE_DIR)/device/mpu $(CORE_DIR)/device/peripheral/serial/fifo
+  $(CORE_DIR)/debugger/interaction $(CORE_DIR)/debugger/interaction/inc $(CORE_DIR)/debugger/executor
+  $(TARGET_DIR)/cpu $(TARGET_DIR)/cpu/config $(TARGET_DIR)/device
+  $(TARGET_DIR)/debugger/interaction/inc' \
+  '$(CORE_DIR)/main $(CORE_DIR)/main/option' \
+  'main.o cpuemu.o option.o'
 
 # libcui: the debugger (parser, executor, CPU control) and its console / UDP front ends. (lib/cui/tcp is
 # stale - it no longer compiles against lib/tcp - and main.c does not use it.)
-write_mk cui <<EOF
-include Makefile.env
-
-LIBTARGET	:= libcui.a
-
-IFLAGS	:= -I\$(CORE_DIR)/inc
-IFLAGS	+= -I\$(CORE_DIR)/main
-IFLAGS	+= -I\$(CORE_DIR)/cpu
-IFLAGS	+= -I\$(CORE_DIR)/bus
-IFLAGS	+= -I\$(CORE_DIR)/lib
-IFLAGS	+= -I\$(CORE_DIR)/lib/dwarf
-IFLAGS	+= -I\$(CORE_DIR)/lib/dwarf/data_type
-IFLAGS	+= -I\$(CORE_DIR)/device/mpu
-IFLAGS	+= -I\$(CORE_DIR)/debugger/interaction
-IFLAGS	+= -I\$(CORE_DIR)/debugger/interaction/inc
-IFLAGS	+= -I\$(CORE_DIR)/debugger/interaction/front
-IFLAGS	+= -I\$(CORE_DIR)/debugger/executor
-IFLAGS	+= -I\$(CORE_DIR)/debugger/executor/concrete_executor/target
-IFLAGS	+= -I\$(TARGET_DIR)/cpu
-IFLAGS	+= -I\$(TARGET_DIR)/cpu/config
-IFLAGS	+= -I\$(TARGET_DIR)/device
-IFLAGS	+= -I\$(TARGET_DIR)/debugger/interaction/inc
-
-VPATH	:=	\$(CORE_DIR)/debugger/executor/concrete_executor
-VPATH	+=	\$(CORE_DIR)/debugger/executor/concrete_executor/util
-VPATH	+=	\$(CORE_DIR)/debugger/executor/cpu_control
-VPATH	+=	\$(CORE_DIR)/debugger/interaction/front/parser
-VPATH	+=	\$(CORE_DIR)/debugger/interaction/front/parser/concrete_parser
-VPATH	+=	\$(CORE_DIR)/lib/cui
-VPATH	+=	\$(CORE_DIR)/lib/cui/stdio
-VPATH	+=	\$(CORE_DIR)/lib/cui/udp
-
-OBJS	:=	dbg_std_executor.o
-OBJS	+=	dbg_print_data_type.o
-OBJS	+=	dbg_cpu_callback.o
-OBJS	+=	dbg_cpu_control.o
-OBJS	+=	dbg_cpu_thread_control.o
-OBJS	+=	dbg_parser.o
-OBJS	+=	dbg_parser_config.o
-OBJS	+=	dbg_std_parser.o
-OBJS	+=	cui_ops.o
-OBJS	+=	cui_ops_stdio.o
-OBJS	+=	cui_ops_udp.o
-$mk_tail
-EOF
+core_lib cui \
+  '$(CORE_DIR)/inc $(CORE_DIR)/main $(CORE_DIR)/cpu $(CORE_DIR)/bus $(CORE_DIR)/lib
+  $(CORE_DIR)/lib/dwarf $(CORE_DIR)/lib/dwarf/data_type $(CORE_DIR)/device/mpu
+  $(CORE_DIR)/debugger/interaction $(CORE_DIR)/debugger/interaction/inc
+  $(CORE_DIR)/debugger/interaction/front $(CORE_DIR)/debugger/executor
+  $(CORE_DIR)/debugger/executor/concrete_executor/target $(TARGET_DIR)/cpu $(TARGET_DIR)/cpu/config
+  $(TARGET_DIR)/device $(TARGET_DIR)/debugger/interaction/inc' \
+  '$(CORE_DIR)/debugger/executor/concrete_executor $(CORE_DIR)/debugger/executor/concrete_executor/util
+  $(CORE_DIR)/debugger/executor/cpu_control $(CORE_DIR)/debugger/interaction/front/parser
+  $(CORE_DIR)/debugger/interaction/front/parser/concrete_parser $(CORE_DIR)/lib/cui
+  $(CORE_DIR)/lib/cui/stdio $(CORE_DIR)/lib/cui/udp' \
+  'dbg_std_executor.o dbg_print_data_type.o dbg_cpu_callback.o dbg_cpu_control.o
+  dbg_cpu_thread_control.o dbg_parser.o dbg_parser_config.o dbg_std_parser.o cui_ops.o cui_ops_stdio.o
+  cui_ops_udp.o'
 
 # libbus: the guest bus (address decoding to the MPU regions).
-write_mk bus <<EOF
-include Makefile.env
-
-LIBTARGET	:= libbus.a
-
-IFLAGS	:= -I\$(CORE_DIR)/inc
-IFLAGS	+= -I\$(CORE_DIR)/bus
-IFLAGS	+= -I\$(CORE_DIR)/cpu
-IFLAGS	+= -I\$(CORE_DIR)/lib
-IFLAGS	+= -I\$(CORE_DIR)/device/mpu
-IFLAGS	+= -I\$(TARGET_DIR)/cpu
-IFLAGS	+= -I\$(TARGET_DIR)/cpu/config
-
-VPATH	:=	\$(CORE_DIR)/bus
-
-OBJS	:=	bus.o
-$mk_tail
-EOF
+core_lib bus \
+  '$(CORE_DIR)/inc $(CORE_DIR)/bus $(CORE_DIR)/cpu $(CORE_DIR)/lib $(CORE_DIR)/device/mpu
+  $(TARGET_DIR)/cpu $(TARGET_DIR)/cpu/config' \
+  '$(CORE_DIR)/bus' \
+  'bus.o'
 
 # libmpu: guest memory regions (incl. the MMAP files), their allocator, the ELF image loader and the
 # target's memory-map configuration.
-write_mk mpu <<EOF
-include Makefile.env
-
-LIBTARGET	:= libmpu.a
-
-IFLAGS	:= -I\$(CORE_DIR)/inc
-IFLAGS	+= -I\$(CORE_DIR)/cpu
-IFLAGS	+= -I\$(CORE_DIR)/lib
-IFLAGS	+= -I\$(CORE_DIR)/lib/dwarf
-IFLAGS	+= -I\$(CORE_DIR)/lib/dwarf/data_type
-IFLAGS	+= -I\$(CORE_DIR)/device/mpu
-IFLAGS	+= -I\$(CORE_DIR)/device/peripheral/serial/fifo
-IFLAGS	+= -I\$(TARGET_DIR)/cpu
-IFLAGS	+= -I\$(TARGET_DIR)/cpu/config
-
-VPATH	:=	\$(CORE_DIR)/device/mpu
-VPATH	+=	\$(CORE_DIR)/device/mpu/loader
-VPATH	+=	\$(TARGET_DIR)/cpu/config
-
-OBJS	:=	mpu.o
-OBJS	+=	mpu_malloc.o
-OBJS	+=	loader.o
-OBJS	+=	mpu_config.o
-$mk_tail
-EOF
+core_lib mpu \
+  '$(CORE_DIR)/inc $(CORE_DIR)/cpu $(CORE_DIR)/lib $(CORE_DIR)/lib/dwarf
+  $(CORE_DIR)/lib/dwarf/data_type $(CORE_DIR)/device/mpu $(CORE_DIR)/device/peripheral/serial/fifo
+  $(TARGET_DIR)/cpu $(TARGET_DIR)/cpu/config' \
+  '$(CORE_DIR)/device/mpu $(CORE_DIR)/device/mpu/loader $(TARGET_DIR)/cpu/config' \
+  'mpu.o mpu_malloc.o loader.o mpu_config.o'
 
 # libloader: ELF section / DWARF readers and the symbol tables built from them.
-write_mk loader <<EOF
-include Makefile.env
-
-LIBTARGET	:= libloader.a
-
-IFLAGS	:= -I\$(CORE_DIR)/inc
-IFLAGS	+= -I\$(CORE_DIR)/cpu
-IFLAGS	+= -I\$(CORE_DIR)/lib
-IFLAGS	+= -I\$(CORE_DIR)/lib/dwarf
-IFLAGS	+= -I\$(CORE_DIR)/lib/dwarf/data_type
-IFLAGS	+= -I\$(CORE_DIR)/device/mpu
-IFLAGS	+= -I\$(TARGET_DIR)/cpu
-IFLAGS	+= -I\$(TARGET_DIR)/cpu/config
-
-VPATH	:=	\$(CORE_DIR)/lib
-VPATH	+=	\$(CORE_DIR)/lib/dwarf
-VPATH	+=	\$(CORE_DIR)/lib/dwarf/data_type
-
-OBJS	:=	elf_section.o
-OBJS	+=	elf_dwarf_abbrev.o
-OBJS	+=	elf_dwarf_info.o
-OBJS	+=	elf_dwarf_info_ops.o
-OBJS	+=	elf_dwarf_line.o
-OBJS	+=	elf_dwarf_loc.o
-OBJS	+=	elf_dwarf_util.o
-OBJS	+=	elf_dwarf_data_type.o
-OBJS	+=	elf_dwarf_array_type.o
-OBJS	+=	elf_dwarf_base_type.o
-OBJS	+=	elf_dwarf_enum_type.o
-OBJS	+=	elf_dwarf_pointer_type.o
-OBJS	+=	elf_dwarf_struct_type.o
-OBJS	+=	elf_dwarf_subprogram_type.o
-OBJS	+=	elf_dwarf_typedef_type.o
-OBJS	+=	elf_dwarf_variable_type.o
-OBJS	+=	file_address_mapping.o
-OBJS	+=	symbol_ops.o
-$mk_tail
-EOF
+core_lib loader \
+  '$(CORE_DIR)/inc $(CORE_DIR)/cpu $(CORE_DIR)/lib $(CORE_DIR)/lib/dwarf
+  $(CORE_DIR)/lib/dwarf/data_type $(CORE_DIR)/device/mpu $(TARGET_DIR)/cpu $(TARGET_DIR)/cpu/config' \
+  '$(CORE_DIR)/lib $(CORE_DIR)/lib/dwarf $(CORE_DIR)/lib/dwarf/data_type' \
+  'elf_section.o elf_dwarf_abbrev.o elf_dwarf_info.o elf_dwarf_info_ops.o elf_dwarf_line.o
+  elf_dwarf_loc.o elf_dwarf_util.o elf_dwarf_data_type.o elf_dwarf_array_type.o elf_dwarf_base_type.o
+  elf_dwarf_enum_type.o elf_dwarf_pointer_type.o elf_dwarf_struct_type.o elf_dwarf_subprogram_type.o
+  elf_dwarf_typedef_type.o elf_dwarf_variable_type.o file_address_mapping.o symbol_ops.o'
 
 # libstd: host-side utilities (hash, tokens, files, TCP/UDP sockets, buffers).
 # (dbg_log.o is not here: the target's Makefile.cpu already builds it into libcpu.)
-write_mk std <<EOF
-include Makefile.env
-
-LIBTARGET	:= libstd.a
-
-IFLAGS	:= -I\$(CORE_DIR)/inc
-IFLAGS	+= -I\$(CORE_DIR)/lib
-
-VPATH	:=	\$(CORE_DIR)/lib
-VPATH	+=	\$(CORE_DIR)/lib/tcp
-VPATH	+=	\$(CORE_DIR)/lib/udp
-VPATH	+=	\$(CORE_DIR)/lib/winsock_wrapper
-
-OBJS	:=	hash.o
-OBJS	+=	token.o
-OBJS	+=	file.o
-OBJS	+=	comm_buffer.o
-OBJS	+=	tcp_socket.o
-OBJS	+=	tcp_client.o
-OBJS	+=	tcp_connection.o
-OBJS	+=	tcp_server.o
-OBJS	+=	udp_comm.o
-OBJS	+=	winsock_wrapper.o
-$mk_tail
-EOF
+core_lib std \
+  '$(CORE_DIR)/inc $(CORE_DIR)/lib' \
+  '$(CORE_DIR)/lib $(CORE_DIR)/lib/tcp $(CORE_DIR)/lib/udp $(CORE_DIR)/lib/winsock_wrapper' \
+  'hash.o token.o file.o comm_buffer.o tcp_socket.o tcp_client.o tcp_connection.o tcp_server.o
+  udp_comm.o winsock_wrapper.o'
 
 # libmros: mROS (a small ROS node over host sockets) behind the CAN device.
-write_mk mros <<EOF
-include Makefile.env
-
-LIBTARGET	:= libmros.a
-
-MROS_ATHRILL	:= \$(CORE_DIR)/device/peripheral/mros-dev/mros-athrill
-MROS_SRC	:= \$(CORE_DIR)/device/peripheral/mros-dev/mros-src
-
-IFLAGS	:= -I\$(CORE_DIR)/inc
-IFLAGS	+= -I\$(CORE_DIR)/cpu
-IFLAGS	+= -I\$(CORE_DIR)/lib
-IFLAGS	+= -I\$(CORE_DIR)/device/mpu
-IFLAGS	+= -I\$(CORE_DIR)/device/peripheral/target
-IFLAGS	+= -I\$(MROS_ATHRILL)/api
-IFLAGS	+= -I\$(MROS_ATHRILL)/config
-IFLAGS	+= -I\$(MROS_ATHRILL)/config/os/target/os_asp
-IFLAGS	+= -I\$(MROS_ATHRILL)/device
-IFLAGS	+= -I\$(MROS_ATHRILL)/target/os
-IFLAGS	+= -I\$(MROS_ATHRILL)/target
-IFLAGS	+= -I\$(MROS_SRC)/api
-IFLAGS	+= -I\$(MROS_SRC)/inc
-IFLAGS	+= -I\$(MROS_SRC)/comm/cimpl
-IFLAGS	+= -I\$(MROS_SRC)/comm/cimpl/target/lwip
-IFLAGS	+= -I\$(MROS_SRC)/node/cimpl
-IFLAGS	+= -I\$(MROS_SRC)/os/target/os_asp
-IFLAGS	+= -I\$(MROS_SRC)/packet/cimpl
-IFLAGS	+= -I\$(MROS_SRC)/packet/cimpl/version/kinetic
-IFLAGS	+= -I\$(MROS_SRC)/packet/template/version/kinetic
-IFLAGS	+= -I\$(MROS_SRC)/protocol/cimpl
-IFLAGS	+= -I\$(MROS_SRC)/topic/cimpl
-IFLAGS	+= -I\$(MROS_SRC)/transfer/cimpl
-IFLAGS	+= -I\$(TARGET_DIR)/cpu
-IFLAGS	+= -I\$(TARGET_DIR)/cpu/config
-
-VPATH	:=	\$(MROS_ATHRILL)/api
-VPATH	+=	\$(MROS_ATHRILL)/config
-VPATH	+=	\$(MROS_ATHRILL)/config/os/target/os_asp
-VPATH	+=	\$(MROS_ATHRILL)/device
-VPATH	+=	\$(MROS_ATHRILL)/target/lwip
-VPATH	+=	\$(MROS_ATHRILL)/target/os
-VPATH	+=	\$(MROS_SRC)/comm/cimpl
-VPATH	+=	\$(MROS_SRC)/comm/cimpl/target/lwip
-VPATH	+=	\$(MROS_SRC)/lib
-VPATH	+=	\$(MROS_SRC)/node/cimpl
-VPATH	+=	\$(MROS_SRC)/os
-VPATH	+=	\$(MROS_SRC)/os/target/os_asp
-VPATH	+=	\$(MROS_SRC)/packet/cimpl/version/kinetic
-VPATH	+=	\$(MROS_SRC)/protocol/cimpl
-VPATH	+=	\$(MROS_SRC)/topic/cimpl
-VPATH	+=	\$(MROS_SRC)/transfer/cimpl
-
-OBJS	:=	ros_cimpl.o
-OBJS	+=	mros_sys_config.o
-OBJS	+=	mros_usr_config.o
-OBJS	+=	mros_os_config.o
-OBJS	+=	athrill_mros_device.o
-OBJS	+=	lwip_linux.o
-OBJS	+=	mros_exclusive_ops_linux.o
-OBJS	+=	os_asp.o
-OBJS	+=	mros_comm_socket_cimpl.o
-OBJS	+=	mros_comm_tcp_client_cimpl.o
-OBJS	+=	mros_comm_tcp_client_factory_cimpl.o
-OBJS	+=	mros_comm_tcp_server_cimpl.o
-OBJS	+=	mros_comm_cimpl.o
-OBJS	+=	mros_memory.o
-OBJS	+=	mros_name.o
-OBJS	+=	mros_wait_queue.o
-OBJS	+=	mros_node_cimpl.o
-OBJS	+=	mros_exclusive_area.o
-OBJS	+=	mros_exclusive_ops.o
-OBJS	+=	mros_os.o
-OBJS	+=	mros_packet_decoder_cimpl.o
-OBJS	+=	mros_packet_encoder_cimpl.o
-OBJS	+=	mros_protocol_client_rpc_cimpl.o
-OBJS	+=	mros_protocol_master_cimpl.o
-OBJS	+=	mros_protocol_operation_cimpl.o
-OBJS	+=	mros_protocol_publish_cimpl.o
-OBJS	+=	mros_protocol_server_proc_cimpl.o
-OBJS	+=	mros_protocol_slave_cimpl.o
-OBJS	+=	mros_protocol_subscribe_cimpl.o
-OBJS	+=	mros_topic_cimpl.o
-OBJS	+=	mros_topic_connector_cimpl.o
-OBJS	+=	mros_topic_connector_factory_cimpl.o
-OBJS	+=	mros_topic_data_publisher_cimpl.o
-OBJS	+=	mros_topic_data_subscriber_cimpl.o
-$mk_tail
-# host sockets instead of lwIP (mros_comm_cimpl.c)
-CFLAGS	+= -DTARGET_ATHRILL
-EOF
+core_lib mros \
+  '$(CORE_DIR)/inc $(CORE_DIR)/cpu $(CORE_DIR)/lib $(CORE_DIR)/device/mpu
+  $(CORE_DIR)/device/peripheral/target $(MROS_ATHRILL)/api $(MROS_ATHRILL)/config
+  $(MROS_ATHRILL)/config/os/target/os_asp $(MROS_ATHRILL)/device $(MROS_ATHRILL)/target/os
+  $(MROS_ATHRILL)/target $(MROS_SRC)/api $(MROS_SRC)/inc $(MROS_SRC)/comm/cimpl
+  $(MROS_SRC)/comm/cimpl/target/lwip $(MROS_SRC)/node/cimpl $(MROS_SRC)/os/target/os_asp
+  $(MROS_SRC)/packet/cimpl $(MROS_SRC)/packet/cimpl/version/kinetic
+  $(MROS_SRC)/packet/template/version/kinetic $(MROS_SRC)/protocol/cimpl $(MROS_SRC)/topic/cimpl
+  $(MROS_SRC)/transfer/cimpl $(TARGET_DIR)/cpu $(TARGET_DIR)/cpu/config' \
+  '$(MROS_ATHRILL)/api $(MROS_ATHRILL)/config $(MROS_ATHRILL)/config/os/target/os_asp
+  $(MROS_ATHRILL)/device $(MROS_ATHRILL)/target/lwip $(MROS_ATHRILL)/target/os $(MROS_SRC)/comm/cimpl
+  $(MROS_SRC)/comm/cimpl/target/lwip $(MROS_SRC)/lib $(MROS_SRC)/node/cimpl $(MROS_SRC)/os
+  $(MROS_SRC)/os/target/os_asp $(MROS_SRC)/packet/cimpl/version/kinetic $(MROS_SRC)/protocol/cimpl
+  $(MROS_SRC)/topic/cimpl $(MROS_SRC)/transfer/cimpl' \
+  'ros_cimpl.o mros_sys_config.o mros_usr_config.o mros_os_config.o athrill_mros_device.o lwip_linux.o
+  mros_exclusive_ops_linux.o os_asp.o mros_comm_socket_cimpl.o mros_comm_tcp_client_cimpl.o
+  mros_comm_tcp_client_factory_cimpl.o mros_comm_tcp_server_cimpl.o mros_comm_cimpl.o mros_memory.o
+  mros_name.o mros_wait_queue.o mros_node_cimpl.o mros_exclusive_area.o mros_exclusive_ops.o mros_os.o
+  mros_packet_decoder_cimpl.o mros_packet_encoder_cimpl.o mros_protocol_client_rpc_cimpl.o
+  mros_protocol_master_cimpl.o mros_protocol_operation_cimpl.o mros_protocol_publish_cimpl.o
+  mros_protocol_server_proc_cimpl.o mros_protocol_slave_cimpl.o mros_protocol_subscribe_cimpl.o
+  mros_topic_cimpl.o mros_topic_connector_cimpl.o mros_topic_connector_factory_cimpl.o
+  mros_topic_data_publisher_cimpl.o mros_topic_data_subscriber_cimpl.o' \
+  'MROS_ATHRILL	:= $(CORE_DIR)/device/peripheral/mros-dev/mros-athrill
+MROS_SRC	:= $(CORE_DIR)/device/peripheral/mros-dev/mros-src' \
+  '# host sockets instead of lwIP (mros_comm_cimpl.c)
+CFLAGS	+= -DTARGET_ATHRILL'
 
 # libcpu / libdevice are target-specific: build_linux uses its own Makefile.cpu / Makefile.device. The core
 # entries only forward to them so that `make -f $(CORE_MKDIR)/Makefile.{cpu,device}` works as well.
 for lib in cpu device; do
-  write_mk "$lib" <<EOF
+  [ -f "$core_mk/Makefile.$lib" ] && continue
+  supplied+=("$lib")
+  cat > "$core_mk/Makefile.$lib" <<EOF
 # The CPU and device libraries are defined by the target (\$(TARGET_MKDIR)/Makefile.$lib).
 include \$(dir \$(lastword \$(MAKEFILE_LIST)))/../../../../build_linux/Makefile.$lib
 EOF
