@@ -100,6 +100,8 @@ def test_hako_trial_cli_prints_event_and_lap_time(tmp_path):
     png = tmp_path / "path.png"
     result = hako_trial_json("--trajectory", str(png))
     assert result["event"] == "GOAL" and result["lap_time_s"] > 0
+    assert result["sync"] == "lockstep" and result["checkpoints"] == 4 and result["max_time_diff_us"] == 0
+    assert 6.0 < result["distance_m"] < 7.0  # about a lap of the 6.1 m line
     assert png.stat().st_size > 10_000
 
 

@@ -78,3 +78,38 @@ def test_noise_levels_left_out_keep_their_defaults(tmp_path):
     noise = load_course(folder).noise
     assert (noise.start_yaw_sd_deg, noise.motor_gain_sd) == (0.0, 0.05)
     assert noise.reflect_sd == DEFAULT_NOISE.reflect_sd
+
+
+def test_colour_id_black_line_white_floor_grey_edge():
+    from hakoniwa.protocol import ColorId
+
+    c = load_course("oval")
+    assert c.color_at(0.0, -0.5, c.reflect_at(0.0, -0.5))[0] == ColorId.BLACK  # line centre
+    assert c.color_at(0.0, -0.3, c.reflect_at(0.0, -0.3)) == (ColorId.WHITE, (255, 255, 255))
+    assert c.color_at(0.0, -0.5, 75.0)[0] == ColorId.NONE  # the grey edge: half way from black to white
+
+
+def test_coloured_areas_and_wiring_come_from_the_toml(tmp_path):
+    from hakoniwa.protocol import ColorId
+
+    folder = copy_oval(tmp_path)
+    toml = folder / "course.toml"
+    toml.write_text(toml.read_text() + '\n[[area]]\ncolor = "red"\nx = 1.25\ny = 0.0\nhx = 0.05\nhy = 0.05\n'
+                    '\n[robot]\nleft_motor = "C"\nright_motor = "B"\n')
+    c = load_course(folder)
+    assert c.color_at(1.25, 0.0, 50.0) == (ColorId.RED, (220, 0, 0))
+    assert (c.wiring.left, c.wiring.right) == (2, 1)
+    assert (load_course("oval").wiring.left, load_course("oval").wiring.right) == (0, 1)  # A and B
+
+
+@pytest.mark.parametrize("extra, message", [
+    ('\n[[area]]\ncolor = "plaid"\nx = 0\ny = 0\nhx = 1\nhy = 1\n', "'color' must be one of"),
+    ('\n[robot]\nleft_motor = "E"\n', "motor port A..D"),
+    ('\n[robot]\nleft_motor = "B"\nright_motor = "B"\n', "must be different"),
+])
+def test_bad_areas_and_wiring_are_clear_errors(tmp_path, extra, message):
+    folder = copy_oval(tmp_path)
+    toml = folder / "course.toml"
+    toml.write_text(toml.read_text() + extra)
+    with pytest.raises(CourseError, match=message):
+        load_course(folder)
