@@ -138,3 +138,9 @@ def test_controller_notices_a_dead_physics_process(tmp_path):
                 runner.run_test(PAPER)
             finally:
                 assert time.monotonic() - start < 5
+
+
+def test_time_limit_option_ends_the_test():
+    result = hako_trial_json("--time-limit", "5", "--noise", "0")
+    assert result["event"] == "TIME_OVER" and result["lap_time_s"] is None
+    assert 0.8 < result["distance_m"] < 1.3  # five seconds of driving at power 15: about 0.22 m/s
