@@ -81,17 +81,10 @@ class PhysicsServer:
         self.scheduler = Scheduler(PHYSICS_STEP_US)
         self.scheduler.add("event-check", EVENT_CHECK_PERIOD_US, self._check_events)
         self.scheduler.add("trace", TRACE_PERIOD_US, self._trace)
-        self.now_us = 0
         self.answer_before_start = 0
         self.tests_run = 0
-        self._event = Event.NONE
-        self._event_us = 0
-        self._max_diff_us = 0
-        self._angle_zero = [0.0] * MOTOR_PORTS
-        self._gyro_zero = 0.0
-        self._yaw = (0.0, 0.0)  # (last wrapped reading, unwrapped angle): a gyro counts whole turns
-        self._trajectory: list[tuple[int, float, float, float]] = []
         self._noise: NoiseDraw | None = None  # this test's noise; None: the noise-free bench
+        self._clear_test_state()
         self._athrill_proc = None
         self._controller_gone = threading.Event()
         self._log = open(self.run_dir / PHYSICS_LOG, "a")
@@ -181,17 +174,21 @@ class PhysicsServer:
                 self._log.write(f"repaired {f.path.name}: {problem}\n")
                 self._log.flush()
 
+    def _clear_test_state(self) -> None:
+        self.now_us = 0
+        self._event, self._event_us, self._max_diff_us = Event.NONE, 0, 0
+        self._angle_zero = [0.0] * MOTOR_PORTS
+        self._gyro_zero = 0.0
+        self._yaw = (0.0, 0.0)  # (last wrapped reading, unwrapped angle): a gyro counts whole turns
+        self._trajectory: list[tuple[int, float, float, float]] = []
+
     def _start_test(self, seq: int) -> None:
         self.check_files()
         self._noise = self._read_noise()
         if self._noise is not None:
             self.world.put_down(self._noise.start)
         self.task.reset(self.world.position())
-        self.now_us = 0
-        self._event, self._event_us, self._max_diff_us = Event.NONE, 0, 0
-        self._angle_zero = [0.0] * MOTOR_PORTS
-        self._gyro_zero, self._yaw = 0.0, (0.0, 0.0)
-        self._trajectory = []
+        self._clear_test_state()
         a = self.athrill
         a.clear(0, ACTUATORS_END)
         a.athrill_time_us = 0  # a real Athrill's clock starts at 0; a stale one would let physics run ahead

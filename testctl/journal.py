@@ -23,7 +23,6 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import IO, Any
 
-from hakoniwa.protocol import CrashKind, Event, SyncMode
 from testctl.result import TestResult
 
 JOURNAL_FILE = "journal.jsonl"
@@ -64,13 +63,7 @@ class TestRecord:
     @classmethod
     def from_json(cls, line: str, fmt: int = FORMAT) -> TestRecord:
         d = json.loads(line)
-        crash = d.get("crash")
-        result = TestResult(
-            Event[d["event"]], int(d["goal_time_us"]), float(d["wall_s"]), int(d.get("checkpoints", 0)),
-            round(float(d.get("distance_m", 0.0)) * 1000), int(d.get("max_time_diff_us", 0)),
-            SyncMode[d.get("sync", "lockstep").upper()],
-            CrashKind[crash.upper()] if crash else CrashKind.NONE, int(d.get("crash_detail", 0)),
-        )
+        result = TestResult.from_dict(d, float(d["wall_s"]))
         params = {str(k): float(v) for k, v in d["params"].items()}
         set_index = int(d["set"]) - (1 if fmt >= 2 else 0)
         return cls(set_index, str(d["phase"]), params, int(d["rep"]), result, str(d["time"]),

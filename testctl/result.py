@@ -65,3 +65,13 @@ class TestResult:
         if self.event == Event.CRASH:
             d.update(crash=self.crash_kind.name.lower(), crash_detail=self.crash_detail, crash_reason=self.crash_reason())
         return d
+
+    @classmethod
+    def from_dict(cls, d: dict, wall_s: float) -> TestResult:
+        """The inverse of `to_dict` (which leaves the wall time out); a field an older journal lacks takes
+        the value every test had then."""
+        crash = d.get("crash")
+        return cls(Event[d["event"]], int(d["goal_time_us"]), wall_s, int(d.get("checkpoints", 0)),
+                   round(float(d.get("distance_m", 0.0)) * 1000), int(d.get("max_time_diff_us", 0)),
+                   SyncMode[d.get("sync", "lockstep").upper()],
+                   CrashKind[crash.upper()] if crash else CrashKind.NONE, int(d.get("crash_detail", 0)))
