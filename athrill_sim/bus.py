@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from hakoniwa.protocol import (ATHRILL_FILE, UNITY_FILE, MappedFile, ProtocolError, guest_to_body, open_athrill,
+from hakoniwa.wire.protocol import (ATHRILL_FILE, UNITY_FILE, MappedFile, ProtocolError, guest_to_body, open_athrill,
                                open_unity)
 
 

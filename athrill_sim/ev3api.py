@@ -15,7 +15,7 @@ import sys
 
 from athrill_sim.bus import MemoryBus
 from athrill_sim.kernel import Kernel
-from hakoniwa.protocol import MOTOR_PORTS, RESET_ANGLE_PORTS, RX_GUEST_BASE, TX_GUEST_BASE, Rx, Tx
+from hakoniwa.wire.protocol import MOTOR_PORTS, RESET_ANGLE_PORTS, RX_GUEST_BASE, TX_GUEST_BASE, Rx, Tx
 
 # TOPPERS error codes.
 E_OK = 0

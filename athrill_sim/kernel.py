@@ -5,7 +5,7 @@ place where time passes. It publishes the task's outputs together with the time 
 (`Tx.NEXT_WAKE`, then `Tx.ANSWER_SEQ`), then waits until the physics process has published the sensor
 snapshot for exactly that instant (the unity time in the RX header reaches it). Computation takes zero
 simulated time, so the result of a trial depends only on the parameters, never on how fast either process
-happens to run. See `hakoniwa/sync.py` for the physics side.
+happens to run. See `hakoniwa/physics/sync.py` for the physics side.
 """
 
 from __future__ import annotations
@@ -13,9 +13,9 @@ from __future__ import annotations
 import os
 from typing import NoReturn
 
-from hakoniwa.protocol import HEADER_SIZE, NEVER_WAKES, Header, MappedFile, Rx, Tx
-from hakoniwa.timebase import PHYSICS_STEP_US
-from hakoniwa.waiting import futex_wake, pid_alive, wait_for, wait_word
+from hakoniwa.wire.protocol import HEADER_SIZE, NEVER_WAKES, Header, MappedFile, Rx, Tx
+from hakoniwa.wire.timebase import PHYSICS_STEP_US
+from hakoniwa.wire.waiting import futex_wake, pid_alive, wait_for, wait_word
 
 TEST_WAIT_NAP_S = 0.005  # a spare Athrill waits a whole test, mostly for nothing
 

@@ -16,7 +16,8 @@ from athrill_sim.bus import MemoryBus
 from athrill_sim.ev3api import Ev3Api
 from athrill_sim.kernel import Kernel, KernelExit, wait_for_test
 from hakoniwa.clickutil import HELP
-from hakoniwa.protocol import EXIT_BENCH_FAULT, ProtocolError
+from hakoniwa.wire.processes import EXIT_BENCH_FAULT
+from hakoniwa.wire.protocol import ProtocolError
 
 
 @click.command(context_settings=HELP)

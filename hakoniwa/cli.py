@@ -7,6 +7,7 @@ draws, so `hako --help` and a bad option answer at once.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 import tempfile
@@ -14,34 +15,15 @@ from pathlib import Path
 
 import click
 
-from hakoniwa.clickutil import Float32, HELP, SECONDS, option_group
-from hakoniwa.launch import (INTERRUPTED, BenchOptions, controller_command, describe_exit, exit_status,
-                             run_physics)
-from hakoniwa.rundir import TRAJECTORY_FILE, diagnose
+from hakoniwa.clickutil import HELP, Float32
+from hakoniwa.physics.options import BenchOptions, bench_options, pop_bench
+from hakoniwa.wire.processes import describe_exit, exit_status
+from hakoniwa.wire.rundir import TRAJECTORY_FILE, diagnose
+from testctl.launch import controller_command, run_physics
 from testctl import paper
 from testctl.options import campaign_options, noise_options, plan
 
 POWER = Float32(-100.0, 100.0)
-
-_BENCH_OPTIONS = [
-    click.option("--course", default="oval", show_default=True, help="Built-in course name or course folder."),
-    click.option("--app", default="line_trace", show_default=True,
-                 help="Robot program: a built-in name (line_trace, line_trace_c), a Python module:function, an "
-                      "EV3RT C program (app.c or its workspace folder), or a v850 ELF image (run in the real "
-                      "athrill2)."),
-    click.option("--athrill2", default=None, help="The TOPPERS athrill2 emulator for an ELF --app [default: on PATH]."),
-    click.option("--athrill-timeout", type=SECONDS, default=10.0, show_default=True,
-                 help="Wall seconds a silent Athrill is waited for before the test counts as a crash."),
-    click.option("--time-limit", type=SECONDS, default=60.0, show_default=True,
-                 help="Simulated seconds before a test ends as TIME_OVER."),
-]
-
-
-bench_options = option_group(_BENCH_OPTIONS)
-
-
-def _bench(course: str, app: str, athrill2: str | None, athrill_timeout: float, time_limit: float) -> BenchOptions:
-    return BenchOptions(course, app, athrill2, athrill_timeout, time_limit)
 
 
 def report_death(code: int, run_dir: Path) -> None:
@@ -90,7 +72,7 @@ def trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: float
     """Run one test with the given parameters and print the event and lap time."""
     if trajectory is not None:
         _writable_file(trajectory, "--trajectory")
-    options = _bench(**bench)
+    options = pop_bench(bench)
     with tempfile.TemporaryDirectory(prefix="hako-") as tmp:
         rd = run_dir or Path(tmp)
         out = rd / "result.json"
@@ -104,8 +86,8 @@ def trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: float
         report_death(run_physics(options.physics_command(rd, ctl)), rd)
         result = json.loads(out.read_text())
         if trajectory is not None:
-            from hakoniwa.course import load_course
-            from hakoniwa.plot import draw_trajectory, read_trajectory
+            from hakoniwa.physics.course import load_course
+            from hakoniwa.physics.plot import draw_trajectory, read_trajectory
 
             lap = f"lap {result['lap_time_s']:.2f} s" if result["lap_time_s"] is not None else result["event"]
             draw_trajectory(load_course(options.course), read_trajectory(rd / TRAJECTORY_FILE), trajectory,
@@ -126,17 +108,18 @@ def trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: float
 @click.option("--scheduler", default=None, metavar="tcp://HOST:PORT",
               help="Run on the workers of this Dask cluster instead (each needs only hakoniwa-py installed).")
 @campaign_options
-def run(benches: int | None, scheduler: str | None, course: str, app: str, athrill2: str | None,
-        athrill_timeout: float, time_limit: float, **options) -> None:
+def run(benches: int | None, scheduler: str | None, **options) -> None:
     """Search the robot program's parameters by Bayesian optimization, as in the paper: 5 random sets, then
     --trials sets proposed by GPyOpt (EI), --batch at a time; each set tested until 3 successes or 3
-    failures; the objective is the mean lap time (60 s for a failure). Tests run on --benches benches at once.
+    failures; the objective is the mean lap time (the time limit for a failure). Tests run on --benches
+    benches at once.
     Every test is journaled; kill and --resume at any time."""
     if benches is not None and scheduler is not None:
         raise click.UsageError("--benches starts a local cluster; with --scheduler the cluster's workers are the benches")
     n = benches or default_benches()
-    p = plan(**options, default_batch=n)
-    bench = _campaign_bench(p.bench, course, app, athrill2, athrill_timeout, time_limit)
+    given = pop_bench(options)
+    p = plan(**options, penalty_s=time_limit_s(given))
+    bench = _campaign_bench(p.bench, given)
     check_bench(bench)
     run_dir = p.out_dir / "run"
     from testctl.bench import Bench
@@ -157,11 +140,22 @@ def run(benches: int | None, scheduler: str | None, course: str, app: str, athri
         executor.close()
 
 
+def time_limit_s(bench: BenchOptions) -> float:
+    """The bench's time limit: what a failed test scores in a campaign."""
+    from hakoniwa.physics.course import CourseError, load_course
+    from hakoniwa.wire.timebase import US_PER_S
+
+    try:
+        return bench.time_limit_us(load_course(bench.course).time_limit_us) / US_PER_S
+    except CourseError as e:
+        raise click.ClickException(str(e)) from None
+
+
 def check_bench(bench: BenchOptions) -> None:
     """Load the course and check the program here, once, so that a bad one is one line before any worker
     starts (and a C program is built once, into the cache every local worker then hits)."""
-    from hakoniwa.course import CourseError, load_course
-    from hakoniwa.programs import ProgramError, resolve_program
+    from hakoniwa.physics.course import CourseError, load_course
+    from athrill_sim.programs import ProgramError, resolve_program
 
     try:
         load_course(bench.course)
@@ -175,30 +169,29 @@ def default_benches() -> int:
     return max(1, (os.cpu_count() or 2) // 2)
 
 
-# What the journal records of the bench: what decides results (not where athrill2 lives), by BenchOptions
-# field, with the option that sets it.
-RECORDED_BENCH = {"course": "course", "app": "app", "time_limit_s": "time_limit"}
+# What the journal records of the bench: what decides results (not where athrill2 lives).
+RECORDED_BENCH = ("course", "app", "time_limit_s")
 
 
 def bench_info(bench: BenchOptions) -> dict:
     return {field: getattr(bench, field) for field in RECORDED_BENCH}
 
 
-def _campaign_bench(stored: dict, course: str, app: str, athrill2: str | None, athrill_timeout: float,
-                    time_limit: float) -> BenchOptions:
+def _campaign_bench(stored: dict, given: BenchOptions) -> BenchOptions:
     """The bench for a campaign: as given, with paths made absolute for workers elsewhere; a resumed campaign
     runs on the bench its journal records, and giving another is an error."""
-    given = BenchOptions(_absolute(course), _absolute(app), athrill2, athrill_timeout, time_limit)
+    given = dataclasses.replace(given, course=_absolute(given.course), app=_absolute(given.app))
     if not stored:
         return given
     ctx = click.get_current_context()
-    differ = [f"--{option.replace('_', '-')} {getattr(given, field)!r} (given) vs {stored[field]!r} (journal)"
-              for field, option in RECORDED_BENCH.items()
-              if ctx.get_parameter_source(option) == click.core.ParameterSource.COMMANDLINE
+    differ = [f"--{field.removesuffix('_s').replace('_', '-')} {getattr(given, field)!r} (given) vs "
+              f"{stored.get(field)!r} (journal)"
+              for field in RECORDED_BENCH
+              if ctx.get_parameter_source(field) == click.core.ParameterSource.COMMANDLINE
               and getattr(given, field) != stored.get(field)]
     if differ:
         raise click.UsageError("--resume runs on the campaign's own bench: " + "; ".join(differ))
-    return BenchOptions(stored["course"], stored["app"], athrill2, athrill_timeout, stored["time_limit_s"])
+    return dataclasses.replace(given, **{field: stored.get(field) for field in RECORDED_BENCH})
 
 
 def _absolute(spec: str) -> str:

@@ -8,6 +8,8 @@ from collections.abc import Callable
 
 import click
 
+from hakoniwa.wire.protocol import MAX_NOISE_SCALE
+
 HELP = {"help_option_names": ["-h", "--help"]}
 FLOAT32_MAX = 3.4028234663852886e38
 
@@ -34,7 +36,7 @@ class Float32(click.ParamType):
 
 
 SECONDS = Float32(0.001, 1e6)  # a time limit or timeout: positive, finite
-NOISE_SCALE = Float32(0.0, 100.0)
+NOISE_SCALE = Float32(0.0, MAX_NOISE_SCALE)
 
 
 def option_group(options: list[Callable]) -> Callable[[Callable], Callable]:

@@ -27,7 +27,7 @@ from pathlib import Path
 
 import click
 
-from hakoniwa.launch import BenchOptions
+from hakoniwa.physics.options import BenchOptions
 from testctl.campaign import Campaign, CampaignConfig
 from testctl.journal import JOURNAL_FILE, read_journal
 from testctl.objective import RepetitionRule

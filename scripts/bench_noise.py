@@ -10,7 +10,7 @@ from pathlib import Path
 
 import click
 
-from hakoniwa.launch import BenchOptions
+from hakoniwa.physics.options import BenchOptions
 from testctl.bench import Bench
 from testctl.executor import TestSpec
 from testctl.noise_seed import noise_seed

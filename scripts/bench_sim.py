@@ -27,12 +27,12 @@ from typing import Callable
 import click
 import mujoco
 
-from hakoniwa.course import load_course
-from hakoniwa.launch import BenchOptions
-from hakoniwa.programs import Program, ProgramError, resolve_program
-from hakoniwa.protocol import MappedFile, Rx, SyncMode, Tx, open_athrill, open_unity
-from hakoniwa.sync import HAKONIWA_START_US
-from hakoniwa.world import World
+from hakoniwa.physics.course import load_course
+from hakoniwa.physics.options import BenchOptions
+from athrill_sim.programs import Program, ProgramError, resolve_program
+from hakoniwa.wire.protocol import MappedFile, Rx, SyncMode, Tx, open_athrill, open_unity
+from hakoniwa.physics.sync import HAKONIWA_START_US
+from hakoniwa.physics.world import World
 from testctl.paper import BEST_GAINS, line_trace_params
 from testctl.runner import TrialRunner
 

@@ -1,4 +1,4 @@
-"""Draw the floor image of the built-in oval course (paper Fig. 6) into hakoniwa/courses/oval/floor.png.
+"""Draw the floor image of the built-in oval course (paper Fig. 6) into hakoniwa/physics/courses/oval/floor.png.
 
 The image is data the course folder ships; this script documents how it was made and remakes it. The line
 edge is a linear ramp, as a texture-filtered camera would see it, so the reflect value varies smoothly

@@ -6,7 +6,8 @@ from __future__ import annotations
 import subprocess
 from pathlib import Path
 
-from hakoniwa.launch import BenchOptions, die_with_parent
+from hakoniwa.physics.options import BenchOptions
+from hakoniwa.wire.processes import die_with_parent
 from testctl.executor import TestSpec
 from testctl.result import TestResult
 from testctl.runner import PhysicsGone, TrialRunner

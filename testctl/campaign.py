@@ -27,12 +27,14 @@ from typing import Any
 
 import numpy as np
 
+from hakoniwa.wire.protocol import MAX_NOISE_SCALE
 from testctl.executor import Executor, SerialExecutor, TestSpec
 from testctl.journal import JOURNAL_FILE, Journal, JournalError, TestRecord, now_timestamp, read_journal
 from testctl.noise_seed import noise_seed
-from testctl.objective import RepetitionRule, Verdict
+from testctl.objective import LEGACY_PENALTY_S, RepetitionRule, Verdict
 from testctl.result import TestResult
-from testctl.sampler import SAMPLERS, RandomSampler, Sampler
+from testctl.optimizers import OPTIMIZERS, make_sampler
+from testctl.sampler import RandomSampler, Sampler
 from testctl.space import ParameterSpace
 
 PHASE_INIT = "init"  # the random initial design
@@ -58,10 +60,11 @@ class CampaignConfig:
     optimizer: str = "gpyopt"
     batch: int = 1
     noise: float = 1.0
+    penalty_s: float = LEGACY_PENALTY_S  # the bench's time limit, set by the options from course and --time-limit
 
     def __post_init__(self) -> None:
-        if self.optimizer not in SAMPLERS:
-            raise ValueError(f"unknown optimizer {self.optimizer!r}; choose from {', '.join(SAMPLERS)}")
+        if self.optimizer not in OPTIMIZERS:
+            raise ValueError(f"unknown optimizer {self.optimizer!r}; choose from {', '.join(OPTIMIZERS)}")
         if self.trials < 0:
             raise ValueError(f"trials must be at least 0, got {self.trials}")
         if self.init_points < 1:
@@ -70,13 +73,13 @@ class CampaignConfig:
             raise ValueError(f"seed must be at least 0, got {self.seed}")
         if self.batch < 1:
             raise ValueError(f"batch must be at least 1, got {self.batch}")
-        if not 0.0 <= self.noise <= 100.0:
-            raise ValueError(f"noise must be a scale in 0..100, got {self.noise}")
-        RepetitionRule(self.repeats, self.max_crashes)  # validates both
+        if not 0.0 <= self.noise <= MAX_NOISE_SCALE:
+            raise ValueError(f"noise must be a scale in 0..{MAX_NOISE_SCALE:g}, got {self.noise}")
+        self.rule  # validates repeats, max_crashes and penalty_s
 
     @property
     def rule(self) -> RepetitionRule:
-        return RepetitionRule(self.repeats, self.max_crashes)
+        return RepetitionRule(self.repeats, self.max_crashes, self.penalty_s)
 
     @property
     def total_sets(self) -> int:
@@ -210,7 +213,7 @@ class Campaign:
         self.on_progress = on_progress
         self.resume = resume
         self._init_sampler: Sampler = RandomSampler(config.seed)
-        self._bo_sampler: Sampler = SAMPLERS[config.optimizer](config.seed)
+        self._bo_sampler: Sampler = make_sampler(config.optimizer, config.seed)
         self._done: list[SetResult] = []
         self._faults_in_a_row = 0
         self._proposal_s: list[float] = []

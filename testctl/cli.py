@@ -5,19 +5,19 @@ several benches is `hako run`."""
 from __future__ import annotations
 
 import json
-import os
 from pathlib import Path
 
 import click
 
-from hakoniwa.clickutil import HELP, Float32
-from hakoniwa.protocol import ProtocolError
+from hakoniwa.clickutil import HELP, SECONDS, Float32
+from hakoniwa.wire.protocol import ProtocolError
 from testctl import paper
 from testctl.executor import SerialExecutor, TestSpec
 from testctl.options import campaign_options, noise_options, plan
 from testctl.runner import PhysicsGone, TrialRunner
+from hakoniwa.wire.rundir import COURSE_ENV, RUN_DIR_ENV, TIME_LIMIT_ENV
 
-RUN_DIR_OPTION = click.option("--run-dir", envvar="HAKO_RUN_DIR", required=True,
+RUN_DIR_OPTION = click.option("--run-dir", envvar=RUN_DIR_ENV, required=True,
                               type=click.Path(file_okay=False, exists=True, path_type=Path),
                               help="The physics process's run directory [env: HAKO_RUN_DIR].")
 def connect(run_dir: Path) -> TrialRunner:
@@ -57,13 +57,17 @@ def trial(run_dir: Path, kp: float, ki: float, kd: float, power: float, seed: in
 
 @main.command(context_settings=HELP)
 @RUN_DIR_OPTION
+@click.option("--course", envvar=COURSE_ENV, required=True, type=click.Path(file_okay=False, exists=True),
+              help="The bench's course folder, for the best set's picture [env: HAKO_COURSE].")
+@click.option("--time-limit", envvar=TIME_LIMIT_ENV, required=True, type=SECONDS,
+              help="The bench's time limit: what a failed test scores [env: HAKO_TIME_LIMIT_S].")
 @campaign_options
-def campaign(run_dir: Path, **options) -> None:
+def campaign(run_dir: Path, course: str, time_limit: float, **options) -> None:
     """Search the control parameters with repeated tests (the paper's experiment) on this one bench,
     journaling every test."""
     from testctl.session import run_campaign
 
-    p = plan(**options)
+    p = plan(**options, penalty_s=time_limit)
     runner = connect(run_dir)
 
     def run_test(spec: TestSpec):
@@ -72,7 +76,7 @@ def campaign(run_dir: Path, **options) -> None:
     try:
         run_campaign(p, SerialExecutor(run_test, name=str(run_dir)), bench_info={},
                      trial_once=lambda spec: (run_test(spec), runner.run_dir),
-                     course_folder=Path(os.environ.get("HAKO_COURSE", "oval")))
+                     course_folder=Path(course))
     finally:
         runner.end()
 

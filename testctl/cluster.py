@@ -23,7 +23,7 @@ from pathlib import Path
 from distributed import Client, LocalCluster, as_completed, get_worker
 from distributed.diagnostics.plugin import WorkerPlugin
 
-from hakoniwa.launch import BenchOptions
+from hakoniwa.physics.options import BenchOptions
 from testctl.bench import Bench
 from testctl.executor import Executor, TestSpec
 from testctl.result import TestResult

@@ -2,7 +2,8 @@
 
 Paper, section 4.1: the same parameters may succeed or fail depending on the load of the machine, so each set
 is tested repeatedly; whichever of success or failure reaches 3 first decides the set (at most 5 tests). A
-successful set scores the mean lap time of its successes, a failed one the 60 s time limit. Here that rule is
+successful set scores the mean lap time of its successes, a failed one the bench's time limit (60 s in the
+paper). Here that rule is
 generalized to `repeats` tests with a strict majority `repeats // 2 + 1` needed for success.
 
 A CRASH of the robot program (Athrill died or went silent) may or may not be the parameters' doing, unlike a
@@ -22,10 +23,10 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from hakoniwa.protocol import Event
+from hakoniwa.wire.protocol import Event
 from testctl.result import TestResult
 
-PENALTY_S = 60.0  # the course's time limit; what a failed set scores
+LEGACY_PENALTY_S = 60.0  # what journals written before the penalty was recorded scored a failure: their time limit
 _FAILURES = (Event.TIME_OVER, Event.HIT_WALL)
 
 
@@ -48,13 +49,15 @@ class RepetitionRule:
 
     repeats: int = 5
     max_crashes: int = 3
-    penalty_s: float = PENALTY_S
+    penalty_s: float = LEGACY_PENALTY_S  # the bench's time limit: a failure scores as a test that used it all
 
     def __post_init__(self) -> None:
         if self.repeats < 1:
             raise ValueError(f"repeats must be at least 1, got {self.repeats}")
         if self.max_crashes < 0:
             raise ValueError(f"max_crashes must be at least 0, got {self.max_crashes}")
+        if not self.penalty_s > 0:
+            raise ValueError(f"penalty_s must be positive, got {self.penalty_s}")
 
     @property
     def needed(self) -> int:

@@ -11,11 +11,12 @@ import dataclasses
 import datetime as dt
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable
+from typing import TYPE_CHECKING, Any
 
 import click
 
 from hakoniwa.clickutil import NOISE_SCALE, option_group
+from testctl.optimizers import OPTIMIZERS
 from testctl.journal import JOURNAL_FILE, JournalError, read_journal
 from testctl.space import ParameterSpace, SpaceError
 
@@ -32,10 +33,11 @@ _OPTIONS = [
                  help="Tests per set at most; the first to a majority decides (3 of 5) [5]."),
     click.option("--seed", type=click.IntRange(min=0), default=None,
                  help="Seed of the initial design, the optimizer and every test's noise [0]."),
-    click.option("--optimizer", type=click.Choice(["gpyopt", "random"]), default=None,
+    click.option("--optimizer", type=click.Choice(list(OPTIMIZERS)), default=None,
                  help="Bayesian optimization with EI, or uniform random search as a baseline [gpyopt]."),
     click.option("--batch", type=click.IntRange(min=1), default=None,
-                 help="Sets proposed per optimization round (constant liar) [the number of benches]."),
+                 help="Sets proposed per optimization round (constant liar) [1, as in the paper; the same "
+                      "command is the same campaign on any number of benches]."),
     click.option("--noise", type=NOISE_SCALE, default=None,
                  help="Scale of the course's sensor, motor and start-pose noise; 0 = an exactly repeatable "
                       "bench [1]."),
@@ -73,8 +75,9 @@ class CampaignPlan:
 
 def plan(trials: int | None, init_points: int | None, repeats: int | None, seed: int | None,
          optimizer: str | None, batch: int | None, noise: float | None, space_file: Path | None,
-         out: Path | None, resume: Path | None, smoke: bool, *, default_batch: int = 1) -> CampaignPlan:
-    """Turn the options into a campaign, or fail with a one-line click error."""
+         out: Path | None, resume: Path | None, smoke: bool, *, penalty_s: float) -> CampaignPlan:
+    """Turn the options into a campaign, or fail with a one-line click error. `penalty_s`, the bench's time
+    limit, is what a failure scores in a new campaign; a resumed one keeps its journal's."""
     from testctl.campaign import CampaignConfig  # NumPy: not for --help
 
     given = {k: v for k, v in {"trials": trials, "init_points": init_points, "repeats": repeats, "seed": seed,
@@ -92,7 +95,7 @@ def plan(trials: int | None, init_points: int | None, repeats: int | None, seed:
                 config = dataclasses.replace(config, trials=trials)
             return CampaignPlan(config, resume, True, dict(header.get("bench", {})))
         space = ParameterSpace.load(space_file) if space_file is not None else ParameterSpace.default()
-        config = CampaignConfig(space=space, **{"batch": default_batch, **(SMOKE if smoke else {}), **given})
+        config = CampaignConfig(space=space, penalty_s=penalty_s, **{**(SMOKE if smoke else {}), **given})
     except (SpaceError, JournalError, ValueError) as e:
         raise click.ClickException(str(e)) from None
     out_dir = out or Path("runs") / f"campaign-{dt.datetime.now():%Y%m%d-%H%M%S}"

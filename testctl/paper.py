@@ -3,7 +3,7 @@ result the paper reports."""
 
 from __future__ import annotations
 
-from hakoniwa.protocol import Rx
+from hakoniwa.wire.protocol import Rx
 
 MOTOR_POWER = 15.0  # the fixed base motor power of the experiment
 BEST_GAINS = (1.539, 4.267, 4.511)  # the paper's best [Kp, Ki, Kd] (a 32.39 s lap on its course)

@@ -20,7 +20,6 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
 from testctl.campaign import PHASE_INIT, CampaignSummary, SetResult
-from testctl.objective import PENALTY_S
 
 RESULTS_CSV = "results.csv"
 BEST_JSON = "best.json"
@@ -139,8 +138,8 @@ def plot_fig8(path: Path, summary: CampaignSummary) -> None:
     ax_lap.plot([s.number for s in ok], [s.value for s in ok], "o", color="black", ms=4,
                 label="success (mean lap)")
     ax_lap.plot([s.number for s in failed], [s.value for s in failed], "x", color="red",
-                label=f"failure (scored {PENALTY_S:g} s)")
-    ax_lap.axhline(PENALTY_S, color="red", ls=":", lw=0.8)
+                label=f"failure (scored {summary.config.penalty_s:g} s)")
+    ax_lap.axhline(summary.config.penalty_s, color="red", ls=":", lw=0.8)
     ax_lap.legend(loc="upper left", bbox_to_anchor=(1.01, 1))
     fig.suptitle("Search values of the control parameters and lap time")
     fig.savefig(path, dpi=100)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from hakoniwa.protocol import CrashKind, Event, SyncMode
+from hakoniwa.wire.protocol import CrashKind, Event, SyncMode
 
 
 @dataclass(frozen=True)
@@ -50,7 +50,7 @@ class TestResult:
         """The crash in words, naming the signal that killed the program if one did."""
         if self.event != Event.CRASH:
             return None
-        from hakoniwa.launch import describe_exit
+        from hakoniwa.wire.processes import describe_exit
 
         what = self.crash_kind.name.lower()
         if self.crash_kind in (CrashKind.PROGRAM, CrashKind.BENCH) and self.crash_detail:

@@ -15,13 +15,12 @@ import time
 from pathlib import Path
 from typing import Callable, Mapping
 
-from hakoniwa.protocol import (PARAM_END, CrashKind, Event, MappedFile, ProtocolError, Rx, SyncMode, Tx,
+from hakoniwa.wire.protocol import (MAX_NOISE_SCALE, PARAM_END, CrashKind, Event, MappedFile, ProtocolError, Rx, SyncMode, Tx,
                                goal_time_from_words, open_athrill, open_unity)
 from testctl.result import TestResult
-from hakoniwa.waiting import pid_alive, wait_for
+from hakoniwa.wire.waiting import pid_alive, wait_for
 
 POLL_S = 0.002  # a test takes about a second; a 2 ms nap costs nothing and leaves the CPU to the bench
-MAX_NOISE_SCALE = 1e6  # far beyond any use; keeps the f32 field finite
 
 
 class PhysicsGone(RuntimeError):

@@ -269,5 +269,3 @@ class _AnchoredLbfgs:
         best = min(runs, key=lambda r: r.fun)
         return best.x[None, :], np.atleast_2d(best.fun)
 
-
-SAMPLERS: dict[str, Callable[[int], Sampler]] = {"gpyopt": GPyOptSampler, "random": RandomSampler}

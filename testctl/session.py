@@ -70,9 +70,9 @@ def best_spec(summary: CampaignSummary) -> TestSpec:
 
 
 def draw_best(summary: CampaignSummary, trial_once: TrialOnce, course_folder: Path, out: Path) -> Path:
-    from hakoniwa.course import load_course
-    from hakoniwa.plot import draw_trajectory, read_trajectory
-    from hakoniwa.rundir import TRAJECTORY_FILE
+    from hakoniwa.physics.course import load_course
+    from hakoniwa.physics.plot import draw_trajectory, read_trajectory
+    from hakoniwa.wire.rundir import TRAJECTORY_FILE
 
     best: SetResult = summary.best  # type: ignore[assignment]
     result, run_dir = trial_once(best_spec(summary))

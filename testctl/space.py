@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from hakoniwa.protocol import PARAM_END, Rx
+from hakoniwa.wire.protocol import PARAM_END, Rx
 from testctl import paper
 
 _FLOAT_SIZE = 4

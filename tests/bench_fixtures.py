@@ -8,7 +8,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Iterator
 
-from hakoniwa.launch import BenchOptions
+from hakoniwa.physics.options import BenchOptions
 from testctl.paper import BEST_GAINS, line_trace_params
 from testctl.runner import TrialRunner
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from hakoniwa.protocol import CrashKind, Event, Rx
+from hakoniwa.wire.protocol import CrashKind, Event, Rx
 from testctl.executor import TestSpec
 from testctl.result import TestResult
 

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from hakoniwa.protocol import MappedFile, Rx, Tx, open_athrill, open_unity
+from hakoniwa.wire.protocol import MappedFile, Rx, Tx, open_athrill, open_unity
 
 NO_CC = "needs a C compiler (cc) to build native apps"
 

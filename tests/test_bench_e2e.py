@@ -9,10 +9,11 @@ import time
 
 import pytest
 
-from hakoniwa.launch import BenchOptions
-from hakoniwa.protocol import CrashKind, Event, Rx, Tx
-from hakoniwa.rundir import LOCK_FILE
+from hakoniwa.physics.options import BenchOptions
+from hakoniwa.wire.protocol import CrashKind, Event, Rx, Tx
+from hakoniwa.wire.rundir import LOCK_FILE
 from bench_fixtures import PAPER, ZERO, physics
+from conftest import hako
 
 
 def test_paper_gains_finish_a_lap_and_zero_gains_do_not(tmp_path):
@@ -90,8 +91,7 @@ def test_leftovers_of_a_crashed_run_do_not_confuse_a_new_one(tmp_path):
 
 
 def hako_trial_json(*extra: str, env=None) -> dict:
-    out = subprocess.run([sys.executable, "-m", "hakoniwa.cli", "trial", "--json", *extra], capture_output=True,
-                         text=True, timeout=300, env=env)
+    out = hako("trial", "--json", *extra, timeout=300, env=env)
     assert out.returncode == 0, out.stderr
     return json.loads(out.stdout)
 
@@ -106,8 +106,7 @@ def test_hako_trial_cli_prints_event_and_lap_time(tmp_path):
 
 
 def test_hako_trial_rejects_bad_course():
-    out = subprocess.run([sys.executable, "-m", "hakoniwa.cli", "trial", "--course", "/nonexistent"],
-                         capture_output=True, text=True, timeout=60)
+    out = hako("trial", "--course", "/nonexistent", timeout=60)
     assert out.returncode != 0
     assert "no course at /nonexistent" in out.stderr and "Traceback" not in out.stderr
 

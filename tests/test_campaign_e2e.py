@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from campaign_doubles import ScriptedBench, SyntheticBench, result
-from hakoniwa.protocol import Event
+from hakoniwa.wire.protocol import Event
 from testctl.campaign import Campaign, CampaignConfig, Progress, SetResult
 from testctl.journal import JOURNAL_FILE, read_journal
 from testctl.objective import RepetitionRule

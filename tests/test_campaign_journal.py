@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from campaign_doubles import result
-from hakoniwa.protocol import Event
+from hakoniwa.wire.protocol import Event
 from testctl.journal import Journal, JournalError, TestRecord, read_journal
 
 HEADER = {"space": {"param": []}, "options": {}}

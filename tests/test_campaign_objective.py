@@ -1,4 +1,4 @@
-"""The paper's first-to-3-of-5 rule, the 60 s penalty, and crash retries."""
+"""The paper's first-to-3-of-5 rule, the time-limit penalty, and crash retries."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from campaign_doubles import result
-from hakoniwa.protocol import Event
-from testctl.objective import PENALTY_S, RepetitionRule
+from hakoniwa.wire.protocol import Event
+from testctl.objective import LEGACY_PENALTY_S, RepetitionRule
 from testctl.result import TestResult
 
 G, T, W, C = Event.GOAL, Event.TIME_OVER, Event.HIT_WALL, Event.CRASH
@@ -28,8 +28,15 @@ def test_three_successes_decide_success_with_mean_lap() -> None:
 
 def test_three_failures_decide_failure_with_penalty() -> None:
     v = judge(RepetitionRule(), [G, W, T, G, W])
-    assert (v.decided, v.success, v.value) == (True, False, PENALTY_S)
-    assert PENALTY_S == 60.0
+    assert (v.decided, v.success, v.value) == (True, False, LEGACY_PENALTY_S)
+    assert LEGACY_PENALTY_S == 60.0  # the paper's time limit, what journals without a penalty used
+
+
+def test_a_failure_scores_the_time_limit_it_ran_under() -> None:
+    v = judge(RepetitionRule(penalty_s=120.0), [W, T, W])
+    assert (v.decided, v.success, v.value) == (True, False, 120.0)
+    with pytest.raises(ValueError, match="penalty_s"):
+        RepetitionRule(penalty_s=0.0)
 
 
 @pytest.mark.parametrize(
@@ -62,7 +69,7 @@ def test_crashes_beyond_the_allowance_count_as_failures() -> None:
     v = judge(rule, [C] * 5)
     assert (v.decided, v.failures) == (False, 2)
     v = judge(rule, [C] * 6)
-    assert (v.decided, v.success, v.value, v.crashes) == (True, False, PENALTY_S, 6)
+    assert (v.decided, v.success, v.value, v.crashes) == (True, False, LEGACY_PENALTY_S, 6)
 
 
 def test_none_is_not_a_test_outcome() -> None:
@@ -87,7 +94,7 @@ def test_any_sequence_is_decided_within_repeats_plus_crash_allowance(
 
 
 def test_bench_faults_are_no_test_of_the_parameters() -> None:
-    from hakoniwa.protocol import CrashKind
+    from hakoniwa.wire.protocol import CrashKind
 
     fault = TestResult(Event.CRASH, 0, 0.01, crash_kind=CrashKind.BENCH)
     rule = RepetitionRule(max_crashes=0)

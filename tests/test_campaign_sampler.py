@@ -10,8 +10,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hakoniwa.protocol import Rx
-from testctl.sampler import SAMPLERS, GPyOptSampler, RandomSampler
+from hakoniwa.wire.protocol import Rx
+from testctl.optimizers import make_sampler
+from testctl.sampler import GPyOptSampler, RandomSampler
 from testctl.space import Parameter, ParameterSpace
 
 # Ranges of very different widths, so that a point scaled wrongly shows up out of bounds.
@@ -48,10 +49,10 @@ def assert_distinct_inside(batch: list[tuple[float, ...]], q: int) -> None:
 def test_a_batch_is_a_pure_function_of_seed_round_and_data(name: str) -> None:
     X, Y = initial(8)
     state = np.random.get_state()
-    first = SAMPLERS[name](3).suggest_batch(SPACE, X, Y, 1, 4)
-    assert SAMPLERS[name](3).suggest_batch(SPACE, X.copy(), Y.copy(), 1, 4) == first
-    assert SAMPLERS[name](3).suggest_batch(SPACE, X, Y, 2, 4) != first
-    assert SAMPLERS[name](4).suggest_batch(SPACE, X, Y, 1, 4) != first
+    first = make_sampler(name, 3).suggest_batch(SPACE, X, Y, 1, 4)
+    assert make_sampler(name, 3).suggest_batch(SPACE, X.copy(), Y.copy(), 1, 4) == first
+    assert make_sampler(name, 3).suggest_batch(SPACE, X, Y, 2, 4) != first
+    assert make_sampler(name, 4).suggest_batch(SPACE, X, Y, 1, 4) != first
     after = np.random.get_state()
     assert after[0] == state[0] and np.array_equal(after[1], state[1]) and after[2:] == state[2:]
 
@@ -73,7 +74,7 @@ def test_a_fresh_process_proposes_the_same_batch() -> None:
 def test_the_first_points_of_a_batch_do_not_depend_on_its_size(name: str) -> None:
     """So a round cut short (the last one of a campaign) proposes the same sets, and `suggest` is q = 1."""
     X, Y = initial(8)
-    sampler = SAMPLERS[name](3)
+    sampler = make_sampler(name, 3)
     full = sampler.suggest_batch(SPACE, X, Y, 5, 4)
     assert sampler.suggest_batch(SPACE, X, Y, 5, 2) == full[:2]
     assert sampler.suggest(SPACE, X, Y, 5) == full[0]
@@ -82,7 +83,7 @@ def test_the_first_points_of_a_batch_do_not_depend_on_its_size(name: str) -> Non
 @pytest.mark.parametrize("name", ["gpyopt", "random"])
 def test_a_batch_is_q_distinct_points_inside_the_bounds(name: str) -> None:
     X, Y = initial(12)
-    assert_distinct_inside(SAMPLERS[name](0).suggest_batch(SPACE, X, Y, 1, 8), 8)
+    assert_distinct_inside(make_sampler(name, 0).suggest_batch(SPACE, X, Y, 1, 8), 8)
 
 
 def test_pending_points_push_the_rest_of_the_batch_away() -> None:
@@ -134,7 +135,7 @@ def test_bad_requests_are_refused() -> None:
     X, Y = initial(3)
     for name in ("gpyopt", "random"):
         with pytest.raises(ValueError, match="at least one point"):
-            SAMPLERS[name](0).suggest_batch(SPACE, X, Y, 1, 0)
+            make_sampler(name, 0).suggest_batch(SPACE, X, Y, 1, 0)
     with pytest.raises(ValueError, match="at least one finished set"):
         GPyOptSampler(0).suggest_batch(SPACE, np.empty((0, 3)), np.empty((0, 1)), 1, 2)
     with pytest.raises(ValueError, match="unknown lie"):

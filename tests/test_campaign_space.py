@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from hakoniwa.protocol import Rx
+from hakoniwa.wire.protocol import Rx
 from testctl.space import ParameterSpace, SpaceError
 
 EXAMPLE = Path(__file__).resolve().parent.parent / "docs" / "space-example.toml"

@@ -3,25 +3,13 @@ before any test runs; and `-h` everywhere."""
 
 from __future__ import annotations
 
-import subprocess
-import sys
 
 import pytest
 
 from testctl.journal import JOURNAL_FILE
 
 
-def run(module: str, *args: str, timeout: float = 120) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", module, *args], capture_output=True, text=True, timeout=timeout)
-
-
-def one_line_error(r: subprocess.CompletedProcess, *words: str) -> None:
-    assert r.returncode != 0, r.stdout
-    assert "Traceback" not in r.stderr and "Aborted" not in r.stderr
-    lines = [line for line in r.stderr.strip().splitlines() if line and not line.startswith(("Usage:", "Try "))]
-    assert len(lines) == 1, r.stderr
-    for w in words:
-        assert w in lines[0], r.stderr
+from conftest import one_line_error, run_module as run
 
 
 @pytest.mark.parametrize("args, words", [
@@ -48,7 +36,7 @@ def test_hako_trial_refuses_bad_values_before_running(args, words):
     (["--time-limit", "0"], ["--time-limit"]),
 ])
 def test_hakoniwa_physics_validates_at_start(tmp_path, args, words):
-    one_line_error(run("hakoniwa.physics_main", "--run-dir", str(tmp_path), *args), *words)
+    one_line_error(run("hakoniwa.physics.main", "--run-dir", str(tmp_path), *args), *words)
     assert not (tmp_path / "unity_mmap.bin").exists()
 
 
@@ -64,7 +52,7 @@ def test_testctl_trial_refuses_non_finite_gains(tmp_path):
 
 
 @pytest.mark.parametrize("module, args", [
-    ("hakoniwa.cli", []), ("hakoniwa.cli", ["trial"]), ("hakoniwa.cli", ["run"]), ("hakoniwa.physics_main", []),
+    ("hakoniwa.cli", []), ("hakoniwa.cli", ["trial"]), ("hakoniwa.cli", ["run"]), ("hakoniwa.physics.main", []),
     ("testctl.cli", []), ("testctl.cli", ["trial"]), ("testctl.cli", ["campaign"]), ("athrill_sim.main", []),
 ])
 def test_dash_h_is_help_everywhere(module, args):

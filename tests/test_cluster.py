@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 
 from testctl.journal import JOURNAL_FILE, read_journal
+from conftest import hako
 
 DASK = [sys.executable, "-m", "dask"]
 CAMPAIGN = ["--batch", "2", "--trials", "3", "--seed", "1"]
@@ -26,8 +27,7 @@ def free_port() -> int:
 
 
 def hako_run(*args: str, timeout: float = 600) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "hakoniwa.cli", "run", *args], capture_output=True, text=True,
-                          timeout=timeout)
+    return hako("run", *args, timeout=timeout)
 
 
 def wait_for_workers(address: str, n: int) -> None:
@@ -142,7 +142,7 @@ def descendants(pid: int) -> list[int]:
 
 def is_physics(pid: int) -> bool:
     try:
-        return b"hakoniwa.physics_main" in Path(f"/proc/{pid}/cmdline").read_bytes()
+        return b"hakoniwa.physics.main" in Path(f"/proc/{pid}/cmdline").read_bytes()
     except OSError:
         return False
 

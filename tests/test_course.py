@@ -2,8 +2,8 @@ import shutil
 
 import pytest
 
-from hakoniwa.course import COURSES_DIR, CourseError, load_course
-from hakoniwa.noise import DEFAULT_NOISE
+from hakoniwa.physics.course import COURSES_DIR, CourseError, load_course
+from hakoniwa.physics.noise import DEFAULT_NOISE
 
 
 def copy_oval(tmp_path):
@@ -81,7 +81,7 @@ def test_noise_levels_left_out_keep_their_defaults(tmp_path):
 
 
 def test_colour_id_black_line_white_floor_grey_edge():
-    from hakoniwa.protocol import ColorId
+    from hakoniwa.wire.protocol import ColorId
 
     c = load_course("oval")
     assert c.color_at(0.0, -0.5, c.reflect_at(0.0, -0.5))[0] == ColorId.BLACK  # line centre
@@ -90,7 +90,7 @@ def test_colour_id_black_line_white_floor_grey_edge():
 
 
 def test_coloured_areas_and_wiring_come_from_the_toml(tmp_path):
-    from hakoniwa.protocol import ColorId
+    from hakoniwa.wire.protocol import ColorId
 
     folder = copy_oval(tmp_path)
     toml = folder / "course.toml"

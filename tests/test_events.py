@@ -5,10 +5,10 @@ import math
 import mujoco
 import pytest
 
-from hakoniwa.course import load_course
-from hakoniwa.protocol import Event
-from hakoniwa.task import LapTask
-from hakoniwa.world import World
+from hakoniwa.physics.course import load_course
+from hakoniwa.wire.protocol import Event
+from hakoniwa.physics.task import LapTask
+from hakoniwa.physics.world import World
 
 
 @pytest.fixture(scope="module")

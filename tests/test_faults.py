@@ -13,9 +13,9 @@ from pathlib import Path
 import pytest
 
 from bench_fixtures import PAPER, physics
-from hakoniwa.protocol import ATHRILL_FILE, EXIT_BENCH_FAULT, UNITY_FILE, CrashKind, Event
-from hakoniwa.rundir import PHYSICS_LOG
-from hakoniwa.sync import exit_crash
+from hakoniwa.wire.protocol import ATHRILL_FILE, EXIT_BENCH_FAULT, UNITY_FILE, CrashKind, Event
+from hakoniwa.wire.rundir import PHYSICS_LOG
+from hakoniwa.physics.sync import exit_crash
 from testctl.journal import JOURNAL_FILE, read_journal
 
 IDLE_APP = '''
@@ -91,7 +91,7 @@ def wait_for_test(run_dir: Path) -> None:
 def test_a_killed_physics_process_is_named(tmp_path):
     proc = start_trial(tmp_path)
     wait_for_test(tmp_path / "run")
-    os.kill(pid_of("hakoniwa.physics_main", tmp_path / "run"), signal.SIGKILL)
+    os.kill(pid_of("hakoniwa.physics.main", tmp_path / "run"), signal.SIGKILL)
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 128 + signal.SIGKILL
     assert "the physics process was killed by SIGKILL" in err and "Traceback" not in err

@@ -4,18 +4,17 @@ against the real emulator, campaigns, and crashes."""
 import json
 import random
 import signal
-import subprocess
-import sys
 
 import pytest
 
 from athrill_fixtures import ASP_IMAGE, SHARED_ATHRILL, athrill2  # noqa: F401  (athrill2 is a fixture)
 from athrill_sim.apps import C_BUILTIN
 from bench_fixtures import PAPER, physics
-from hakoniwa.protocol import CrashKind, Event
+from hakoniwa.wire.protocol import CrashKind, Event
 from native_fixtures import need_cc
 from testctl.paper import GAIN_RANGE, line_trace_params
 from testctl.journal import JOURNAL_FILE, read_journal
+from conftest import hako
 
 BLE_SAMPLE = SHARED_ATHRILL / "ev3rt-ble_sample"
 
@@ -44,9 +43,6 @@ def test_the_c_tracer_and_the_python_tracer_agree_on_random_gains(tmp_path):
     assert len({event for event, _ in python}) > 1  # the sets exercise more than one outcome
 
 
-def hako(*args: str, timeout: float = 600) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "hakoniwa.cli", *args], capture_output=True, text=True,
-                          timeout=timeout)
 
 
 def test_the_unmodified_ev3rt_sample_follows_the_line_natively(tmp_path):

@@ -1,8 +1,6 @@
 """Building native apps: the generated headers, app.cfg and Makefile.inc, the cache, and build errors."""
 
-import os
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -13,10 +11,11 @@ from athrill_sim.native.appcfg import kernel_config
 from athrill_sim.native.build import build_app, first_error
 from athrill_sim.native.headers import generated_headers
 from athrill_sim.native.workspace import find_app, read_makefile_inc
-from hakoniwa import protocol, waiting
-from hakoniwa.programs import ProgramError, resolve_program
-from hakoniwa.timebase import PHYSICS_STEP_US
+from hakoniwa.wire import protocol, waiting
+from athrill_sim.programs import ProgramError, resolve_program
+from hakoniwa.wire.timebase import PHYSICS_STEP_US
 from native_fixtures import build, need_cc
+from conftest import hako
 
 
 def protocol_values() -> dict[str, int | str]:
@@ -169,9 +168,7 @@ def test_hako_trial_with_a_broken_c_app_fails_before_any_test(tmp_path):
     need_cc()
     (tmp_path / "broken.c").write_text("void main_task(long u) { undeclared(); = }\n")
     run_dir = tmp_path / "run"
-    out = subprocess.run([sys.executable, "-m", "hakoniwa.cli", "trial", "--app", str(tmp_path / "broken.c"),
-                          "--run-dir", str(run_dir)], capture_output=True, text=True, timeout=120,
-                         env=dict(os.environ))
+    out = hako("trial", "--app", str(tmp_path / "broken.c"), "--run-dir", str(run_dir), timeout=120)
     assert out.returncode != 0
     assert "Traceback" not in out.stderr and len(out.stderr.strip().splitlines()) == 1
     assert "broken.c does not build: broken.c:1:" in out.stderr and "error:" in out.stderr

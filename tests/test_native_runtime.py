@@ -12,7 +12,8 @@ from athrill_sim.ev3api import (COLOR_SENSOR, ENTER_BUTTON, EV3_PORT_1, EV3_PORT
                                 EV3_PORT_A, EV3_PORT_B, EV3_PORT_C, EV3_PORT_D, GYRO_SENSOR, LARGE_MOTOR,
                                 LED_ORANGE, LEFT_BUTTON, TOUCH_SENSOR, ULTRASONIC_SENSOR, Ev3Api)
 from athrill_sim.kernel import Kernel
-from hakoniwa.protocol import EXIT_BENCH_FAULT, NEVER_WAKES, Rx, Tx
+from hakoniwa.wire.processes import EXIT_BENCH_FAULT
+from hakoniwa.wire.protocol import NEVER_WAKES, Rx, Tx
 from native_fixtures import FakePhysics, build, finish
 
 # (C expression, the same call on the Python mock): run in this order by both, every result logged.

@@ -5,11 +5,11 @@ import math
 
 import pytest
 
-from hakoniwa.course import load_course
-from hakoniwa.noise import DEFAULT_NOISE, NoiseDraw, StartOffset
-from hakoniwa.protocol import ColorId, Rx, open_athrill, open_unity
-from hakoniwa.robot import ULTRASONIC_MAX_MM
-from hakoniwa.world import World
+from hakoniwa.physics.course import load_course
+from hakoniwa.physics.noise import DEFAULT_NOISE, NoiseDraw, StartOffset
+from hakoniwa.wire.protocol import ColorId, Rx, open_athrill, open_unity
+from hakoniwa.physics.robot import ULTRASONIC_MAX_MM
+from hakoniwa.physics.world import World
 from testctl.noise_seed import noise_seed
 from testctl.runner import TrialRunner
 

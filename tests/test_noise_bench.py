@@ -2,7 +2,7 @@
 
 import pytest
 
-from hakoniwa.protocol import Event
+from hakoniwa.wire.protocol import Event
 from testctl.noise_seed import noise_seed
 from bench_fixtures import PAPER, ZERO, physics
 

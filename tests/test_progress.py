@@ -4,7 +4,7 @@ promised an end it cannot keep."""
 from __future__ import annotations
 
 from campaign_doubles import result
-from hakoniwa.protocol import Event
+from hakoniwa.wire.protocol import Event
 from testctl.campaign import Progress
 from testctl.journal import TestRecord
 from testctl.progress import RECENT_TESTS, ProgressLine, format_duration

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from hakoniwa.protocol import (ATHRILL_FILE, FILE_SIZE, HEADER_SIZE, RX_GUEST_BASE, TX_GUEST_BASE, UNITY_FILE,
+from hakoniwa.wire.protocol import (ATHRILL_FILE, FILE_SIZE, HEADER_SIZE, RX_GUEST_BASE, TX_GUEST_BASE, UNITY_FILE,
                                WINDOW_SIZE, ColorId, Event, Header, ProtocolError, Rx, Tx, c_header,
                                goal_time_from_words, goal_time_words, guest_to_body, open_athrill, open_unity)
 

@@ -3,17 +3,16 @@ real Hakoniwa protocol (hakoniwa sync)."""
 
 import json
 import subprocess
-import sys
 
 import pytest
 
 from athrill_fixtures import ASP_IMAGE, athrill2  # noqa: F401  (athrill2 is a fixture)
-from hakoniwa.timebase import ALLOWED_TIME_DIFF_US
+from hakoniwa.wire.timebase import ALLOWED_TIME_DIFF_US
+from conftest import hako
 
 
 def hako_trial(*args: str) -> tuple[subprocess.CompletedProcess, dict | None]:
-    out = subprocess.run([sys.executable, "-m", "hakoniwa.cli", "trial", *args], capture_output=True, text=True,
-                         timeout=300)
+    out = hako("trial", *args, timeout=300)
     return out, json.loads(out.stdout) if out.returncode == 0 and "--json" in args else None
 
 

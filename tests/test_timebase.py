@@ -2,7 +2,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from hakoniwa.timebase import Scheduler
+from hakoniwa.wire.timebase import Scheduler
 
 
 def fire_times(tick_us: int, period_us: int, until_us: int) -> list[int]:

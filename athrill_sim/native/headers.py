@@ -1,13 +1,13 @@
 """The C headers generated from the Python side, so that the native runtime cannot disagree with it: the wire
-layout (`hakoniwa.protocol.c_header`, the only place that knows a byte offset) and the lockstep's timing (the
+layout (`hakoniwa.wire.protocol.c_header`, the only place that knows a byte offset) and the lockstep's timing (the
 physics step, and how long the mock kernel sleeps between its checks that the physics process lives)."""
 
 from __future__ import annotations
 
 from athrill_sim import kernel as mock_kernel
-from hakoniwa import waiting
-from hakoniwa.protocol import c_header
-from hakoniwa.timebase import PHYSICS_STEP_US
+from hakoniwa.wire import waiting
+from hakoniwa.wire.protocol import c_header
+from hakoniwa.wire.timebase import PHYSICS_STEP_US
 
 LAYOUT_HEADER = "hako_layout.h"
 TIMING_HEADER = "hako_timing.h"
@@ -19,7 +19,7 @@ def timing_header() -> str:
         "TEST_WAIT_NAP_S": mock_kernel.TEST_WAIT_NAP_S,
         "CHECK_EVERY_S": waiting.CHECK_EVERY_S,
     }
-    lines = ["/* Generated from hakoniwa.timebase, hakoniwa.waiting and athrill_sim.kernel; do not edit. */",
+    lines = ["/* Generated from hakoniwa.wire.timebase, hakoniwa.wire.waiting and athrill_sim.kernel; do not edit. */",
              "#ifndef HAKO_TIMING_H", "#define HAKO_TIMING_H"]
     lines += [f"#define HAKO_{name} {value!r}" for name, value in values.items()]
     lines.append("#endif")

@@ -20,7 +20,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from hakoniwa.robot import ULTRASONIC_MAX_MM
+from hakoniwa.physics.robot import ULTRASONIC_MAX_MM
 
 REFLECT_RANGE = (0.0, 100.0)  # what the colour sensor's reflect mode can report
 

@@ -25,18 +25,18 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from hakoniwa.course import Course
-from hakoniwa.launcher import AthrillLauncher, kill
-from hakoniwa.noise import NoiseDraw
-from hakoniwa.programs import Program
-from hakoniwa.rundir import PHYSICS_LOG, TRAJECTORY_FILE
-from hakoniwa.protocol import (MOTOR_PORTS, RESET_ANGLE_PORTS, TOUCH_PRESSED, CrashKind, Event, Header, MappedFile,
+from hakoniwa.physics.course import Course
+from athrill_sim.launcher import AthrillLauncher, kill
+from hakoniwa.physics.noise import NoiseDraw
+from athrill_sim.programs import Program
+from hakoniwa.wire.rundir import PHYSICS_LOG, TRAJECTORY_FILE
+from hakoniwa.wire.protocol import (MOTOR_PORTS, RESET_ANGLE_PORTS, TOUCH_PRESSED, CrashKind, Event, Header, MappedFile,
                                Rx, SyncMode, Tx, goal_time_words, open_athrill, open_unity)
-from hakoniwa.sync import HAKONIWA_START_US, AthrillCrash, run_hakoniwa, run_lockstep
-from hakoniwa.task import LapTask
-from hakoniwa.timebase import EVENT_CHECK_PERIOD_US, PHYSICS_STEP_US, TRACE_PERIOD_US, Scheduler
-from hakoniwa.waiting import futex_wake
-from hakoniwa.world import World
+from hakoniwa.physics.sync import HAKONIWA_START_US, AthrillCrash, run_hakoniwa, run_lockstep
+from hakoniwa.physics.task import LapTask
+from hakoniwa.wire.timebase import EVENT_CHECK_PERIOD_US, PHYSICS_STEP_US, TRACE_PERIOD_US, Scheduler
+from hakoniwa.wire.waiting import futex_wake
+from hakoniwa.physics.world import World
 
 IDLE_POLL_S = 0.0005
 ACTUATORS_END = Tx.GYRO_RESET + 4  # TX body bytes a test starts with cleared
@@ -65,14 +65,14 @@ class TestOutcome:
 
 
 class PhysicsServer:
-    def __init__(self, run_dir: Path, course: Course, program: Program, *, athrill_timeout_s: float = 10.0,
-                 time_limit_us: int | None = None) -> None:
+    def __init__(self, run_dir: Path, course: Course, program: Program, *, athrill_timeout_s: float,
+                 time_limit_us: int) -> None:
         self.run_dir = Path(run_dir)
         self.course = course
         self.program = program
         self.athrill_timeout_s = athrill_timeout_s
         self.world = World(course)
-        self.task = LapTask(course, time_limit_us or course.time_limit_us)
+        self.task = LapTask(course, time_limit_us)
         self.unity: MappedFile = open_unity(self.run_dir, create=True)
         self.athrill: MappedFile = open_athrill(self.run_dir, create=True)
         self.unity.write_u32(Rx.PHYSICS_PID, os.getpid())

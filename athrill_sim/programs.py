@@ -21,8 +21,8 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from hakoniwa.launch import die_with_parent
-from hakoniwa.protocol import ATHRILL_FILE, UNITY_FILE, SyncMode
+from hakoniwa.wire.processes import die_with_parent
+from hakoniwa.wire.protocol import ATHRILL_FILE, UNITY_FILE, SyncMode
 
 BUILD_ATHRILL_HINT = "build it with scripts/build_athrill2.sh build/athrill, then pass --athrill2 build/athrill/athrill2"
 ELF_MAGIC = b"\x7fELF"

@@ -10,47 +10,39 @@ from pathlib import Path
 
 import click
 
-from hakoniwa.course import CourseError, load_course
-from hakoniwa.clickutil import HELP, SECONDS
-from hakoniwa.launch import describe_exit, die_with_parent
-from hakoniwa.programs import ProgramError, resolve_program
-from hakoniwa.rundir import RunDirBusy, RunDirLock
-from hakoniwa.timebase import US_PER_S
+from hakoniwa.physics.course import CourseError, load_course
+from hakoniwa.clickutil import HELP
+from hakoniwa.physics.options import BenchOptions, bench_options
+from hakoniwa.wire.timebase import US_PER_S
+from hakoniwa.wire.processes import describe_exit, die_with_parent
+from athrill_sim.programs import ProgramError, resolve_program
+from hakoniwa.wire.rundir import COURSE_ENV, RUN_DIR_ENV, TIME_LIMIT_ENV, RunDirBusy, RunDirLock
 
-RUN_DIR_ENV = "HAKO_RUN_DIR"
-COURSE_ENV = "HAKO_COURSE"
 
 
 @click.command(context_settings={"ignore_unknown_options": True, **HELP})
 @click.option("--run-dir", type=click.Path(file_okay=False, path_type=Path), required=True,
               help="Folder for unity_mmap.bin, athrill_mmap.bin, logs and the last trajectory (one run each).")
-@click.option("--course", default="oval", show_default=True, help="Built-in course name or course folder.")
-@click.option("--app", default="line_trace", show_default=True,
-              help="Robot program: a built-in name, a Python module:function, an EV3RT C program (app.c or its "
-                   "workspace folder), or a v850 ELF image.")
-@click.option("--athrill2", default=None, help="The TOPPERS athrill2 emulator for an ELF --app [default: on PATH].")
-@click.option("--athrill-timeout", type=SECONDS, default=10.0, show_default=True,
-              help="Wall seconds a silent Athrill is waited for before the test counts as a crash.")
-@click.option("--time-limit", type=SECONDS, default=None,
-              help="Simulated seconds before TIME_OVER [default: the course's].")
+@bench_options
 @click.argument("controller", nargs=-1, type=click.UNPROCESSED)
-def main(run_dir: Path, course: str, app: str, athrill2: str | None, athrill_timeout: float,
-         time_limit: float | None, controller: tuple[str, ...]) -> None:
+def main(run_dir: Path, controller: tuple[str, ...], **bench) -> None:
     """Serve tests on COURSE until the end flag is set; CONTROLLER (after --) is started once the files exist
-    and gets the run directory in $HAKO_RUN_DIR and the course folder in $HAKO_COURSE."""
+    and gets the run directory in $HAKO_RUN_DIR, the course folder in $HAKO_COURSE and the time limit in
+    $HAKO_TIME_LIMIT_S."""
+    options = BenchOptions(**bench)
     try:
-        program = resolve_program(app, athrill2=athrill2)
+        program = resolve_program(options.app, athrill2=options.athrill2)
         check = program.start_check()
-        world_course = load_course(course)
+        world_course = load_course(options.course)
         lock = RunDirLock(run_dir)
         lock.acquire()
     except (CourseError, RunDirBusy, ProgramError, OSError) as e:
         raise click.ClickException(str(e)) from None
     try:
-        from hakoniwa.server import PhysicsServer  # MuJoCo: only once the arguments are known to be good
+        from hakoniwa.physics.server import PhysicsServer  # MuJoCo: only once the arguments are known to be good
 
-        server = PhysicsServer(run_dir, world_course, program, athrill_timeout_s=athrill_timeout,
-                               time_limit_us=round(time_limit * US_PER_S) if time_limit else None)
+        server = PhysicsServer(run_dir, world_course, program, athrill_timeout_s=options.athrill_timeout_s,
+                               time_limit_us=options.time_limit_us(world_course.time_limit_us))
         program.finish_check(check)
         code = serve(server, run_dir, world_course.folder, controller)
     except ProgramError as e:
@@ -64,7 +56,8 @@ def serve(server, run_dir: Path, course_folder: Path, controller: tuple[str, ...
     """Serve the controller; report how it ended if it did not end well."""
     proc = None
     if controller:
-        env = dict(os.environ, **{RUN_DIR_ENV: str(run_dir.resolve()), COURSE_ENV: str(course_folder.resolve())})
+        env = dict(os.environ, **{RUN_DIR_ENV: str(run_dir.resolve()), COURSE_ENV: str(course_folder.resolve()),
+                                  TIME_LIMIT_ENV: repr(server.task.time_limit_us / US_PER_S)})
         try:
             proc = subprocess.Popen(list(controller), env=env, preexec_fn=die_with_parent)
         except OSError as e:

@@ -4,7 +4,7 @@
 takes no simulated time. At each `tslp_tsk` Athrill publishes its outputs and the time it will wake
 (`Tx.NEXT_WAKE`), then waits; physics steps to exactly that instant, publishes the sensor snapshot with
 the unity time set to it, and waits for the next answer. Each side sleeps on the word the other changes
-(`hakoniwa.waiting.wait_word`) and is woken by it. At every handshake the time difference is 0, so
+(`hakoniwa.wire.waiting.wait_word`) and is woken by it. At every handshake the time difference is 0, so
 the same parameters give the same event and goal time to the microsecond under any machine load.
 
 `hakoniwa` (the real TOPPERS Athrill): the real protocol. Athrill never blocks: it reads the unity time
@@ -23,13 +23,14 @@ import subprocess
 import time
 from typing import TYPE_CHECKING, Callable
 
-from hakoniwa.launch import describe_exit
-from hakoniwa.protocol import EXIT_BENCH_FAULT, HEADER_SIZE, CrashKind, Tx
-from hakoniwa.timebase import ALLOWED_TIME_DIFF_US, PHYSICS_STEP_US
-from hakoniwa.waiting import wait_for, wait_word
+from hakoniwa.wire.processes import describe_exit
+from hakoniwa.wire.processes import EXIT_BENCH_FAULT
+from hakoniwa.wire.protocol import HEADER_SIZE, CrashKind, Tx
+from hakoniwa.wire.timebase import ALLOWED_TIME_DIFF_US, PHYSICS_STEP_US
+from hakoniwa.wire.waiting import wait_for, wait_word
 
 if TYPE_CHECKING:
-    from hakoniwa.server import PhysicsServer
+    from hakoniwa.physics.server import PhysicsServer
 
 HAKONIWA_START_US = 1  # the real Unity's clock starts at 1 us: a unity time of 0 lets Athrill run unchecked
 

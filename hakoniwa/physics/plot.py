@@ -5,7 +5,7 @@ from __future__ import annotations
 import csv
 from pathlib import Path
 
-from hakoniwa.course import Course
+from hakoniwa.physics.course import Course
 
 
 def read_trajectory(path: Path) -> list[tuple[float, float]]:

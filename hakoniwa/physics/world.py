@@ -13,11 +13,11 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from hakoniwa import robot
-from hakoniwa.course import Course
-from hakoniwa.noise import NoiseDraw, StartOffset
-from hakoniwa.protocol import ColorId
-from hakoniwa.timebase import PHYSICS_STEP_US, US_PER_S
+from hakoniwa.physics import robot
+from hakoniwa.physics.course import Course
+from hakoniwa.physics.noise import NoiseDraw, StartOffset
+from hakoniwa.wire.protocol import ColorId
+from hakoniwa.wire.timebase import PHYSICS_STEP_US, US_PER_S
 
 
 def build_mjcf(course: Course) -> str:

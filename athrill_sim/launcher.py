@@ -11,8 +11,8 @@ from __future__ import annotations
 import subprocess
 from pathlib import Path
 
-from hakoniwa.programs import Program
-from hakoniwa.rundir import ATHRILL_LOG
+from athrill_sim.programs import Program
+from hakoniwa.wire.rundir import ATHRILL_LOG
 
 
 

@@ -17,10 +17,10 @@ from pathlib import Path
 
 import numpy as np
 
-from hakoniwa.noise import DEFAULT_NOISE, NoiseLevels
-from hakoniwa.protocol import MOTOR_PORTS, ColorId
-from hakoniwa.robot import DEFAULT_WIRING, Wiring
-from hakoniwa.timebase import US_PER_S
+from hakoniwa.physics.noise import DEFAULT_NOISE, NoiseLevels
+from hakoniwa.wire.protocol import MOTOR_PORTS, ColorId
+from hakoniwa.physics.robot import DEFAULT_WIRING, Wiring
+from hakoniwa.wire.timebase import US_PER_S
 
 COURSES_DIR = Path(__file__).parent / "courses"
 DEFAULT_COURSE = "oval"

@@ -23,6 +23,8 @@ import os
 import struct
 from pathlib import Path
 
+from hakoniwa.wire.processes import EXIT_BENCH_FAULT
+
 FILE_SIZE = 8192
 HEADER_SIZE = 32
 PACKET_SIZE = 1024  # the part of each body a real Unity and Athrill exchange
@@ -161,8 +163,9 @@ class ColorId(enum.IntEnum):
     BROWN = 7
 
 
-# Exit status of a mock or native Athrill that could not use the mapped files: a bench fault.
-EXIT_BENCH_FAULT = 3
+
+
+MAX_NOISE_SCALE = 100.0  # the largest Rx.NOISE_SCALE a controller writes: far beyond any use, finite in f32
 
 
 def guest_to_body(addr: int) -> tuple[str, int]:
@@ -224,7 +227,7 @@ class MappedFile:
 
     def address(self, file_offset: int) -> int:
         """The memory address of a byte of the mapping: a futex on a word of it is a doorbell between
-        processes (`hakoniwa.waiting`)."""
+        processes (`hakoniwa.wire.waiting`)."""
         if self._view is None:
             self._view = ctypes.c_char.from_buffer(self._mm)
         return ctypes.addressof(self._view) + file_offset
@@ -330,7 +333,7 @@ def goal_time_from_words(hi: int, lo: int) -> int:
 
 def c_header() -> str:
     """The layout as C #defines, for the native runtime: generated, so it cannot disagree with this file."""
-    lines = ["/* Generated from hakoniwa/protocol.py by c_header(); do not edit. */",
+    lines = ["/* Generated from hakoniwa/wire/protocol.py by c_header(); do not edit. */",
              "#ifndef HAKO_LAYOUT_H", "#define HAKO_LAYOUT_H"]
     scalars = {"FILE_SIZE": FILE_SIZE, "HEADER_SIZE": HEADER_SIZE, "PACKET_SIZE": PACKET_SIZE,
                "WINDOW_SIZE": WINDOW_SIZE, "LAYOUT_VERSION": LAYOUT_VERSION, "EXT_OFF": EXT_OFF,

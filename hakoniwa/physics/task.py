@@ -11,9 +11,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from hakoniwa.course import Course
-from hakoniwa.protocol import Event
-from hakoniwa.world import World
+from hakoniwa.physics.course import Course
+from hakoniwa.wire.protocol import Event
+from hakoniwa.physics.world import World
 
 
 @dataclass

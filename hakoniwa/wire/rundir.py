@@ -11,12 +11,17 @@ import fcntl
 import os
 from pathlib import Path
 
-from hakoniwa.protocol import ATHRILL_FILE, ATHRILL_MAGIC, UNITY_FILE, UNITY_MAGIC, ProtocolError, check_file
+from hakoniwa.wire.protocol import ATHRILL_FILE, ATHRILL_MAGIC, UNITY_FILE, UNITY_MAGIC, ProtocolError, check_file
 
 LOCK_FILE = ".hako.lock"
 TRAJECTORY_FILE = "trajectory.csv"  # the last test's path, for pictures
 PHYSICS_LOG = "physics.log"  # one line per test: what the physics process saw
 ATHRILL_LOG = "athrill.log"  # what the Athrill processes printed (the program's syslog)
+
+# What the physics process tells the controller it starts (the paper's arrangement), in its environment.
+RUN_DIR_ENV = "HAKO_RUN_DIR"  # the run directory
+COURSE_ENV = "HAKO_COURSE"  # the course folder
+TIME_LIMIT_ENV = "HAKO_TIME_LIMIT_S"  # the bench's time limit in simulated seconds: what a failure scores
 
 
 def diagnose(run_dir: Path) -> str | None:

@@ -1,0 +1,83 @@
+"""The physics process's command line: what a bench needs to know besides its run directory.
+
+This is the one declaration of the bench options and their defaults. `hakoniwa-physics` parses them,
+`hako trial` and `hako run` offer the same options to the user, and the controller turns a `BenchOptions`
+back into the command line that starts a bench (`physics_command`), so the three can never disagree.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+import click
+
+from hakoniwa.clickutil import SECONDS, option_group
+from hakoniwa.wire.timebase import US_PER_S
+
+DEFAULT_COURSE = "oval"
+DEFAULT_APP = "line_trace"
+
+
+@dataclass(frozen=True)
+class BenchOptions:
+    """The course and the program a bench serves, and how long it waits for them."""
+
+    course: str = DEFAULT_COURSE
+    app: str = DEFAULT_APP
+    athrill2: str | None = None
+    athrill_timeout_s: float = 10.0
+    time_limit_s: float | None = None  # None: the course's own limit
+
+    def physics_command(self, run_dir: Path, controller: list[str]) -> list[str]:
+        cmd = [sys.executable, "-m", "hakoniwa.physics.main", "--run-dir", str(run_dir)]
+        for option in _OPTIONS:
+            value = getattr(self, option.field)
+            if value is not None:
+                cmd += [option.flag, value if isinstance(value, str) else repr(value)]
+        return [*cmd, "--", *controller]
+
+    def time_limit_us(self, course_limit_us: int) -> int:
+        """The simulated time a test may take: the override if one was given, else the course's. A campaign
+        scores a failed test as this long, so the two can never disagree."""
+        return course_limit_us if self.time_limit_s is None else round(self.time_limit_s * US_PER_S)
+
+
+@dataclass(frozen=True)
+class _Option:
+    field: str
+    flag: str
+    help: str
+    type: click.ParamType | None = None
+
+    def declare(self) -> Callable:
+        default = next(f.default for f in dataclasses.fields(BenchOptions) if f.name == self.field)
+        return click.option(self.flag, self.field, type=self.type, default=default,
+                            show_default=default is not None, help=self.help)
+
+
+_OPTIONS = [
+    _Option("course", "--course", "Built-in course name or course folder."),
+    _Option("app", "--app", "Robot program: a built-in name (line_trace, line_trace_c), a Python "
+            "module:function, an EV3RT C program (app.c or its workspace folder), or a v850 ELF image (run in "
+            "the real athrill2)."),
+    _Option("athrill2", "--athrill2", "The TOPPERS athrill2 emulator for an ELF --app [default: on PATH]."),
+    _Option("athrill_timeout_s", "--athrill-timeout",
+            "Wall seconds a silent Athrill is waited for before the test counts as a crash.", SECONDS),
+    _Option("time_limit_s", "--time-limit", "Simulated seconds before a test ends as TIME_OVER; a campaign "
+            "scores a failed test as this many seconds [default: the course's time_limit_s].", SECONDS),
+]
+
+bench_options = option_group([o.declare() for o in _OPTIONS])
+"""The bench options for a click command; the command receives them as BenchOptions' field names, and
+`BenchOptions(**those)` is the bench."""
+
+BENCH_FIELDS = tuple(o.field for o in _OPTIONS)
+
+
+def pop_bench(kwargs: dict) -> BenchOptions:
+    """Take the bench options out of a command's keyword arguments."""
+    return BenchOptions(**{name: kwargs.pop(name) for name in BENCH_FIELDS})
