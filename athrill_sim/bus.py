@@ -48,12 +48,6 @@ class MemoryBus:
     def read_f32(self, addr: int) -> float:
         return float(self.read("f", addr))
 
-    def read_i32(self, addr: int) -> int:
-        return int(self.read("i", addr))
-
-    def write_i32(self, addr: int, value: int) -> None:
-        self.write("i", addr, value)
-
     def close(self) -> None:
         self.unity.close()
         self.athrill.close()

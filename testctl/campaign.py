@@ -132,10 +132,6 @@ class SetResult:
         assert self.verdict.value is not None
         return self.verdict.value
 
-    @property
-    def wall_s(self) -> float:
-        return sum(t.result.wall_s for t in self.tests)
-
 
 def best_set(sets: list[SetResult] | tuple[SetResult, ...]) -> SetResult | None:
     """The successful set with the shortest mean lap (the earliest on a tie), or None before any success."""

@@ -10,7 +10,8 @@ with the file, so `--resume` can refuse to continue a campaign under different s
 Tests run on several benches at once finish in any order, so lines are in the order tests finished; a
 reader orders them by (set, repetition) where it matters. Sets are numbered from 1 in the file, as everywhere
 a person reads them (format 1 numbered them from 0; it is still read). A test the bench itself spoiled
-carries `"fault": "bench"`: it is kept for the record, never scored, and its repetition runs again.
+is a CRASH of kind `bench` (`TestResult.bench_fault`, the one encoding of a bench fault): it is kept for the
+record, never scored, and its repetition runs again.
 """
 
 from __future__ import annotations
@@ -56,8 +57,6 @@ class TestRecord:
         d = {"set": self.set_index + 1, "phase": self.phase, "params": dict(self.params), "rep": self.rep,
              "noise_seed": self.noise_seed, **r.to_dict(), "wall_s": r.wall_s, "bench": self.bench,
              "time": self.timestamp}
-        if r.bench_fault:
-            d["fault"] = "bench"
         return json.dumps(d)
 
     @classmethod

@@ -4,8 +4,10 @@ The test modules import these helpers (`from conftest import hako`): pytest puts
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
+from pathlib import Path
 
 
 def run_module(module: str, *args: str, timeout: float = 600, **kwargs) -> subprocess.CompletedProcess:
@@ -27,3 +29,33 @@ def one_line_error(r: subprocess.CompletedProcess, *words: str) -> None:
     assert len(lines) == 1, r.stderr
     for w in words:
         assert w in lines[0], r.stderr
+
+
+TAG_VARIABLE = "HAKO_TEST_TAG"
+
+
+def tagged_env(tag: str, env: dict | None = None) -> dict:
+    """An environment that marks every process started with it, and their children, with `tag`: a test can
+    then find them all even after their parent was reaped and they were re-parented to init."""
+    return {**(os.environ if env is None else env), TAG_VARIABLE: tag}
+
+
+def tagged_processes(tag: str, cmdline_contains: bytes = b"") -> list[int]:
+    """The live processes (not zombies) carrying `tag`, optionally only those whose command line contains
+    `cmdline_contains`."""
+    mark = f"{TAG_VARIABLE}={tag}".encode()
+    found = []
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            if mark not in (entry / "environ").read_bytes().split(b"\0"):
+                continue
+            if cmdline_contains not in (entry / "cmdline").read_bytes():
+                continue
+            if (entry / "stat").read_text().rsplit(")", 1)[1].split()[0] == "Z":
+                continue
+        except OSError:
+            continue
+        found.append(int(entry.name))
+    return found

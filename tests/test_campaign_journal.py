@@ -46,7 +46,7 @@ def test_sets_are_numbered_from_1_in_the_file_and_bench_faults_are_marked(tmp_pa
         j.append(fault)
     lines = [json.loads(line) for line in path.read_text().splitlines()[1:]]
     assert [d["set"] for d in lines] == [1, 1]
-    assert "fault" not in lines[0] and lines[1]["fault"] == "bench" and lines[1]["crash"] == "bench"
+    assert "crash" not in lines[0] and lines[1]["crash"] == "bench"
     assert read_journal(path)[1][1] == fault
 
 

@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from testctl.journal import JOURNAL_FILE, read_journal
-from conftest import hako
+from conftest import hako, tagged_env, tagged_processes
 
 DASK = [sys.executable, "-m", "dask"]
 CAMPAIGN = ["--batch", "2", "--trials", "3", "--seed", "1"]
@@ -150,8 +150,10 @@ def is_physics(pid: int) -> bool:
 @pytest.mark.slow
 def test_a_bench_killed_mid_campaign_is_rebuilt_and_its_test_rerun(tmp_path, local_reference):
     out = tmp_path / "campaign"
+    tag = f"cluster-kill-{os.getpid()}-{time.monotonic_ns()}"
     proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--benches", "2", *CAMPAIGN, "--out",
-                             str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                             str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env=tagged_env(tag))
     deadline = time.monotonic() + 120
     while not (out / JOURNAL_FILE).is_file() or len(read_journal(out / JOURNAL_FILE)[1]) < 3:
         assert time.monotonic() < deadline and proc.poll() is None
@@ -162,4 +164,9 @@ def test_a_bench_killed_mid_campaign_is_rebuilt_and_its_test_rerun(tmp_path, loc
     _, err = proc.communicate(timeout=600)
     assert proc.returncode == 0, err
     assert essence(out) == essence(local_reference)
-    assert not [p for p in descendants(proc.pid) if is_physics(p)]
+    # Every bench the campaign started, the rebuilt one too, ended with it (found by the environment tag:
+    # once `hako run` is reaped its orphans would no longer be its descendants).
+    deadline = time.monotonic() + 30
+    while tagged_processes(tag, b"hakoniwa.physics.main") and time.monotonic() < deadline:
+        time.sleep(0.2)
+    assert tagged_processes(tag, b"hakoniwa.physics.main") == []

@@ -80,7 +80,7 @@ def test_color_sensor_reads_the_floor(world):
     assert course.reflect_at(0.0, -0.5) < 65  # line centre: dark (the edges are soft ramps)
     assert course.reflect_at(0.0, -0.3) == pytest.approx(100)  # well off the line: white
     place(world, course.start.x, course.start.y)
-    assert 65 <= world.sensors().reflect <= 85  # the start puts the sensor on the line's edge
+    assert 65 <= world.measure().reflect <= 85  # the start puts the sensor on the line's edge
 
 
 def test_reset_restores_the_start(world):

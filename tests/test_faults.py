@@ -13,7 +13,8 @@ from pathlib import Path
 import pytest
 
 from bench_fixtures import PAPER, physics
-from hakoniwa.wire.protocol import ATHRILL_FILE, EXIT_BENCH_FAULT, UNITY_FILE, CrashKind, Event
+from hakoniwa.wire.processes import EXIT_BENCH_FAULT
+from hakoniwa.wire.protocol import ATHRILL_FILE, HEADER_SIZE, UNITY_FILE, CrashKind, Event, Rx
 from hakoniwa.wire.rundir import PHYSICS_LOG
 from hakoniwa.physics.sync import exit_crash
 from testctl.journal import JOURNAL_FILE, read_journal
@@ -81,11 +82,20 @@ def pid_of(module: str, run_dir: Path, timeout_s: float = 60) -> int:
 
 
 def wait_for_test(run_dir: Path) -> None:
+    """Until the physics process has started test 1 (it announces the test's number to Athrill)."""
     deadline = time.monotonic() + 60
-    while not (run_dir / "athrill.log").exists():
+    while current_test_number(run_dir) < 1:
         assert time.monotonic() < deadline
         time.sleep(0.05)
-    time.sleep(0.5)
+
+
+def current_test_number(run_dir: Path) -> int:
+    try:
+        data = (run_dir / UNITY_FILE).read_bytes()
+    except OSError:
+        return 0
+    offset = HEADER_SIZE + Rx.TEST_SEQ
+    return int.from_bytes(data[offset:offset + 4], "little") if len(data) >= offset + 4 else 0
 
 
 def test_a_killed_physics_process_is_named(tmp_path):

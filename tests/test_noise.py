@@ -6,6 +6,7 @@ import math
 import pytest
 
 from hakoniwa.physics.course import load_course
+from hakoniwa.physics.sensors import SensorModel
 from hakoniwa.physics.noise import DEFAULT_NOISE, NoiseDraw, StartOffset
 from hakoniwa.wire.protocol import ColorId, Rx, open_athrill, open_unity
 from hakoniwa.physics.robot import ULTRASONIC_MAX_MM
@@ -75,13 +76,16 @@ def test_gyro_drift_integrates_the_bias():
 def test_colour_id_and_rgb_follow_the_noisy_reflect(world):
     """On plain floor the colour id and raw RGB derive from the reflect the program reads."""
     world.reset()
-    true_reflect = world.sensors().reflect
+    true_reflect = world.measure().reflect
+    model = SensorModel(world.course)
     dark = dataclasses.replace(DEFAULT_NOISE.scaled(0.0), reflect_offset_sd=100.0)
     seed = next(s for s in range(100) if NoiseDraw(dark, s, 1.0).reflect_offset < -150)
-    s = world.sensors(NoiseDraw(dark, seed, 1.0))
+    model.begin(NoiseDraw(dark, seed, 1.0))
+    s = model.read(world, 0)
     assert true_reflect > 50 and (s.reflect, s.color, s.rgb) == (0, ColorId.BLACK, (0, 0, 0))
     seed = next(s for s in range(100) if NoiseDraw(dark, s, 1.0).reflect_offset > 150)
-    s = world.sensors(NoiseDraw(dark, seed, 1.0))
+    model.begin(NoiseDraw(dark, seed, 1.0))
+    s = model.read(world, 0)
     assert (s.reflect, s.color, s.rgb) == (100, ColorId.WHITE, (255, 255, 255))
 
 

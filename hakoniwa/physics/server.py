@@ -1,4 +1,6 @@
-"""The physics process: owns the mapped files, runs tests on start = 1, resets on start = 0 (paper Fig. 4).
+"""The physics process's loop: owns the mapped files, runs tests on start = 1, resets on start = 0 (paper
+Fig. 4). It is a thin shell: the test itself is `environment.py`'s, the slots `slots.py`'s, the noise and
+sensor state `sensors.py`'s; this class starts Athrill, runs the sync loop, and logs.
 
 Physics time is the master. The world advances in whole 1 ms MuJoCo steps, batched up to the next moment
 anything has to happen: an event check, a trajectory sample, or (depending on the sync mode, see
@@ -18,29 +20,24 @@ from __future__ import annotations
 
 import csv
 import math
-import os
 import subprocess
 import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from hakoniwa.physics.course import Course
 from athrill_sim.launcher import AthrillLauncher, kill
-from hakoniwa.physics.noise import NoiseDraw
 from athrill_sim.programs import Program
-from hakoniwa.wire.rundir import PHYSICS_LOG, TRAJECTORY_FILE
-from hakoniwa.wire.protocol import (MOTOR_PORTS, RESET_ANGLE_PORTS, TOUCH_PRESSED, CrashKind, Event, Header, MappedFile,
-                               Rx, SyncMode, Tx, goal_time_words, open_athrill, open_unity)
+from hakoniwa.physics.course import Course
+from hakoniwa.physics.environment import Environment
+from hakoniwa.physics.noise import NoiseDraw
+from hakoniwa.physics.slots import Report, Slots
 from hakoniwa.physics.sync import HAKONIWA_START_US, AthrillCrash, run_hakoniwa, run_lockstep
-from hakoniwa.physics.task import LapTask
-from hakoniwa.wire.timebase import EVENT_CHECK_PERIOD_US, PHYSICS_STEP_US, TRACE_PERIOD_US, Scheduler
-from hakoniwa.wire.waiting import futex_wake
-from hakoniwa.physics.world import World
+from hakoniwa.wire.protocol import CrashKind, Event, SyncMode, Tx
+from hakoniwa.wire.rundir import PHYSICS_LOG, TRAJECTORY_FILE
+from hakoniwa.wire.timebase import Scheduler
 
 IDLE_POLL_S = 0.0005
-ACTUATORS_END = Tx.GYRO_RESET + 4  # TX body bytes a test starts with cleared
-OUR_EXT = (Rx.TEST_SEQ, Rx.CRASH_DETAIL + 4)  # RX bytes of our extension the physics side writes
 
 
 class ControllerGone(Exception):
@@ -54,13 +51,7 @@ class TestOutcome:
     __test__ = False  # not a pytest class
 
     seq: int
-    event: Event
-    time_us: int
-    checkpoints: int
-    distance_mm: int
-    max_time_diff_us: int
-    crash_kind: CrashKind
-    crash_detail: int
+    report: Report
     wall_s: float
 
 
@@ -71,93 +62,59 @@ class PhysicsServer:
         self.course = course
         self.program = program
         self.athrill_timeout_s = athrill_timeout_s
-        self.world = World(course)
-        self.task = LapTask(course, time_limit_us)
-        self.unity: MappedFile = open_unity(self.run_dir, create=True)
-        self.athrill: MappedFile = open_athrill(self.run_dir, create=True)
-        self.unity.write_u32(Rx.PHYSICS_PID, os.getpid())
-        self._unity_time_address = self.unity.address(Header.UNITY_TIME)
+        self.env = Environment(course, time_limit_us)
+        self.slots = Slots(self.run_dir)
+        self.athrill = self.slots.athrill
         self.launcher = AthrillLauncher(self.run_dir, program)
-        self.scheduler = Scheduler(PHYSICS_STEP_US)
-        self.scheduler.add("event-check", EVENT_CHECK_PERIOD_US, self._check_events)
-        self.scheduler.add("trace", TRACE_PERIOD_US, self._trace)
         self.answer_before_start = 0
         self.tests_run = 0
-        self._noise: NoiseDraw | None = None  # this test's noise; None: the noise-free bench
-        self._clear_test_state()
-        self._athrill_proc = None
+        self._max_diff_us = 0
+        self._athrill_proc: subprocess.Popen | None = None
         self._controller_gone = threading.Event()
         self._log = open(self.run_dir / PHYSICS_LOG, "a")
 
-    # -- streams -------------------------------------------------------------------------------------
-    def _check_events(self, now_us: int) -> None:
-        if self._event == Event.NONE:
-            self._event = self.task.check(self.world, now_us)
-            self._event_us = now_us
-
-    def _trace(self, now_us: int) -> None:
-        self._trajectory.append((now_us, *self.world.pose()))
-
     # -- what the sync loops use ---------------------------------------------------------------------
+    @property
+    def now_us(self) -> int:
+        return self.env.now_us
+
+    @property
+    def scheduler(self) -> Scheduler:
+        return self.env.scheduler
+
     def advance_to(self, target_us: int) -> bool:
-        """Step the world to `target_us` and run what is due there; True once the test has an event.
-        Raises ControllerGone when the controller died: nobody would read this test's result."""
+        """Step the test to `target_us`; True once it has an event. Raises ControllerGone when the controller
+        died: nobody would read this test's result."""
         if self._controller_gone.is_set():
             raise ControllerGone
-        self.world.step((target_us - self.now_us) // PHYSICS_STEP_US)
-        self.now_us = target_us
-        self.scheduler.advance_to(target_us)
-        return self._event != Event.NONE
+        return self.env.advance_to(target_us)
 
     def note_time_diff(self, diff_us: int) -> None:
         self._max_diff_us = max(self._max_diff_us, abs(diff_us))
 
     def publish_sensors(self) -> None:
-        """The sensor snapshot for `now_us`, then the unity time (last: a reader that sees the new time sees
-        the values it belongs to)."""
-        s = self.world.sensors(self._noise)
-        u = self.unity
-        u.write_i32s(Rx.COLOR0_AMBIENT, [s.ambient, int(s.color), s.reflect, *s.rgb])
-        u.write_i32s(Rx.GYRO_ANGLE, [round(self._gyro_reading(s.gyro_angle_deg) - self._gyro_zero), s.gyro_rate_dps])
-        u.write_i32(Rx.ULTRASONIC_MM, s.ultrasonic_mm)
-        u.write_i32(Rx.TOUCH0, TOUCH_PRESSED if s.touch else 0)
-        wiring = self.course.wiring
-        for port, angle in ((wiring.left, s.wheel_angles_deg[0]), (wiring.right, s.wheel_angles_deg[1])):
-            u.write_i32(Rx.MOTOR_ANGLE + 4 * port, round(angle - self._angle_zero[port]))
-        u.unity_time_us = max(self.now_us, HAKONIWA_START_US if self.program.sync == SyncMode.HAKONIWA else 0)
-        futex_wake(self._unity_time_address)  # a lockstep Athrill sleeps on it
+        floor = HAKONIWA_START_US if self.program.sync == SyncMode.HAKONIWA else 0
+        self.slots.publish(self.env.read_sensors(), max(self.env.now_us, floor))
 
     def apply_actuators(self) -> None:
-        """Motor powers of the wheel ports, and the reset requests, which are cleared once applied."""
-        a = self.athrill
-        powers = a.read_i32s(Tx.MOTOR_POWER, MOTOR_PORTS)
-        wiring = self.course.wiring
-        gains = None if self._noise is None else self._noise.motor_factors()
-        self.world.set_motor_power(powers[wiring.left], powers[wiring.right], gains)
-        for port in range(RESET_ANGLE_PORTS):
-            if a.read_i32(Tx.MOTOR_RESET_ANGLE + 4 * port):
-                left, right = self.world.wheel_angles_deg()
-                self._angle_zero[port] = {wiring.left: left, wiring.right: right}.get(port, 0.0)
-                a.write_i32(Tx.MOTOR_RESET_ANGLE + 4 * port, 0)
-        if a.read_i32(Tx.GYRO_RESET):
-            self._gyro_zero = self._gyro_reading(self.world.gyro_angle_deg())
-            a.write_i32(Tx.GYRO_RESET, 0)
+        commands = self.slots.take_commands()
+        self.env.drive(commands.powers)
+        for port in commands.reset_angle_ports:
+            self.env.reset_motor_angle(port)
+        if commands.reset_gyro:
+            self.env.reset_gyro()
 
-    def _gyro_angle(self, wrapped_deg: float) -> float:
-        last, total = self._yaw
-        total += (wrapped_deg - last + 180.0) % 360.0 - 180.0
-        self._yaw = (wrapped_deg, total)
-        return total
-
-    def _gyro_reading(self, wrapped_deg: float) -> float:
-        """The gyro's whole-turn angle now, with the drift of this test's gyro bias."""
-        total = self._gyro_angle(wrapped_deg)
-        return total if self._noise is None else total + self._noise.gyro_drift_deg(self.now_us)
+    # -- one test ------------------------------------------------------------------------------------
+    def check_files(self) -> None:
+        """Repair the mapped files if anyone damaged them since the last test, and say so in the log."""
+        for line in self.slots.repair():
+            self._log.write(line + "\n")
+            self._log.flush()
 
     def _read_noise(self) -> NoiseDraw | None:
         """This test's noise from the seed and scale the controller wrote; None for scale 0 (or a scale that
         is not a finite number >= 0, which is logged: the controller's `TrialRunner` never writes one)."""
-        seed, scale = self.unity.read_u32(Rx.NOISE_SEED), self.unity.read_f32(Rx.NOISE_SCALE)
+        seed, scale = self.slots.noise_request()
         if scale == 0:
             return None
         if not (math.isfinite(scale) and scale > 0):
@@ -165,45 +122,20 @@ class PhysicsServer:
             return None
         return NoiseDraw(self.course.noise, seed, scale)
 
-    # -- one test ------------------------------------------------------------------------------------
-    def check_files(self) -> None:
-        """Repair the mapped files if anyone damaged them since the last test, and say so in the log."""
-        for f in (self.unity, self.athrill):
-            problem = f.repair()
-            if problem is not None:
-                self._log.write(f"repaired {f.path.name}: {problem}\n")
-                self._log.flush()
-
-    def _clear_test_state(self) -> None:
-        self.now_us = 0
-        self._event, self._event_us, self._max_diff_us = Event.NONE, 0, 0
-        self._angle_zero = [0.0] * MOTOR_PORTS
-        self._gyro_zero = 0.0
-        self._yaw = (0.0, 0.0)  # (last wrapped reading, unwrapped angle): a gyro counts whole turns
-        self._trajectory: list[tuple[int, float, float, float]] = []
-
-    def _start_test(self, seq: int) -> None:
+    def _start_test(self, seq: int) -> NoiseDraw | None:
         self.check_files()
-        self._noise = self._read_noise()
-        if self._noise is not None:
-            self.world.put_down(self._noise.start)
-        self.task.reset(self.world.position())
-        self._clear_test_state()
-        a = self.athrill
-        a.clear(0, ACTUATORS_END)
-        a.athrill_time_us = 0  # a real Athrill's clock starts at 0; a stale one would let physics run ahead
-        self.answer_before_start = a.read_u32(Tx.ANSWER_SEQ)
-        self.unity.clear(*OUR_EXT)
-        self.unity.write_u32(Rx.PHYSICS_PID, os.getpid())
-        self.unity.write_u32(Rx.SYNC_MODE, int(self.program.sync))
+        noise = self._read_noise()
+        self.env.begin(noise)
+        self._max_diff_us = 0
+        self.answer_before_start = self.slots.begin(self.program.sync)
         self.publish_sensors()
-        self.unity.write_u32(Rx.TEST_SEQ, seq)  # last: a waiting Athrill starts when it sees its number
-        self._trace(0)
+        self.slots.announce(seq)
+        return noise
 
     def run_test(self) -> TestOutcome:
         wall_start = time.monotonic()
         seq = self.tests_run + 1
-        self._start_test(seq)
+        noise = self._start_test(seq)
         crash: AthrillCrash | None = None
         try:
             proc = self._athrill_proc = self.launcher.take(seq)
@@ -215,44 +147,30 @@ class PhysicsServer:
                 run(self, proc)
             except AthrillCrash as e:
                 crash = e
+        env = self.env
         if crash is not None:
-            self._event, self._event_us = Event.CRASH, self.now_us
-        outcome = TestOutcome(seq, self._event, self._event_us, self.task.passed, self.task.distance_mm,
-                              self._max_diff_us, crash.kind if crash else CrashKind.NONE,
-                              crash.detail if crash else 0, time.monotonic() - wall_start)
-        self._finish(outcome)
-        why = f" ({crash.kind.name.lower()}: {crash})" if crash else ""
-        if self._noise is not None:
-            self._log.write(f"test {seq}: {self._noise.describe()}\n")
-        self._log.write(f"test {seq}: {outcome.event.name}{why} at {outcome.time_us} us, "
-                        f"{outcome.checkpoints} checkpoints, {outcome.distance_mm} mm, "
-                        f"max time diff {outcome.max_time_diff_us} us, wall {outcome.wall_s:.3f} s\n")
-        self._log.flush()
-        return outcome
-
-    def _finish(self, o: TestOutcome) -> None:
-        u = self.unity
-        u.write_u32(Rx.CHECKPOINTS, o.checkpoints)
-        u.write_u32(Rx.DISTANCE_MM, o.distance_mm)
-        u.write_u32(Rx.MAX_TIME_DIFF_US, o.max_time_diff_us)
-        u.write_i32(Rx.CRASH_KIND, int(o.crash_kind))
-        u.write_i32(Rx.CRASH_DETAIL, o.crash_detail)
-        self._publish_event(o.event, o.time_us)
+            env.end(Event.CRASH)
+        report = Report(env.event, env.event_us, env.task.passed, env.task.distance_mm, self._max_diff_us,
+                        crash.kind if crash else CrashKind.NONE, crash.detail if crash else 0)
+        outcome = TestOutcome(seq, report, time.monotonic() - wall_start)
+        self.slots.report(report)
         self._write_trajectory()
         self.tests_run += 1
-
-    def _publish_event(self, event: Event, time_us: int) -> None:
-        hi, lo = goal_time_words(time_us if event == Event.GOAL else 0)
-        self.unity.write_u32(Rx.GOAL_TIME_HI, hi)
-        self.unity.write_u32(Rx.GOAL_TIME_LO, lo)
-        self.unity.write_i32(Rx.EVENT, int(event))  # last: the controller reads everything else after it
+        why = f" ({crash.kind.name.lower()}: {crash})" if crash else ""
+        if noise is not None:
+            self._log.write(f"test {seq}: {noise.describe()}\n")
+        self._log.write(f"test {seq}: {report.event.name}{why} at {report.time_us} us, "
+                        f"{report.checkpoints} checkpoints, {report.distance_mm} mm, "
+                        f"max time diff {report.max_time_diff_us} us, wall {outcome.wall_s:.3f} s\n")
+        self._log.flush()
+        return outcome
 
     def _write_trajectory(self) -> None:
         tmp = self.run_dir / (TRAJECTORY_FILE + ".tmp")
         with open(tmp, "w", newline="") as f:
             w = csv.writer(f)
             w.writerow(["time_us", "x", "y", "yaw"])
-            w.writerows((t, f"{x:.5f}", f"{y:.5f}", f"{yaw:.5f}") for t, x, y, yaw in self._trajectory)
+            w.writerows((t, f"{x:.5f}", f"{y:.5f}", f"{yaw:.5f}") for t, x, y, yaw in self.env.trajectory)
         tmp.replace(self.run_dir / TRAJECTORY_FILE)
 
     def reset(self) -> None:
@@ -260,16 +178,13 @@ class PhysicsServer:
         if self._athrill_proc is not None:
             kill(self._athrill_proc)
             self._athrill_proc = None
-        self.world.reset()
-        self.task.reset()
-        self.scheduler.reset()
-        self._publish_event(Event.NONE, 0)
+        self.env.reset()
+        self.slots.publish_event(Event.NONE, 0)
 
     # -- the process loop ----------------------------------------------------------------------------
     def serve(self, controller: subprocess.Popen | None = None) -> int:
         """Poll the flags until end = 1 or the controller exits; returns the controller's exit status (0
         without a controller). A controller that dies mid-test ends the test at once."""
-        a = self.athrill
         in_test = False
         if controller is not None:
             threading.Thread(target=lambda: (controller.wait(), self._controller_gone.set()), daemon=True).start()
@@ -277,9 +192,9 @@ class PhysicsServer:
             while True:
                 if controller is not None and controller.poll() is not None:
                     return controller.returncode
-                if a.read_i32(Tx.END) == 1:
+                if self.slots.flag(Tx.END) == 1:
                     return controller.wait() if controller is not None else 0
-                start = a.read_i32(Tx.START)
+                start = self.slots.flag(Tx.START)
                 if start == 1 and not in_test:
                     try:
                         self.run_test()
@@ -296,4 +211,3 @@ class PhysicsServer:
                 kill(self._athrill_proc)
             self.launcher.close()
             self._log.close()
-

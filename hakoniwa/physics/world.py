@@ -15,8 +15,7 @@ import numpy as np
 
 from hakoniwa.physics import robot
 from hakoniwa.physics.course import Course
-from hakoniwa.physics.noise import NoiseDraw, StartOffset
-from hakoniwa.wire.protocol import ColorId
+from hakoniwa.physics.noise import StartOffset
 from hakoniwa.wire.timebase import PHYSICS_STEP_US, US_PER_S
 
 
@@ -57,16 +56,15 @@ def build_mjcf(course: Course) -> str:
 
 
 @dataclass(frozen=True)
-class Sensors:
-    """What the robot's sensors read at one instant, in the units EV3RT's drivers expect."""
+class Measurement:
+    """What the robot's sensors would read at one instant if they were perfect (`sensors.py` makes them
+    EV3 sensors)."""
 
-    reflect: int  # 0..100
-    ambient: int
-    color: ColorId
-    rgb: tuple[int, int, int]
+    reflect: float  # 0..100 under the colour sensor
+    sensor_xy: tuple[float, float]  # where the colour sensor looks at the floor
+    rate_dps: float  # clockwise positive, as the gyro angle
     ultrasonic_mm: int
-    gyro_angle_deg: float  # clockwise positive seen from above, as EV3's gyro counts
-    gyro_rate_dps: int
+    gyro_angle_deg: float  # heading in (-180, 180], clockwise positive seen from above
     touch: bool  # the robot's bumper: the body touching a wall
     wheel_angles_deg: tuple[float, float]  # left, right encoder
 
@@ -98,10 +96,6 @@ class World:
         d = self.data
         d.qpos[:], d.qvel[:], d.act[:], d.ctrl[:] = qpos, qvel, act, ctrl
         mujoco.mj_forward(self.model, d)
-
-    @property
-    def time_us(self) -> int:
-        return round(self.data.time * US_PER_S)
 
     def step(self, n: int) -> None:
         mujoco.mj_step(self.model, self.data, nstep=n)
@@ -148,27 +142,16 @@ class World:
         return self.data.sensordata[self._wall_contact] > 0
 
     # -- sensors -------------------------------------------------------------------------------------
-    def sensors(self, noise: NoiseDraw | None = None) -> Sensors:
-        """The readings now; with `noise`, reflect, gyro rate and ultrasonic carry one draw of sensor noise,
-        and the colour id and RGB derive from the noisy reflect. (The gyro angle's drift is the server's:
-        it counts turns.)"""
+    def measure(self) -> Measurement:
         d = self.data
         sx, sy = (float(v) for v in d.site_xpos[self._color_site][:2])
-        reflect = self.course.reflect_at(sx, sy)
         _, _, yaw = self.pose()
-        rate_dps = -math.degrees(float(d.qvel[5]))  # clockwise positive, as the angle
-        ultrasonic_mm = self._ultrasonic_mm(yaw)
-        if noise is not None:
-            reflect, rate_dps, ultrasonic_mm = noise.reading(reflect, rate_dps, ultrasonic_mm)
-        color, rgb = self.course.color_at(sx, sy, reflect)
-        return Sensors(
-            reflect=round(reflect),
-            ambient=0,
-            color=color,
-            rgb=rgb,
-            ultrasonic_mm=ultrasonic_mm,
+        return Measurement(
+            reflect=self.course.reflect_at(sx, sy),
+            sensor_xy=(sx, sy),
+            rate_dps=-math.degrees(float(d.qvel[5])),
+            ultrasonic_mm=self._ultrasonic_mm(yaw),
             gyro_angle_deg=self.gyro_angle_deg(yaw),
-            gyro_rate_dps=round(rate_dps),
             touch=self.touching_wall(),
             wheel_angles_deg=self.wheel_angles_deg(),
         )

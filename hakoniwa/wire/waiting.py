@@ -76,13 +76,16 @@ def wait_for(ready: Callable[[], bool], on_idle: Callable[[], None], *, spin_s: 
     start = time.perf_counter()
     next_check = start + CHECK_EVERY_S
     n = 0
+    napping = False
     while not ready():
-        n += 1
-        if n & 255:
-            continue
-        now = time.perf_counter()
-        if now - start > spin_s:
+        if napping:
             time.sleep(nap_s)
+        else:
+            n += 1
+            if n & 255:  # while spinning, read the clock only now and then: it costs more than `ready()`
+                continue
+        now = time.perf_counter()
+        napping = now - start > spin_s
         if now > next_check:
             next_check = now + CHECK_EVERY_S
             on_idle()

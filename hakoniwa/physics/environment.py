@@ -1,0 +1,84 @@
+"""One test as the robot experiences it, with no files and no processes: the world, the lap task, the sensor
+and actuator model, and the physics clock with what is due on it (event checks, trajectory samples).
+
+This is dm_control's environment: `World` is the physics, `LapTask` the task, and this class steps them
+together. The physics server (`server.py`) is a thin shell around it that moves its inputs and outputs
+through the mapped files; a test of the physics alone can drive it directly.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from hakoniwa.physics.course import Course
+from hakoniwa.physics.noise import NoiseDraw
+from hakoniwa.physics.sensors import SensorModel, Sensors
+from hakoniwa.physics.task import LapTask
+from hakoniwa.physics.world import World
+from hakoniwa.wire.protocol import Event
+from hakoniwa.wire.timebase import EVENT_CHECK_PERIOD_US, PHYSICS_STEP_US, TRACE_PERIOD_US, Scheduler
+
+Pose = tuple[int, float, float, float]  # time [us], x, y [m], yaw [rad]
+
+
+class Environment:
+    def __init__(self, course: Course, time_limit_us: int) -> None:
+        self.course = course
+        self.world = World(course)
+        self.task = LapTask(course, time_limit_us)
+        self.sensors = SensorModel(course)
+        self.scheduler = Scheduler(PHYSICS_STEP_US)
+        self.scheduler.add("event-check", EVENT_CHECK_PERIOD_US, self._check_events)
+        self.scheduler.add("trace", TRACE_PERIOD_US, self._trace)
+        self._clear(None)
+
+    def _clear(self, noise: NoiseDraw | None) -> None:
+        self.now_us = 0
+        self.event, self.event_us = Event.NONE, 0
+        self.sensors.begin(noise)
+        self.trajectory: list[Pose] = []
+
+    def begin(self, noise: NoiseDraw | None) -> None:
+        """A new test with this noise: the robot put down (with the test's start jitter), the clock at 0."""
+        if noise is not None:
+            self.world.put_down(noise.start)
+        self.task.reset(self.world.position())
+        self._clear(noise)
+        self._trace(0)
+
+    def reset(self) -> None:
+        """Back to the state saved at start-up, between tests (the paper saves Robot and env once)."""
+        self.world.reset()
+        self.task.reset()
+        self.scheduler.reset()
+
+    def advance_to(self, target_us: int) -> bool:
+        """Step the world to `target_us` and run what is due there; True once the test has an event."""
+        self.world.step((target_us - self.now_us) // PHYSICS_STEP_US)
+        self.now_us = target_us
+        self.scheduler.advance_to(target_us)
+        return self.event != Event.NONE
+
+    def end(self, event: Event) -> None:
+        """End the test now with `event` (a crash, which the task cannot see)."""
+        self.event, self.event_us = event, self.now_us
+
+    def read_sensors(self) -> Sensors:
+        return self.sensors.read(self.world, self.now_us)
+
+    def drive(self, powers: Sequence[int]) -> None:
+        self.sensors.drive(self.world, powers)
+
+    def reset_motor_angle(self, port: int) -> None:
+        self.sensors.reset_motor_angle(self.world, port)
+
+    def reset_gyro(self) -> None:
+        self.sensors.reset_gyro(self.world, self.now_us)
+
+    def _check_events(self, now_us: int) -> None:
+        if self.event == Event.NONE:
+            self.event = self.task.check(self.world, now_us)
+            self.event_us = now_us
+
+    def _trace(self, now_us: int) -> None:
+        self.trajectory.append((now_us, *self.world.pose()))

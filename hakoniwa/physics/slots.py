@@ -1,0 +1,115 @@
+"""The mapped files as the physics side reads and writes them: sensor snapshots and the test report into
+RX (`unity_mmap.bin`), motor commands and reset requests out of TX (`athrill_mmap.bin`).
+
+Only this module knows which slot holds what for the physics side; the layout itself is
+`hakoniwa.wire.protocol`'s. Writes that a reader waits on come last (the unity time after a snapshot, the
+event after a report), so whoever sees them sees everything that belongs to them.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+from hakoniwa.physics.sensors import Sensors
+from hakoniwa.wire.protocol import (MOTOR_PORTS, RESET_ANGLE_PORTS, TOUCH_PRESSED, CrashKind, Event, Header,
+                                    MappedFile, Rx, SyncMode, Tx, goal_time_words, open_athrill, open_unity)
+from hakoniwa.wire.waiting import futex_wake
+
+ACTUATORS_END = Tx.GYRO_RESET + 4  # TX body bytes a test starts with cleared
+OUR_EXT = (Rx.TEST_SEQ, Rx.CRASH_DETAIL + 4)  # RX bytes of our extension the physics side writes
+
+
+@dataclass(frozen=True)
+class Report:
+    """What the physics side reports of one finished test (the controller reads it back as a TestResult)."""
+
+    event: Event
+    time_us: int
+    checkpoints: int
+    distance_mm: int
+    max_time_diff_us: int
+    crash_kind: CrashKind
+    crash_detail: int
+
+
+@dataclass(frozen=True)
+class Commands:
+    """What Athrill asked of the robot since the last look: motor powers by port, and the resets."""
+
+    powers: list[int]
+    reset_angle_ports: list[int]
+    reset_gyro: bool
+
+
+class Slots:
+    def __init__(self, run_dir: Path) -> None:
+        self.unity: MappedFile = open_unity(run_dir, create=True)
+        self.athrill: MappedFile = open_athrill(run_dir, create=True)
+        self.unity.write_u32(Rx.PHYSICS_PID, os.getpid())
+        self._unity_time_address = self.unity.address(Header.UNITY_TIME)
+
+    def repair(self) -> list[str]:
+        """Repair the files if anyone damaged them since the last test; what was wrong with each."""
+        return [f"repaired {f.path.name}: {problem}" for f in (self.unity, self.athrill)
+                if (problem := f.repair()) is not None]
+
+    def noise_request(self) -> tuple[int, float]:
+        """The (seed, scale) the controller wrote for this test."""
+        return self.unity.read_u32(Rx.NOISE_SEED), self.unity.read_f32(Rx.NOISE_SCALE)
+
+    def begin(self, sync: SyncMode) -> int:
+        """Clear what a new test starts without; returns Athrill's answer counter before the test."""
+        a = self.athrill
+        a.clear(0, ACTUATORS_END)
+        a.athrill_time_us = 0  # a real Athrill's clock starts at 0; a stale one would let physics run ahead
+        self.unity.clear(*OUR_EXT)
+        self.unity.write_u32(Rx.PHYSICS_PID, os.getpid())
+        self.unity.write_u32(Rx.SYNC_MODE, int(sync))
+        return a.read_u32(Tx.ANSWER_SEQ)
+
+    def announce(self, seq: int) -> None:
+        self.unity.write_u32(Rx.TEST_SEQ, seq)  # last: a waiting Athrill starts when it sees its number
+
+    def publish(self, s: Sensors, unity_time_us: int) -> None:
+        """The sensor snapshot, then the unity time (last: a reader that sees the new time sees the values
+        it belongs to), and a wake-up for a lockstep Athrill sleeping on it."""
+        u = self.unity
+        u.write_i32s(Rx.COLOR0_AMBIENT, [s.ambient, int(s.color), s.reflect, *s.rgb])
+        u.write_i32s(Rx.GYRO_ANGLE, [s.gyro_angle_deg, s.gyro_rate_dps])
+        u.write_i32(Rx.ULTRASONIC_MM, s.ultrasonic_mm)
+        u.write_i32(Rx.TOUCH0, TOUCH_PRESSED if s.touch else 0)
+        for port, angle in s.motor_angles_deg.items():
+            u.write_i32(Rx.MOTOR_ANGLE + 4 * port, angle)
+        u.unity_time_us = unity_time_us
+        futex_wake(self._unity_time_address)
+
+    def take_commands(self) -> Commands:
+        """Motor powers, and the reset requests, which are cleared once taken (EV3RT never clears them)."""
+        a = self.athrill
+        resets = [port for port in range(RESET_ANGLE_PORTS) if a.read_i32(Tx.MOTOR_RESET_ANGLE + 4 * port)]
+        for port in resets:
+            a.write_i32(Tx.MOTOR_RESET_ANGLE + 4 * port, 0)
+        gyro = bool(a.read_i32(Tx.GYRO_RESET))
+        if gyro:
+            a.write_i32(Tx.GYRO_RESET, 0)
+        return Commands(a.read_i32s(Tx.MOTOR_POWER, MOTOR_PORTS), resets, gyro)
+
+    def report(self, r: Report) -> None:
+        u = self.unity
+        u.write_u32(Rx.CHECKPOINTS, r.checkpoints)
+        u.write_u32(Rx.DISTANCE_MM, r.distance_mm)
+        u.write_u32(Rx.MAX_TIME_DIFF_US, r.max_time_diff_us)
+        u.write_i32(Rx.CRASH_KIND, int(r.crash_kind))
+        u.write_i32(Rx.CRASH_DETAIL, r.crash_detail)
+        self.publish_event(r.event, r.time_us)
+
+    def publish_event(self, event: Event, time_us: int) -> None:
+        hi, lo = goal_time_words(time_us if event == Event.GOAL else 0)
+        self.unity.write_u32(Rx.GOAL_TIME_HI, hi)
+        self.unity.write_u32(Rx.GOAL_TIME_LO, lo)
+        self.unity.write_i32(Rx.EVENT, int(event))  # last: the controller reads everything else after it
+
+    def flag(self, which: int) -> int:
+        return self.athrill.read_i32(which)
