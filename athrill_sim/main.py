@@ -23,8 +23,7 @@ from hakoniwa.wire.protocol import ProtocolError
 @click.command(context_settings=HELP)
 @click.option("--run-dir", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Folder holding unity_mmap.bin and athrill_mmap.bin.")
-@click.option("--app", default="line_trace", show_default=True,
-              help="Robot program: a built-in name or module:function taking an Ev3Api.")
+@click.option("--app", required=True, help="Robot program: a built-in name or module:function taking an Ev3Api.")
 @click.option("--test", "test_seq", type=int, default=None,
               help="Wait until the physics process starts this test number (default: run at once).")
 @click.option("--check", is_flag=True, help="Only check that the program can be loaded, and exit.")

@@ -28,6 +28,7 @@ import click
 import mujoco
 
 from hakoniwa.physics.course import load_course
+from hakoniwa.physics.options import DEFAULT_COURSE
 from hakoniwa.physics.options import BenchOptions
 from athrill_sim.programs import Program, ProgramError, resolve_program
 from hakoniwa.wire.protocol import MappedFile, Rx, SyncMode, Tx, open_athrill, open_unity
@@ -43,7 +44,7 @@ START_TIMEOUT_S = 60.0
 
 
 def raw_rate(sim_s: float, batched: bool) -> float:
-    world = World(load_course())
+    world = World(load_course(DEFAULT_COURSE))
     world.set_motor_power(15, 15)
     steps = int(sim_s * 1000)
     m, d = world.model, world.data

@@ -13,7 +13,9 @@ import click
 import numpy as np
 from PIL import Image
 
-FOLDER = Path(__file__).resolve().parents[1] / "hakoniwa" / "courses" / "oval"
+from hakoniwa.physics.course import COURSES_DIR
+
+FOLDER = COURSES_DIR / "oval"
 
 
 def oval_distance(x: np.ndarray, y: np.ndarray, half_straight: float, radius: float) -> np.ndarray:

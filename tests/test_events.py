@@ -6,6 +6,7 @@ import mujoco
 import pytest
 
 from hakoniwa.physics.course import load_course
+from hakoniwa.physics.options import DEFAULT_COURSE
 from hakoniwa.wire.protocol import Event
 from hakoniwa.physics.task import LapTask
 from hakoniwa.physics.world import World
@@ -13,7 +14,7 @@ from hakoniwa.physics.world import World
 
 @pytest.fixture(scope="module")
 def world():
-    return World(load_course())
+    return World(load_course(DEFAULT_COURSE))
 
 
 def place(world: World, x: float, y: float, yaw_deg: float = 0.0) -> None:

@@ -6,6 +6,7 @@ import math
 import pytest
 
 from hakoniwa.physics.course import load_course
+from hakoniwa.physics.options import DEFAULT_COURSE
 from hakoniwa.physics.sensors import SensorModel
 from hakoniwa.physics.noise import DEFAULT_NOISE, NoiseDraw, StartOffset
 from hakoniwa.wire.protocol import ColorId, Rx, open_athrill, open_unity
@@ -17,7 +18,7 @@ from testctl.runner import TrialRunner
 
 @pytest.fixture(scope="module")
 def world():
-    return World(load_course())
+    return World(load_course(DEFAULT_COURSE))
 
 
 def per_test(draw: NoiseDraw) -> tuple:

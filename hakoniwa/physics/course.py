@@ -23,7 +23,6 @@ from hakoniwa.physics.robot import DEFAULT_WIRING, Wiring
 from hakoniwa.wire.timebase import US_PER_S
 
 COURSES_DIR = Path(__file__).parent / "courses"
-DEFAULT_COURSE = "oval"
 
 
 class CourseError(ValueError):
@@ -179,7 +178,7 @@ def _noise(table: object, where: str) -> NoiseLevels:
     return dataclasses.replace(DEFAULT_NOISE, **levels)
 
 
-def load_course(name_or_path: str | Path = DEFAULT_COURSE) -> Course:
+def load_course(name_or_path: str | Path) -> Course:
     """Load a built-in course by name, or a course folder (or its course.toml) by path."""
     path = Path(name_or_path)
     if not path.exists() and (COURSES_DIR / str(name_or_path)).is_dir():
