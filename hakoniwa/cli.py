@@ -15,13 +15,15 @@ from pathlib import Path
 
 import click
 
-from hakoniwa.clickutil import HELP, Float32
+from hakoniwa.clickutil import HELP, Float32, option_group
 from hakoniwa.physics.options import BenchOptions, bench_options, pop_bench
 from hakoniwa.wire.processes import describe_exit, exit_status
 from hakoniwa.wire.rundir import TRAJECTORY_FILE, diagnose
 from testctl.launch import controller_command, run_physics
 from testctl import paper
-from testctl.options import campaign_options, noise_options, plan
+from testctl.options import campaign_options, make_out_dir, noise_options, plan
+from testctl.suite import DEFAULT_FILE
+from testctl.validate import DEFAULT_DRAWS, SMOKE_DRAWS
 
 POWER = Float32(-100.0, 100.0)
 
@@ -101,22 +103,36 @@ def trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: float
                    f"checkpoints: {result['checkpoints']}")
 
 
+benches_options = option_group([
+    click.option("--benches", type=click.IntRange(min=1), default=None,
+                 help="Benches run in parallel (Dask workers of a local cluster) [half the CPU cores, at least 1]."),
+    click.option("--scheduler", default=None, metavar="tcp://HOST:PORT",
+                 help="Run on the workers of this Dask cluster instead (each needs only hakoniwa-py installed)."),
+])
+
+
+def how_many_benches(benches: int | None, scheduler: str | None) -> int:
+    if benches is not None and scheduler is not None:
+        raise click.UsageError("--benches starts a local cluster; with --scheduler the cluster's workers are the benches")
+    return benches or default_benches()
+
+
 @main.command(context_settings=HELP)
 @bench_options
-@click.option("--benches", type=click.IntRange(min=1), default=None,
-              help="Benches run in parallel (Dask workers of a local cluster) [half the CPU cores, at least 1].")
-@click.option("--scheduler", default=None, metavar="tcp://HOST:PORT",
-              help="Run on the workers of this Dask cluster instead (each needs only hakoniwa-py installed).")
+@benches_options
 @campaign_options
-def run(benches: int | None, scheduler: str | None, **options) -> None:
+@click.option("--validate", type=click.IntRange(min=0), default=None,
+              help=f"Test the best set on this many fresh noise draws: its success rate and lap quantiles; 0 "
+                   f"skips [{DEFAULT_DRAWS}; {SMOKE_DRAWS} with --smoke].")
+def run(benches: int | None, scheduler: str | None, validate: int | None, **options) -> None:
     """Search the robot program's parameters by Bayesian optimization, as in the paper: 5 random sets, then
     --trials sets proposed by GPyOpt (EI), --batch at a time; each set tested until 3 successes or 3
     failures; the objective is the mean lap time (the time limit for a failure). Tests run on --benches
-    benches at once.
+    benches at once; then the best set is tested on --validate fresh noise draws.
     Every test is journaled; kill and --resume at any time."""
-    if benches is not None and scheduler is not None:
-        raise click.UsageError("--benches starts a local cluster; with --scheduler the cluster's workers are the benches")
-    n = benches or default_benches()
+    n = how_many_benches(benches, scheduler)
+    if validate is None:
+        validate = SMOKE_DRAWS if options["smoke"] else DEFAULT_DRAWS
     given = pop_bench(options)
     p = plan(**options, penalty_s=time_limit_s(given))
     bench = _campaign_bench(p.bench, given)
@@ -134,10 +150,85 @@ def run(benches: int | None, scheduler: str | None, **options) -> None:
     try:
         run_campaign(p, executor, bench_info=bench_info(bench),
                      trial_once=lambda spec: (local.run(spec), run_dir), course_folder=Path(bench.course),
-                     failures=(ClusterError,))
+                     failures=(ClusterError,), validate=validate)
     finally:
         local.close()
         executor.close()
+
+
+class TestRunError(click.ClickException):
+    """`hako test`'s exit 2: the input is bad or the run itself broke, so nothing was shown of the program;
+    exit 1 is kept for a case that fails."""
+
+    __test__ = False  # not a pytest class
+    exit_code = 2
+
+
+@main.command("test", context_settings=HELP)
+@click.argument("test_file", type=click.Path(dir_okay=False, path_type=Path), default=DEFAULT_FILE, required=False)
+@bench_options
+@benches_options
+@click.option("--out", type=click.Path(file_okay=False, path_type=Path), default=None,
+              help="Output folder: each case's lap distribution, a failing case's trajectory and run folder, "
+                   "the bench's run folder [runs/test-TIME].")
+@click.option("--junit", "junit_file", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help="Write JUnit XML here (one testcase per case), for GitHub Actions, GitLab or Jenkins.")
+@click.option("--json", "json_file", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help="Write the full results (every run of every case) here as JSON.")
+def test_command(test_file: Path, benches: int | None, scheduler: str | None, out: Path | None,
+                 junit_file: Path | None, json_file: Path | None, **bench) -> None:
+    """Run the cases of TEST_FILE [hako-tests.toml] on the benches and check what each must show (events,
+    checkpoints, lap bounds on every run or as a quantile, success rate). Exit 0: every case passed; 1: a
+    case failed; 2: bad input or the run itself broke (a bench fault, a bench that died). See docs/CI.md."""
+    import datetime as dt
+    import sys
+
+    from testctl.junit import write_junit
+    from testctl.runner import PhysicsGone
+    from testctl.suite import SuiteError, load_suite
+    from testctl.suite_report import format_table, keep_case_files, results_dict
+    from testctl.suite_run import BenchFault, bench_executor, rerun_worst, run_cases
+
+    n = how_many_benches(benches, scheduler)
+    base = pop_bench(bench)
+    try:
+        cases = load_suite(test_file, dataclasses.replace(base, course=_absolute(base.course), app=_absolute(base.app)))
+        for path, option in ((junit_file, "--junit"), (json_file, "--json")):
+            if path is not None:
+                _writable_file(path, option)
+        out_dir = out or Path("runs") / f"test-{dt.datetime.now():%Y%m%d-%H%M%S}"
+        make_out_dir(out_dir)
+        for options in dict.fromkeys(c.bench for c in cases):
+            check_bench(options)
+    except SuiteError as e:
+        raise TestRunError(str(e)) from None
+    except click.ClickException as e:
+        raise TestRunError(e.message) from None
+    from testctl.cluster import ClusterError
+    from hakoniwa.wire.protocol import ProtocolError
+
+    try:
+        with click.progressbar(length=sum(len(c.seeds) for c in cases), label=f"hako test {test_file}",
+                               item_show_func=lambda s: s, file=sys.stderr) as bar:
+            runs = run_cases(cases, lambda b: bench_executor(b, out_dir / "run", n, scheduler),
+                             lambda spec, result: bar.update(1, f"{cases[spec.set_index].name}: {result.event.name}"))
+        files = {r.case.name: keep_case_files(out_dir, r, rerun_worst) for r in runs}
+    except (BenchFault, PhysicsGone, ClusterError, ProtocolError) as e:
+        raise TestRunError(f"the test run broke, nothing is judged: {e}") from None
+    except KeyboardInterrupt:
+        click.echo("\ninterrupted: nothing is judged", err=True)
+        sys.exit(130)
+    click.echo(format_table(runs))
+    written = [out_dir]
+    if json_file is not None:
+        json_file.write_text(json.dumps(results_dict(test_file, runs, files), indent=2) + "\n")
+        written.append(json_file)
+    if junit_file is not None:
+        write_junit(junit_file, test_file.stem, runs)
+        written.append(junit_file)
+    click.echo("wrote " + ", ".join(str(f) for f in written))
+    if not all(r.passed for r in runs):
+        sys.exit(1)
 
 
 def time_limit_s(bench: BenchOptions) -> float:

@@ -34,7 +34,7 @@ def write_report(out_dir: Path, summary: CampaignSummary) -> list[Path]:
     out_dir = Path(out_dir)
     paths = [out_dir / RESULTS_CSV, out_dir / BEST_JSON, out_dir / FIG8_PNG, out_dir / FIG9_PNG]
     write_results_csv(paths[0], summary)
-    paths[1].write_text(json.dumps(best_dict(summary), indent=2) + "\n")
+    write_best_json(paths[1], summary)
     plot_fig8(paths[2], summary)
     plot_fig9(paths[3], summary)
     return paths
@@ -68,8 +68,13 @@ def write_results_csv(path: Path, summary: CampaignSummary) -> None:
             )
 
 
-def best_dict(summary: CampaignSummary) -> dict[str, Any]:
-    """best.json: the best set's parameters (searched and fixed, by name and by data offset) and lap."""
+def write_best_json(path: Path, summary: CampaignSummary, validation: dict[str, Any] | None = None) -> None:
+    path.write_text(json.dumps(best_dict(summary, validation), indent=2) + "\n")
+
+
+def best_dict(summary: CampaignSummary, validation: dict[str, Any] | None = None) -> dict[str, Any]:
+    """best.json: the best set's parameters (searched and fixed, by name and by data offset) and lap, and how
+    it fared on fresh noise draws (`testctl.validate`) once it was validated."""
     space = summary.config.space
     best = summary.best
     return {
@@ -87,6 +92,7 @@ def best_dict(summary: CampaignSummary) -> dict[str, Any]:
         "optimizer": summary.config.optimizer,
         "batch": summary.config.batch,
         "noise": summary.config.noise,
+        **({"validation": validation} if validation is not None else {}),
     }
 
 

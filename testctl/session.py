@@ -29,22 +29,32 @@ def resume_hint(out_dir: Path) -> str:
 
 
 def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial_once: TrialOnce,
-                 course_folder: Path, failures: tuple[type[Exception], ...] = ()) -> None:
-    """Run the campaign `p` on `executor`, write the report, draw the best set, and print the summary. Every
-    way it can stop short is a one-line error with a non-zero exit and the command that continues it."""
-    from testctl.report import format_summary, write_report
+                 course_folder: Path, failures: tuple[type[Exception], ...] = (), validate: int = 0) -> None:
+    """Run the campaign `p` on `executor`, write the report, validate the best set on `validate` fresh noise
+    draws, draw the best set, and print the summary. Every way it can stop short is a one-line error with a
+    non-zero exit and the command that continues it."""
+    from testctl.report import BEST_JSON, format_summary, write_best_json, write_report
+    from testctl.suite_run import BenchFault
+    from testctl.validate import VALIDATION_PNG, draw_validation, validate_best
 
+    validation = None
     try:
         with click.progressbar(length=p.config.total_sets, label=f"campaign {p.out_dir}", show_eta=False,
                                item_show_func=lambda s: s, file=sys.stderr) as bar:
             summary = Campaign(p.config, p.out_dir, executor, on_progress=ProgressLine(bar), resume=p.resume,
                                bench_info=bench_info).run()
         files = write_report(p.out_dir, summary)
+        if summary.best is not None and validate:
+            with click.progressbar(length=validate, label=f"validating the best set on {validate} fresh draws",
+                                   file=sys.stderr) as bar:
+                validation = validate_best(summary, executor, validate, lambda spec, result: bar.update(1))
+            write_best_json(p.out_dir / BEST_JSON, summary, validation.to_dict())
+            files.append(draw_validation(p.out_dir / VALIDATION_PNG, summary, validation))
         if summary.best is not None:
             files.append(draw_best(summary, trial_once, course_folder, p.out_dir / BEST_TRAJECTORY_PNG))
     except JournalError as e:
         raise click.ClickException(str(e)) from None
-    except (BenchBroken, PhysicsGone, *failures) as e:
+    except (BenchBroken, BenchFault, PhysicsGone, *failures) as e:
         raise click.ClickException(f"{e}; {resume_hint(p.out_dir)}") from None
     except OSError as e:
         raise click.ClickException(f"cannot write {e.filename or 'the campaign files'}: {e.strerror or e}; "
@@ -56,6 +66,8 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
         click.echo(f"note: the campaign already has {len(summary.sets)} sets, more than the "
                    f"{p.config.total_sets} its options ask for; nothing was run, the report was rewritten", err=True)
     click.echo(format_summary(summary))
+    if validation is not None:
+        click.echo(validation.describe())
     click.echo("wrote " + ", ".join(str(f) for f in files))
 
 

@@ -1,0 +1,77 @@
+"""How robust a campaign's best set really is: the set tested again on fresh noise draws.
+
+A campaign decides a set on 3 to 5 tests, first to a majority, and reports the mean of their laps; that says
+little about how often the set fails on the robot. So `hako run` ends by running the best set on
+`--validate N` further draws and reporting its success rate and lap quantiles (`testctl.lapstats`) beside
+the campaign's estimate. The draws continue the best set's own repetitions past the campaign's `repeats`,
+numbers no test of the campaign ever used: fresh, and yet the same for the same campaign, so a resumed or
+re-run campaign validates on the same draws.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from testctl.executor import Executor, TestSpec
+from testctl.lapstats import LapStats
+from testctl.noise_seed import noise_seed
+from testctl.result import TestResult
+from testctl.suite_run import run_specs
+
+if TYPE_CHECKING:
+    from testctl.campaign import CampaignSummary  # NumPy: not for `hako --help`
+
+DEFAULT_DRAWS = 20
+SMOKE_DRAWS = 3  # `--smoke` is a campaign in seconds; its validation only shows the parts work
+VALIDATION_PNG = "validation.png"
+
+
+@dataclass(frozen=True)
+class Validation:
+    seeds: tuple[int, ...]
+    results: tuple[TestResult, ...]  # in draw order
+    estimate_s: float  # what the campaign made of the set: the mean lap of its tests
+
+    @property
+    def stats(self) -> LapStats:
+        return LapStats.of(self.results)
+
+    def to_dict(self) -> dict:
+        return {"draws": len(self.seeds), **self.stats.to_dict(), "campaign_estimate_s": self.estimate_s,
+                "events": dict(Counter(r.event.name for r in self.results)), "noise_seeds": list(self.seeds)}
+
+    def describe(self) -> str:
+        return (f"validation on {len(self.seeds)} fresh noise draws: {self.stats.describe()} "
+                f"(the campaign's estimate: {self.estimate_s:.2f} s)")
+
+
+def validation_specs(summary: CampaignSummary, draws: int) -> list[TestSpec]:
+    best, config = summary.best, summary.config
+    assert best is not None
+    params = config.space.to_offsets(best.x)
+    reps = range(config.repeats + 1, config.repeats + 1 + draws)
+    return [TestSpec(best.index, rep, params, noise_seed(config.seed, best.index, rep), config.noise) for rep in reps]
+
+
+def validate_best(summary: CampaignSummary, executor: Executor, draws: int,
+                  on_result: Callable[[TestSpec, TestResult], None] = lambda spec, result: None) -> Validation:
+    """Run the best set on `draws` fresh noise draws (a bench fault stops it: `suite_run.BenchFault`)."""
+    assert summary.best is not None
+    specs = validation_specs(summary, draws)
+    done = run_specs(executor, specs, on_result)
+    return Validation(tuple(s.noise_seed for s in specs), tuple(done[s.set_index, s.rep][0] for s in specs),
+                      summary.best.value)
+
+
+def draw_validation(path: Path, summary: CampaignSummary, validation: Validation) -> Path:
+    from testctl.lap_figure import plot_lap_distribution
+
+    best = summary.best
+    assert best is not None
+    names = " ".join(f"{k}={v:.3f}" for k, v in summary.config.space.to_named(best.x).items())
+    return plot_lap_distribution(path, validation.results, f"best set {best.number} ({names}) on "
+                                 f"{len(validation.seeds)} fresh noise draws", validation.estimate_s)
