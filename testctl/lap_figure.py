@@ -8,6 +8,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from matplotlib.figure import Figure
+from matplotlib.ticker import MaxNLocator
 
 from testctl.lapstats import LapStats
 from testctl.result import TestResult
@@ -15,10 +16,15 @@ from testctl.result import TestResult
 
 def plot_lap_distribution(path: Path, results: Sequence[TestResult], title: str,
                           estimate_s: float | None = None) -> Path:
+    lap_figure(results, title, estimate_s).savefig(path, dpi=100)
+    return path
+
+
+def lap_figure(results: Sequence[TestResult], title: str, estimate_s: float | None = None) -> Figure:
     """Histogram of the laps, the reported quantiles, and (for a campaign's best set) the campaign's estimate:
     the mean lap of the few tests that chose it. Runs without a lap are counted in the legend."""
     stats = LapStats.of(results)
-    fig = Figure(figsize=(8, 4.5), layout="constrained")
+    fig = Figure(figsize=(10, 4.5), layout="constrained")
     ax = fig.subplots()
     if stats.laps_s:
         ax.hist(stats.laps_s, bins=min(20, max(5, len(stats.laps_s) // 2)), color="steelblue", alpha=0.8,
@@ -33,7 +39,7 @@ def plot_lap_distribution(path: Path, results: Sequence[TestResult], title: str,
         ax.plot([], [], " ", label="no lap: " + ", ".join(f"{n} {event}" for event, n in sorted(missed.items())))
     ax.set_xlabel("lap time [s]")
     ax.set_ylabel("runs")
+    ax.yaxis.set_major_locator(MaxNLocator(integer=True))
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1), fontsize=9)
-    ax.set_title(title)
-    fig.savefig(path, dpi=100)
-    return path
+    fig.suptitle(title)
+    return fig

@@ -1,0 +1,77 @@
+"""Validating a campaign's best set on fresh noise draws, and the picture of how its laps spread."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from campaign_doubles import BENCH_FAULT, SyntheticBench, result
+from conftest import hako
+from hakoniwa.wire.protocol import Event
+from testctl.campaign import Campaign, CampaignConfig
+from testctl.executor import SerialExecutor
+from testctl.lap_figure import lap_figure
+from testctl.suite_run import BenchFault
+from testctl.validate import validate_best, validation_specs
+
+
+def campaign(tmp_path, **options):
+    config = CampaignConfig(optimizer="random", trials=4, init_points=2, repeats=3, seed=5, noise=1.0, **options)
+    return Campaign(config, tmp_path / "c", SyntheticBench()).run()
+
+
+def test_the_draws_are_fresh_and_the_same_for_the_same_campaign(tmp_path):
+    summary = campaign(tmp_path)
+    specs = validation_specs(summary, 12)
+    used = {t.noise_seed for s in summary.sets for t in s.tests}
+    assert len({s.noise_seed for s in specs}) == 12 and not used & {s.noise_seed for s in specs}
+    assert {s.set_index for s in specs} == {summary.best.index}
+    assert all(s.rep > summary.config.repeats and s.noise_scale == 1.0 for s in specs)
+    assert specs == validation_specs(campaign(tmp_path / "again"), 12)
+
+
+def test_the_best_set_is_judged_on_every_draw(tmp_path):
+    summary = campaign(tmp_path)
+    bench = SyntheticBench()
+    validation = validate_best(summary, SerialExecutor(bench), 6)
+    assert len(bench.calls) == 6 and validation.seeds == tuple(s.noise_seed for s in bench.calls)
+    d = validation.to_dict()
+    assert d["draws"] == d["runs"] == 6 and d["success"] == 1.0 and d["campaign_estimate_s"] == summary.best.value
+    assert d["events"] == {"GOAL": 6}
+    assert "validation on 6 fresh noise draws: 6/6 reached GOAL" in validation.describe()
+
+
+def test_a_bench_fault_voids_the_validation(tmp_path):
+    summary = campaign(tmp_path)
+    with pytest.raises(BenchFault, match="spoiled a test"):
+        validate_best(summary, SerialExecutor(lambda spec: BENCH_FAULT), 3)
+
+
+def test_the_lap_figure_has_a_legend_naming_the_estimate_and_the_misses():
+    runs = [result(Event.GOAL, 32.0 + i / 10) for i in range(8)] + [result(Event.HIT_WALL)]
+    fig = lap_figure(runs, "t", estimate_s=31.5)
+    labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert labels == ["lap of a run that reached GOAL (8 of 9)", "p50 of all runs: 32.40 s",
+                      "campaign's estimate (mean lap): 31.50 s", "no lap: 1 HIT_WALL"]
+
+
+@pytest.mark.slow
+def test_hako_run_reports_the_best_sets_robustness(tmp_path):
+    out = tmp_path / "smoke"
+    r = hako("run", "--smoke", "--validate", "4", "--out", str(out))
+    assert r.returncode == 0, r.stderr
+    best = json.loads((out / "best.json").read_text())
+    v = best["validation"]
+    assert v["draws"] == v["runs"] == 4 and len(v["noise_seeds"]) == 4 and 0 <= v["success"] <= 1
+    assert v["campaign_estimate_s"] == best["lap_time_s"]
+    assert f"validation on 4 fresh noise draws: {v['successes']}/4 reached GOAL" in r.stdout
+    assert (out / "validation.png").stat().st_size > 0
+
+
+@pytest.mark.slow
+def test_validate_0_skips_it(tmp_path):
+    r = hako("run", "--smoke", "--validate", "0", "--out", str(tmp_path))
+    assert r.returncode == 0, r.stderr
+    assert "validation" not in json.loads((tmp_path / "best.json").read_text())
+    assert "validation" not in r.stdout and not (tmp_path / "validation.png").exists()
