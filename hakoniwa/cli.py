@@ -156,14 +156,6 @@ def run(benches: int | None, scheduler: str | None, validate: int | None, **opti
         executor.close()
 
 
-class TestRunError(click.ClickException):
-    """`hako test`'s exit 2: the input is bad or the run itself broke, so nothing was shown of the program;
-    exit 1 is kept for a case that fails."""
-
-    __test__ = False  # not a pytest class
-    exit_code = 2
-
-
 @main.command("test", context_settings=HELP)
 @click.argument("test_file", type=click.Path(dir_okay=False, path_type=Path), default=DEFAULT_FILE, required=False)
 @bench_options
@@ -181,13 +173,9 @@ def test_command(test_file: Path, benches: int | None, scheduler: str | None, ou
     checkpoints, lap bounds on every run or as a quantile, success rate). Exit 0: every case passed; 1: a
     case failed; 2: bad input or the run itself broke (a bench fault, a bench that died). See docs/CI.md."""
     import datetime as dt
-    import sys
 
-    from testctl.junit import write_junit
-    from testctl.runner import PhysicsGone
     from testctl.suite import SuiteError, load_suite
-    from testctl.suite_report import format_table, keep_case_files, results_dict
-    from testctl.suite_run import BenchFault, bench_executor, rerun_worst, run_cases
+    from testctl.suite_session import RunBroken, run_suite
 
     n = how_many_benches(benches, scheduler)
     base = pop_bench(bench)
@@ -196,39 +184,15 @@ def test_command(test_file: Path, benches: int | None, scheduler: str | None, ou
         for path, option in ((junit_file, "--junit"), (json_file, "--json")):
             if path is not None:
                 _writable_file(path, option)
-        out_dir = out or Path("runs") / f"test-{dt.datetime.now():%Y%m%d-%H%M%S}"
-        make_out_dir(out_dir)
         for options in dict.fromkeys(c.bench for c in cases):
             check_bench(options)
+        out_dir = out or Path("runs") / f"test-{dt.datetime.now():%Y%m%d-%H%M%S}"
+        make_out_dir(out_dir)
     except SuiteError as e:
-        raise TestRunError(str(e)) from None
+        raise RunBroken(str(e)) from None
     except click.ClickException as e:
-        raise TestRunError(e.message) from None
-    from testctl.cluster import ClusterError
-    from hakoniwa.wire.protocol import ProtocolError
-
-    try:
-        with click.progressbar(length=sum(len(c.seeds) for c in cases), label=f"hako test {test_file}",
-                               item_show_func=lambda s: s, file=sys.stderr) as bar:
-            runs = run_cases(cases, lambda b: bench_executor(b, out_dir / "run", n, scheduler),
-                             lambda spec, result: bar.update(1, f"{cases[spec.set_index].name}: {result.event.name}"))
-        files = {r.case.name: keep_case_files(out_dir, r, rerun_worst) for r in runs}
-    except (BenchFault, PhysicsGone, ClusterError, ProtocolError) as e:
-        raise TestRunError(f"the test run broke, nothing is judged: {e}") from None
-    except KeyboardInterrupt:
-        click.echo("\ninterrupted: nothing is judged", err=True)
-        sys.exit(130)
-    click.echo(format_table(runs))
-    written = [out_dir]
-    if json_file is not None:
-        json_file.write_text(json.dumps(results_dict(test_file, runs, files), indent=2) + "\n")
-        written.append(json_file)
-    if junit_file is not None:
-        write_junit(junit_file, test_file.stem, runs)
-        written.append(junit_file)
-    click.echo("wrote " + ", ".join(str(f) for f in written))
-    if not all(r.passed for r in runs):
-        sys.exit(1)
+        raise RunBroken(e.message) from None
+    run_suite(test_file, cases, out_dir, benches=n, scheduler=scheduler, junit_file=junit_file, json_file=json_file)
 
 
 def time_limit_s(bench: BenchOptions) -> float:

@@ -94,7 +94,10 @@ class Bound:
                              f"{_show(v, self.quantity)} ({label}; {len(bad)} of {len(values)} runs out of bounds)")
             worst = max(values) if self.op in ("<", "<=") else min(values)
             return Check(str(self), True, f"{_show(worst, self.quantity)} at worst")
-        value = success_rate(results) if self.quantity == SUCCESS else percentile([lap_or_inf(r) for r in results], _pct(self.quantity))
+        if self.quantity == SUCCESS:
+            value = success_rate(results)
+        else:
+            value = percentile([lap_or_inf(r) for r in results], int(self.quantity[1:]))  # pNN, checked when read
         return Check(str(self), holds(value, self.limit), _show(value, self.quantity))
 
 

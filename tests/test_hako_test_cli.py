@@ -40,7 +40,7 @@ def test_bad_input_is_one_line_and_exit_2_before_any_test(tmp_path, text, words)
     r = hako("test", str(write(tmp_path, text)), "--out", str(out), timeout=120)
     one_line_error(r, *words)
     assert r.returncode == 2
-    assert not (out / "run").exists()
+    assert not out.exists()
 
 
 def test_a_missing_test_file_is_exit_2(tmp_path):

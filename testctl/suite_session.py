@@ -1,0 +1,58 @@
+"""Running a test file for a person and a CI system: the progress bar, the table, the report files, and the
+exit status that a pipeline acts on (0 all cases passed, 1 a case failed, 2 the input or the run broke)."""
+
+from __future__ import annotations
+
+import json
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+import click
+
+from hakoniwa.wire.protocol import ProtocolError
+from testctl.junit import write_junit
+from testctl.runner import PhysicsGone
+from testctl.suite import Case
+from testctl.suite_report import format_table, keep_case_files, results_dict
+from testctl.suite_run import BenchFault, bench_executor, rerun_worst, run_cases
+
+INTERRUPTED = 130
+
+
+class RunBroken(click.ClickException):
+    """Exit 2: the input is bad or the run itself broke, so nothing was shown of the program; exit 1 is kept
+    for a case that fails."""
+
+    exit_code = 2
+
+
+def run_suite(test_file: Path, cases: Sequence[Case], out_dir: Path, *, benches: int, scheduler: str | None,
+              junit_file: Path | None, json_file: Path | None) -> None:
+    """Run and judge every case, print the table, write the files, and exit 1 if a case failed."""
+    from testctl.cluster import ClusterError  # Dask: not for `hako --help`
+
+    try:
+        with click.progressbar(length=sum(len(c.seeds) for c in cases), label=f"hako test {test_file}",
+                               item_show_func=lambda s: s, file=sys.stderr) as bar:
+            runs = run_cases(cases, lambda bench: bench_executor(bench, out_dir / "run", benches, scheduler),
+                             lambda spec, result: bar.update(1, f"{cases[spec.set_index].name}: {result.event.name}"))
+        files = {r.case.name: keep_case_files(out_dir, r, rerun_worst) for r in runs}
+        click.echo(format_table(runs))
+        written = [out_dir]
+        if json_file is not None:
+            json_file.write_text(json.dumps(results_dict(test_file, runs, files), indent=2) + "\n")
+            written.append(json_file)
+        if junit_file is not None:
+            write_junit(junit_file, test_file.stem, runs)
+            written.append(junit_file)
+    except (BenchFault, PhysicsGone, ClusterError, ProtocolError) as e:
+        raise RunBroken(f"the test run broke, nothing is judged: {e}") from None
+    except OSError as e:
+        raise RunBroken(f"cannot write {e.filename or 'the results'}: {e.strerror or e}") from None
+    except KeyboardInterrupt:
+        click.echo("\ninterrupted: nothing is judged", err=True)
+        sys.exit(INTERRUPTED)
+    click.echo("wrote " + ", ".join(str(f) for f in written))
+    if not all(r.passed for r in runs):
+        sys.exit(1)
