@@ -196,15 +196,16 @@ class Ev3Api:
         return E_OK
 
     def ev3_motor_steer(self, left_motor: int, right_motor: int, power: int, turn_ratio: int) -> int:
-        """Drive two motors as a pair: turn_ratio 0 runs straight, +100 spins clockwise in place."""
+        """EV3RT's steer (ev3api_motor.c): |turn| and |power| capped at 100, the inner wheel slowed to
+        |p|·(100−|t|)/100 in C integer arithmetic, so it stops at ±100 and never runs backwards; a positive
+        turn slows the right wheel."""
         if err := self._motor_error(left_motor) or self._motor_error(right_motor):
             return err
-        if not -100 <= turn_ratio <= 100:
-            return E_PAR
-        if turn_ratio >= 0:
-            left, right = power, power - c_div(power * turn_ratio, 50)
-        else:
-            left, right = power + c_div(power * turn_ratio, 50), power
+        abs_turn, abs_power = min(abs(turn_ratio), 100), min(abs(power), 100)
+        inner = abs_power * (100 - abs_turn) // 100
+        left, right = (abs_power, inner) if turn_ratio > 0 else (inner, abs_power)
+        if power < 0:
+            left, right = -left, -right
         self.ev3_motor_set_power(left_motor, left)
         self.ev3_motor_set_power(right_motor, right)
         return E_OK

@@ -58,6 +58,8 @@ API_CALLS = [
     ("ev3_motor_set_power(EV3_PORT_D, 10)", lambda a: a.ev3_motor_set_power(EV3_PORT_D, 10)),
     ("ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 15, -33)", lambda a: a.ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 15, -33)),
     ("ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 20, 101)", lambda a: a.ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 20, 101)),
+    ("ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, -150, 77)", lambda a: a.ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, -150, 77)),
+    ("ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 15, 0)", lambda a: a.ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 15, 0)),
     ("ev3_motor_steer(EV3_PORT_A, EV3_PORT_D, 20, 0)", lambda a: a.ev3_motor_steer(EV3_PORT_A, EV3_PORT_D, 20, 0)),
     ("ev3_motor_stop(EV3_PORT_B, true)", lambda a: a.ev3_motor_stop(EV3_PORT_B, True)),
     ("ev3_led_set_color(LED_ORANGE)", lambda a: a.ev3_led_set_color(LED_ORANGE)),

@@ -177,6 +177,8 @@ ER ev3_motor_stop(motor_port_t port, bool_t brake)
     return E_OK;
 }
 
+/* EV3RT's steer (ev3api_motor.c): |turn| and |power| capped at 100, the inner wheel slowed to
+ * |p|*(100-|t|)/100, so it stops at +-100 and never runs backwards; a positive turn slows the right wheel. */
 ER ev3_motor_steer(motor_port_t left_motor, motor_port_t right_motor, int power, int turn_ratio)
 {
     ER ercd = motor_error(left_motor);
@@ -184,13 +186,18 @@ ER ev3_motor_steer(motor_port_t left_motor, motor_port_t right_motor, int power,
         ercd = motor_error(right_motor);
     if (ercd != E_OK)
         return ercd;
-    if (turn_ratio < -100 || turn_ratio > 100)
-        return E_PAR;
-    int left = power, right = power;
-    if (turn_ratio >= 0)
-        right = power - power * turn_ratio / 50;
-    else
-        left = power + power * turn_ratio / 50;
+    int abs_turn = turn_ratio < 0 ? -turn_ratio : turn_ratio;
+    int abs_power = power < 0 ? -power : power;
+    if (abs_turn > 100)
+        abs_turn = 100;
+    if (abs_power > 100)
+        abs_power = 100;
+    int inner = abs_power * (100 - abs_turn) / 100;
+    int left = turn_ratio > 0 ? abs_power : inner, right = turn_ratio > 0 ? inner : abs_power;
+    if (power < 0) {
+        left = -left;
+        right = -right;
+    }
     ev3_motor_set_power(left_motor, left);
     ev3_motor_set_power(right_motor, right);
     return E_OK;
