@@ -165,7 +165,8 @@ class Ev3Api:
         return E_OBJ if self._motors[port] == NONE_MOTOR else E_OK
 
     def ev3_motor_get_counts(self, port: int) -> int:
-        if self._motor_error(port):
+        if err := self._motor_error(port):
+            self.syslog(f"ev3_motor_get_counts(): Failed to get motor counts, ercd: {err}")
             return 0
         return int(self.bus.read("i", rx(Rx.MOTOR_ANGLE + 4 * port)))
 
@@ -179,12 +180,17 @@ class Ev3Api:
     def ev3_motor_set_power(self, port: int, power: int) -> int:
         if err := self._motor_error(port):
             return err
-        power = max(-100, min(100, int(power)))
+        power = int(power)
+        if not -100 <= power <= 100:
+            used = 100 if power > 0 else -100
+            self.syslog(f"ev3_motor_set_power(): power {power} is out-of-range, {used} is used instead.")
+            power = used
         self.bus.write("i", tx(Tx.MOTOR_POWER + 4 * port), power)
         return E_OK
 
     def ev3_motor_get_power(self, port: int) -> int:
-        if self._motor_error(port):
+        if err := self._motor_error(port):
+            self.syslog(f"ev3_motor_get_power(): Failed to get motor power, ercd: {err}")
             return 0
         return int(self.bus.read("i", tx(Tx.MOTOR_POWER + 4 * port)))
 
@@ -208,6 +214,10 @@ class Ev3Api:
             left, right = -left, -right
         self.ev3_motor_set_power(left_motor, left)
         self.ev3_motor_set_power(right_motor, right)
+        return E_OK
+
+    def ev3_motor_rotate(self, port: int, degrees: int, speed_abs: int, blocking: bool) -> int:
+        """EV3RT for Athrill does not support it: E_OK, and the motor is left alone (ev3api_motor.c)."""
         return E_OK
 
     # -- LED -----------------------------------------------------------------------------------------
