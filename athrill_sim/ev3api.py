@@ -165,7 +165,8 @@ class Ev3Api:
         return E_OBJ if self._motors[port] == NONE_MOTOR else E_OK
 
     def ev3_motor_get_counts(self, port: int) -> int:
-        if self._motor_error(port):
+        if err := self._motor_error(port):
+            self.syslog(f"ev3_motor_get_counts(): Failed to get motor counts, ercd: {err}")
             return 0
         return int(self.bus.read("i", rx(Rx.MOTOR_ANGLE + 4 * port)))
 
@@ -179,12 +180,17 @@ class Ev3Api:
     def ev3_motor_set_power(self, port: int, power: int) -> int:
         if err := self._motor_error(port):
             return err
-        power = max(-100, min(100, int(power)))
+        power = int(power)
+        if not -100 <= power <= 100:
+            used = 100 if power > 0 else -100
+            self.syslog(f"ev3_motor_set_power(): power {power} is out-of-range, {used} is used instead.")
+            power = used
         self.bus.write("i", tx(Tx.MOTOR_POWER + 4 * port), power)
         return E_OK
 
     def ev3_motor_get_power(self, port: int) -> int:
-        if self._motor_error(port):
+        if err := self._motor_error(port):
+            self.syslog(f"ev3_motor_get_power(): Failed to get motor power, ercd: {err}")
             return 0
         return int(self.bus.read("i", tx(Tx.MOTOR_POWER + 4 * port)))
 
@@ -196,17 +202,22 @@ class Ev3Api:
         return E_OK
 
     def ev3_motor_steer(self, left_motor: int, right_motor: int, power: int, turn_ratio: int) -> int:
-        """Drive two motors as a pair: turn_ratio 0 runs straight, +100 spins clockwise in place."""
+        """EV3RT's steer (ev3api_motor.c): |turn| and |power| capped at 100, the inner wheel slowed to
+        |p|·(100−|t|)/100 in C integer arithmetic, so it stops at ±100 and never runs backwards; a positive
+        turn slows the right wheel."""
         if err := self._motor_error(left_motor) or self._motor_error(right_motor):
             return err
-        if not -100 <= turn_ratio <= 100:
-            return E_PAR
-        if turn_ratio >= 0:
-            left, right = power, power - c_div(power * turn_ratio, 50)
-        else:
-            left, right = power + c_div(power * turn_ratio, 50), power
+        abs_turn, abs_power = min(abs(turn_ratio), 100), min(abs(power), 100)
+        inner = abs_power * (100 - abs_turn) // 100
+        left, right = (abs_power, inner) if turn_ratio > 0 else (inner, abs_power)
+        if power < 0:
+            left, right = -left, -right
         self.ev3_motor_set_power(left_motor, left)
         self.ev3_motor_set_power(right_motor, right)
+        return E_OK
+
+    def ev3_motor_rotate(self, port: int, degrees: int, speed_abs: int, blocking: bool) -> int:
+        """EV3RT for Athrill does not support it: E_OK, and the motor is left alone (ev3api_motor.c)."""
         return E_OK
 
     # -- LED -----------------------------------------------------------------------------------------

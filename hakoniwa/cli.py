@@ -209,14 +209,17 @@ def time_limit_s(bench: BenchOptions) -> float:
 def check_bench(bench: BenchOptions) -> None:
     """Load the course and check the program here, once, so that a bad one is one line before any worker
     starts (and a C program is built once, into the cache every local worker then hits)."""
-    from hakoniwa.physics.course import CourseError, load_course
+    from hakoniwa.physics.bench import load_bench
+    from hakoniwa.physics.course import CourseError
+    from hakoniwa.physics.robots import RobotError
+    from hakoniwa.physics.scenario import ScenarioError
     from athrill_sim.programs import ProgramError, resolve_program
 
     try:
-        load_course(bench.course)
+        load_bench(bench)
         program = resolve_program(bench.app, athrill2=bench.athrill2)
         program.finish_check(program.start_check())
-    except (CourseError, ProgramError) as e:
+    except (CourseError, RobotError, ScenarioError, ProgramError) as e:
         raise click.ClickException(str(e)) from None
 
 
@@ -225,7 +228,7 @@ def default_benches() -> int:
 
 
 # What the journal records of the bench: what decides results (not where athrill2 lives).
-RECORDED_BENCH = ("course", "app", "time_limit_s")
+RECORDED_BENCH = ("course", "app", "time_limit_s", "robot", "scenario")
 
 
 def bench_info(bench: BenchOptions) -> dict:
@@ -235,7 +238,8 @@ def bench_info(bench: BenchOptions) -> dict:
 def _campaign_bench(stored: dict, given: BenchOptions) -> BenchOptions:
     """The bench for a campaign: as given, with paths made absolute for workers elsewhere; a resumed campaign
     runs on the bench its journal records, and giving another is an error."""
-    given = dataclasses.replace(given, course=_absolute(given.course), app=_absolute(given.app))
+    given = dataclasses.replace(given, course=_absolute(given.course), app=_absolute(given.app),
+                                robot=_absolute(given.robot), scenario=_absolute(given.scenario))
     if not stored:
         return given
     ctx = click.get_current_context()
@@ -249,8 +253,8 @@ def _campaign_bench(stored: dict, given: BenchOptions) -> BenchOptions:
     return dataclasses.replace(given, **{field: stored.get(field) for field in RECORDED_BENCH})
 
 
-def _absolute(spec: str) -> str:
-    return str(Path(spec).resolve()) if Path(spec).exists() else spec
+def _absolute(spec: str | None) -> str | None:
+    return str(Path(spec).resolve()) if spec is not None and Path(spec).exists() else spec
 
 
 if __name__ == "__main__":

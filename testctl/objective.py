@@ -27,7 +27,9 @@ from hakoniwa.wire.protocol import Event
 from testctl.result import TestResult
 
 LEGACY_PENALTY_S = 60.0  # what journals written before the penalty was recorded scored a failure: their time limit
-_FAILURES = (Event.TIME_OVER, Event.HIT_WALL)
+# COMPLETED is the program's own end of its run (ET Robocon's completion notice) before any lap: it ends the
+# test early, as a program that stops driving ends it at the time limit, and scores as that would: a failure.
+_FAILURES = (Event.TIME_OVER, Event.HIT_WALL, Event.COMPLETED)
 
 
 @dataclass(frozen=True)

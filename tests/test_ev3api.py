@@ -26,13 +26,23 @@ def powers(api):
     return api.bus.athrill.read_i32s(Tx.MOTOR_POWER, 4)
 
 
+# Expected values worked out by hand from EV3RT's ev3api_motor.c (ev3_motor_steer, lines 240-283): |turn| and
+# |power| capped at 100; the wheel on the side of the turn gets abs_power * (100 - abs_turn) / 100 in C integer
+# arithmetic (right for turn > 0, else left); both negated when power < 0.
 @pytest.mark.parametrize("power, turn, left, right", [
     (15, 0, 15, 15),
-    (15, 50, 15, 0),
-    (15, 100, 15, -15),
-    (15, -100, -15, 15),
-    (15, 33, 15, 6),  # 15 - 15*33/50 = 15 - 9 (C truncation)
-    (15, -33, 6, 15),
+    (15, 50, 15, 7),      # 15*50/100 = 7.5 -> 7
+    (15, 100, 15, 0),     # the inner wheel stops, never reverses
+    (15, -100, 0, 15),
+    (15, 33, 15, 10),     # 15*67/100 = 10.05 -> 10
+    (15, -33, 10, 15),
+    (15, 250, 15, 0),     # |turn| capped at 100, not refused
+    (15, -101, 0, 15),
+    (-15, 30, -15, -10),  # 15*70/100 = 10.5 -> 10, then negated
+    (-15, -30, -10, -15),
+    (150, 20, 100, 80),   # |power| capped at 100 first
+    (-150, 0, -100, -100),
+    (7, 99, 7, 0),        # 7*1/100 = 0.07 -> 0
 ])
 def test_motor_steer_follows_ev3rt(api, power, turn, left, right):
     assert api.ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, power, turn) == E_OK
@@ -40,9 +50,10 @@ def test_motor_steer_follows_ev3rt(api, power, turn, left, right):
     assert (p[EV3_PORT_A], p[EV3_PORT_B]) == (left, right)
 
 
-def test_motor_steer_refuses_out_of_range_turn(api):
+def test_motor_steer_needs_both_motors(api):
     api.ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 20, 0)
-    assert api.ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 20, 101) == E_PAR
+    assert api.ev3_motor_steer(EV3_PORT_A, EV3_PORT_D, 30, 0) == E_OBJ
+    assert api.ev3_motor_steer(EV3_PORT_A, 9, 30, 0) == E_ID
     assert powers(api)[EV3_PORT_A] == 20  # motors left alone
 
 

@@ -38,9 +38,8 @@ def test_the_c_tracer_and_the_python_tracer_agree_on_random_gains(tmp_path):
     gain_sets = [line_trace_params(*(rng.uniform(*GAIN_RANGE) for _ in range(3))) for _ in range(20)]
     python = trials("line_trace", gain_sets, tmp_path / "python")
     native = trials("line_trace_c", gain_sets, tmp_path / "native")
-    same = sum(p == n for p, n in zip(python, native))
-    assert same >= 18, [(g, p, n) for g, p, n in zip(gain_sets, python, native) if p != n]
-    assert len({event for event, _ in python}) > 1  # the sets exercise more than one outcome
+    assert python == native, [(g, p, n) for g, p, n in zip(gain_sets, python, native) if p != n]
+    assert len(set(python)) >= 10, python  # the sets drive differently (EV3RT's steer laps nearly every one)
 
 
 

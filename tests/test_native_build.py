@@ -140,8 +140,9 @@ def test_a_compile_error_is_a_one_line_program_error_with_the_compilers_first_me
 def test_an_unsupported_ev3rt_call_is_a_link_error_that_names_it(tmp_path):
     need_cc()
     (tmp_path / "app.c").write_text('#include "ev3api.h"\nvoid main_task(intptr_t u) '
-                                    '{ ev3_speaker_play_tone(440, 100); }\n')
-    with pytest.raises(NativeBuildError, match="undefined reference to `ev3_speaker_play_tone'.*not in the native"):
+                                    '{ ev3_infrared_sensor_get_distance(EV3_PORT_1); }\n')
+    with pytest.raises(NativeBuildError,
+                       match="undefined reference to `ev3_infrared_sensor_get_distance'.*not in the native"):
         build_app(tmp_path / "app.c")
 
 

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from hakoniwa.wire.protocol import (ATHRILL_FILE, FILE_SIZE, HEADER_SIZE, RX_GUEST_BASE, TX_GUEST_BASE, UNITY_FILE,
+from hakoniwa.wire.protocol import (ATHRILL_FILE, COURSE_BLOCK_POSITIONS, FILE_SIZE, HEADER_SIZE, RX_GUEST_BASE, TX_GUEST_BASE, UNITY_FILE,
                                WINDOW_SIZE, ColorId, Event, Header, ProtocolError, Rx, Tx, c_header,
                                goal_time_from_words, goal_time_words, guest_to_body, open_athrill, open_unity)
 
@@ -20,6 +20,10 @@ REAL_RX = {"buttons": 0, "color0_ambient": 4, "color0_color": 8, "color0_reflect
            "motor_power": 552}
 REAL_TX = {"led": 0, "motor_power": 4, "motor_brake": 20, "motor_reset_angle": 36, "gyro_reset": 52, "start": 512,
            "end": 516}
+# ET Robocon's etroboc_ext.h (ETrobocon/etrobo, dist/etroboc_common), which writes guest addresses as
+# base + 512 - 32 + n: the course info it reads and the completion flag it writes.
+REAL_ETROBOC_RX = {"course_card_number": 512 - 32, "course_block_number": 516 - 32, "course_block_pos": 520 - 32}
+REAL_ETROBOC_TX = {"completed": 512 - 32}
 
 
 def test_header_offsets_are_the_real_ones():
@@ -33,17 +37,26 @@ def test_body_offsets_are_the_real_ones():
     assert RX_GUEST_BASE == 0x090F0000 and TX_GUEST_BASE == 0x090F1000
 
 
-def test_our_extension_stays_in_bytes_the_real_layout_leaves_unused():
+def test_et_robocons_extension_is_where_its_header_looks():
+    assert {k: getattr(Rx, k.upper()) for k in REAL_ETROBOC_RX} == REAL_ETROBOC_RX
+    assert {k: getattr(Tx, k.upper()) for k in REAL_ETROBOC_TX} == REAL_ETROBOC_TX
+    assert Rx.COURSE_BLOCK_POS + COURSE_BLOCK_POSITIONS <= 512
+
+
+def test_our_extension_stays_in_bytes_the_real_layouts_leave_unused():
+    """Below ET Robocon's 480..511 in both files, and clear of every real RX slot."""
     real_rx = [(o, o + 4) for o in REAL_RX.values() if o < 512] + [(16, 28), (140, 152), (256, 272), (36, 88),
                                                                     (96, 124)]
-    ours_rx = [v for k, v in vars(Rx).items() if isinstance(v, int) and k.lower() not in REAL_RX
-               and k not in ("COLOR0_RGB", "COLOR1_RGB")]
-    ours_tx = [v for k, v in vars(Tx).items() if isinstance(v, int) and k.lower() not in REAL_TX]
+    ours_rx = [(k, v) for k, v in vars(Rx).items() if isinstance(v, int) and k.lower() not in REAL_RX
+               and k.lower() not in REAL_ETROBOC_RX and k not in ("COLOR0_RGB", "COLOR1_RGB")]
+    ours_tx = [(k, v) for k, v in vars(Tx).items() if isinstance(v, int) and k.lower() not in REAL_TX
+               and k.lower() not in REAL_ETROBOC_TX]
     assert ours_rx and ours_tx
-    for off in ours_rx:
-        assert 272 <= off < 512 and not any(a <= off < b for a, b in real_rx), off
-    for off in ours_tx:
-        assert 56 <= off < 512, off
+    width = {"NEXT_WAKE": 8}
+    for name, off in ours_rx:
+        assert 272 <= off and off + width.get(name, 4) <= 480 and not any(a <= off < b for a, b in real_rx), name
+    for name, off in ours_tx:
+        assert 56 <= off and off + width.get(name, 4) <= 480, name
 
 
 def test_a_new_file_has_the_real_header(tmp_path):

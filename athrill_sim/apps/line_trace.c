@@ -20,7 +20,8 @@ static const motor_port_t left_motor = EV3_PORT_A;
 static const motor_port_t right_motor = EV3_PORT_B;
 static const sensor_port_t color_sensor = EV3_PORT_1;
 
-/* ev3_motor_steer refuses a turn ratio outside -100..100; both arguments are converted to int, truncating. */
+/* EV3RT caps |turn| at 100 itself; clamping first keeps a float beyond int's range out of C's undefined
+ * float-to-int conversion. Both arguments are converted to int, truncating. */
 static void motor_steer(motor_port_t left, motor_port_t right, float power, float steer)
 {
     int turn = steer > 100 ? 100 : steer < -100 ? -100 : (int)steer;

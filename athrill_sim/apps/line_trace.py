@@ -40,8 +40,8 @@ def c_int(x: float) -> int:
 
 
 def motor_steer(api: Ev3Api, left: int, right: int, power: float, steer: float) -> None:
-    """The sample's wrapper: the turn ratio is clamped (ev3_motor_steer would refuse it outside -100..100)
-    and both arguments are converted to int, truncating."""
+    """The sample's wrapper: the turn ratio is clamped first (EV3RT caps it at 100 anyway; in C a float beyond
+    int's range would not convert) and both arguments are converted to int, truncating."""
     turn = 100 if steer > 100 else -100 if steer < -100 else c_int(steer)
     api.ev3_motor_steer(left, right, c_int(power), turn)
 

@@ -12,7 +12,7 @@ Static APIs:
 - `CRE_CYC(ID, { attr, { TNFY_HANDLER, exinf, handler } or { TNFY_ACTTSK | TNFY_WUPTSK, task }, period,
   phase })`: ASP3's cyclic handler, times in microseconds. Both kinds share one ID space.
 - `INCLUDE("file.cfg")`: read from the program's folder; EV3RT's own configuration files are skipped.
-- `DOMAIN(...) { }` and `ATT_MOD(...)` (memory protection) are skipped. Anything else is an error that names it.
+- `DOMAIN(...) { }`, `ATT_MOD(...)` and `ATT_INI(...)` (HRP3: memory protection, initialization routines) are skipped. Anything else is an error that names it.
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ KERNEL_CFG_H = "kernel_cfg.h"
 KERNEL_CFG_C = "kernel_cfg.c"
 SYSTEM_CFGS = frozenset({"app_common.cfg", "tecsgen.cfg", "ev3api.cfg", "ev3.cfg", "target_kernel.cfg",
                          "syssvc/syslog.cfg", "syssvc/serial.cfg", "syssvc/banner.cfg", "syssvc/logtask.cfg"})
-SKIPPED = frozenset({"DOMAIN", "KERNEL_DOMAIN", "ATT_MOD"})
+SKIPPED = frozenset({"DOMAIN", "KERNEL_DOMAIN", "ATT_MOD", "ATT_INI"})
 SUPPORTED = ("CRE_TSK", "EV3_CRE_CYC", "CRE_CYC", "INCLUDE", *sorted(SKIPPED))
 # A program given as one .c file: its main_task is the one task, as in EV3RT's samples.
 DEFAULT_CFG = "CRE_TSK(MAIN_TASK, { TA_ACT, 0, main_task, TMIN_APP_TPRI + 1, STACK_SIZE, NULL });"

@@ -1,11 +1,12 @@
 """The C headers generated from the Python side, so that the native runtime cannot disagree with it: the wire
-layout (`hakoniwa.wire.protocol.c_header`, the only place that knows a byte offset) and the lockstep's timing (the
-physics step, and how long the mock kernel sleeps between its checks that the physics process lives)."""
+layout (`hakoniwa.wire.protocol.c_header`, the only place that knows a byte offset), the lockstep's timing (the
+physics step, and how long the mock kernel sleeps between its checks that the physics process lives) and the
+names of the files a program leaves in the run directory (`hakoniwa.wire.rundir`)."""
 
 from __future__ import annotations
 
 from athrill_sim import kernel as mock_kernel
-from hakoniwa.wire import waiting
+from hakoniwa.wire import rundir, waiting
 from hakoniwa.wire.protocol import c_header
 from hakoniwa.wire.timebase import PHYSICS_STEP_US
 
@@ -19,9 +20,12 @@ def timing_header() -> str:
         "TEST_WAIT_NAP_S": mock_kernel.TEST_WAIT_NAP_S,
         "CHECK_EVERY_S": waiting.CHECK_EVERY_S,
     }
+    files = {"LCD_LOG": rundir.LCD_LOG, "SERIAL_LOG": rundir.SERIAL_LOG.replace("{port}", "%s"),
+             "SERIAL_INPUT": rundir.SERIAL_INPUT, "SDCARD_DIR": rundir.SDCARD_DIR}
     lines = ["/* Generated from hakoniwa.wire.timebase, hakoniwa.wire.waiting and athrill_sim.kernel; do not edit. */",
              "#ifndef HAKO_TIMING_H", "#define HAKO_TIMING_H"]
     lines += [f"#define HAKO_{name} {value!r}" for name, value in values.items()]
+    lines += [f'#define HAKO_{name} "{value}"' for name, value in files.items()]
     lines.append("#endif")
     return "\n".join(lines) + "\n"
 

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from hakoniwa.physics.noise import DEFAULT_NOISE, NoiseLevels
-from hakoniwa.wire.protocol import MOTOR_PORTS, ColorId
+from hakoniwa.wire.protocol import COURSE_BLOCK_POSITIONS, MOTOR_PORTS, ColorId
 from hakoniwa.physics.robot import DEFAULT_WIRING, Wiring
 from hakoniwa.wire.timebase import US_PER_S
 
@@ -63,6 +63,16 @@ COLOR_RGB = {ColorId.BLACK: (0, 0, 0), ColorId.BLUE: (0, 0, 255), ColorId.GREEN:
 
 
 @dataclass(frozen=True)
+class CourseInfo:
+    """ET Robocon's course information (`[etroboc]`), which its programs read through etroboc_ext.h: the
+    number card, the number on the black block, and each block's position (one byte each)."""
+
+    card_number: int = 0
+    block_number: int = 0
+    block_positions: tuple[int, ...] = (0,) * COURSE_BLOCK_POSITIONS
+
+
+@dataclass(frozen=True)
 class Pose:
     x: float
     y: float
@@ -86,6 +96,7 @@ class Course:
     color_areas: tuple[ColorArea, ...] = ()
     wiring: Wiring = DEFAULT_WIRING
     noise: NoiseLevels = DEFAULT_NOISE
+    info: CourseInfo = CourseInfo()
 
     @property
     def extent(self) -> tuple[float, float, float, float]:
@@ -158,6 +169,28 @@ def _wiring(table: object, where: str) -> Wiring:
     if ports["left_motor"] == ports["right_motor"]:
         raise CourseError(f"{where}: [robot] left_motor and right_motor must be different ports")
     return Wiring(ports["left_motor"], ports["right_motor"])
+
+
+def _course_info(table: object, where: str) -> CourseInfo:
+    if table is None:
+        return CourseInfo()
+    where = f"{where} [etroboc]"
+    if not isinstance(table, dict):
+        raise CourseError(f"{where}: must be a table")
+    unknown = sorted(set(table) - {"card_number", "block_number", "block_positions"})
+    if unknown:
+        raise CourseError(f"{where}: unknown key {unknown[0]!r}")
+    numbers = {}
+    for key in ("card_number", "block_number"):
+        value = table.get(key, 0)
+        if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value < 2**31:
+            raise CourseError(f"{where}: '{key}' must be a whole number >= 0, got {value!r}")
+        numbers[key] = value
+    positions = table.get("block_positions", [0] * COURSE_BLOCK_POSITIONS)
+    if not (isinstance(positions, list) and len(positions) == COURSE_BLOCK_POSITIONS
+            and all(isinstance(p, int) and not isinstance(p, bool) and 0 <= p <= 255 for p in positions)):
+        raise CourseError(f"{where}: 'block_positions' must be {COURSE_BLOCK_POSITIONS} whole numbers 0..255")
+    return CourseInfo(numbers["card_number"], numbers["block_number"], tuple(positions))
 
 
 def _noise(table: object, where: str) -> NoiseLevels:
@@ -237,4 +270,5 @@ def load_course(name_or_path: str | Path) -> Course:
         color_areas=areas,
         wiring=_wiring(spec.get("robot"), where),
         noise=_noise(spec.get("noise"), where),
+        info=_course_info(spec.get("etroboc"), where),
     )

@@ -12,6 +12,8 @@ from collections.abc import Sequence
 
 from hakoniwa.physics.course import Course
 from hakoniwa.physics.noise import NoiseDraw
+from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
+from hakoniwa.physics.scenario import Scenario
 from hakoniwa.physics.sensors import SensorModel, Sensors
 from hakoniwa.physics.task import LapTask
 from hakoniwa.physics.world import World
@@ -22,11 +24,12 @@ Pose = tuple[int, float, float, float]  # time [us], x, y [m], yaw [rad]
 
 
 class Environment:
-    def __init__(self, course: Course, time_limit_us: int) -> None:
+    def __init__(self, course: Course, time_limit_us: int, robot: Robot = DEFAULT_ROBOT,
+                 scenario: Scenario = Scenario()) -> None:
         self.course = course
         self.world = World(course)
         self.task = LapTask(course, time_limit_us)
-        self.sensors = SensorModel(course)
+        self.sensors = SensorModel(course, robot, scenario)
         self.scheduler = Scheduler(PHYSICS_STEP_US)
         self.scheduler.add("event-check", EVENT_CHECK_PERIOD_US, self._check_events)
         self.scheduler.add("trace", TRACE_PERIOD_US, self._trace)
@@ -35,6 +38,7 @@ class Environment:
     def _clear(self, noise: NoiseDraw | None) -> None:
         self.now_us = 0
         self.event, self.event_us = Event.NONE, 0
+        self.completed = False
         self.sensors.begin(noise)
         self.trajectory: list[Pose] = []
 
@@ -63,6 +67,11 @@ class Environment:
         """End the test now with `event` (a crash, which the task cannot see)."""
         self.event, self.event_us = event, self.now_us
 
+    def complete(self) -> None:
+        """The program said its run is over (ET Robocon's completion notice): the next event check ends the
+        test as COMPLETED, unless the lap task raises its own event at that very check."""
+        self.completed = True
+
     def read_sensors(self) -> Sensors:
         return self.sensors.read(self.world, self.now_us)
 
@@ -78,6 +87,8 @@ class Environment:
     def _check_events(self, now_us: int) -> None:
         if self.event == Event.NONE:
             self.event = self.task.check(self.world, now_us)
+            if self.event == Event.NONE and self.completed:
+                self.event = Event.COMPLETED
             self.event_us = now_us
 
     def _trace(self, now_us: int) -> None:

@@ -10,7 +10,10 @@ from pathlib import Path
 
 import click
 
-from hakoniwa.physics.course import CourseError, load_course
+from hakoniwa.physics.course import CourseError
+from hakoniwa.physics.robots import RobotError
+from hakoniwa.physics.scenario import ScenarioError
+from hakoniwa.physics.bench import load_bench
 from hakoniwa.clickutil import HELP
 from hakoniwa.physics.options import BenchOptions, bench_options
 from hakoniwa.wire.timebase import US_PER_S
@@ -33,16 +36,17 @@ def main(run_dir: Path, controller: tuple[str, ...], **bench) -> None:
     try:
         program = resolve_program(options.app, athrill2=options.athrill2)
         check = program.start_check()
-        world_course = load_course(options.course)
+        world_course, robot, scenario = load_bench(options)
         lock = RunDirLock(run_dir)
         lock.acquire()
-    except (CourseError, RunDirBusy, ProgramError, OSError) as e:
+    except (CourseError, RobotError, ScenarioError, RunDirBusy, ProgramError, OSError) as e:
         raise click.ClickException(str(e)) from None
     try:
         from hakoniwa.physics.server import PhysicsServer  # MuJoCo: only once the arguments are known to be good
 
         server = PhysicsServer(run_dir, world_course, program, athrill_timeout_s=options.athrill_timeout_s,
-                               time_limit_us=options.time_limit_us(world_course.time_limit_us))
+                               time_limit_us=options.time_limit_us(world_course.time_limit_us), robot=robot,
+                               scenario=scenario)
         program.finish_check(check)
         code = serve(server, run_dir, world_course.folder, controller)
     except ProgramError as e:

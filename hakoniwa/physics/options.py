@@ -31,6 +31,8 @@ class BenchOptions:
     athrill2: str | None = None
     athrill_timeout_s: float = 10.0
     time_limit_s: float | None = None  # None: the course's own limit
+    robot: str | None = None  # None: the default robot, with the course's wheel ports
+    scenario: str | None = None  # a scenario TOML applied to every test
 
     def physics_command(self, run_dir: Path, controller: list[str]) -> list[str]:
         cmd = [sys.executable, "-m", "hakoniwa.physics.main", "--run-dir", str(run_dir)]
@@ -67,6 +69,10 @@ _OPTIONS = [
     _Option("athrill2", "--athrill2", "The TOPPERS athrill2 emulator for an ELF --app [default: on PATH]."),
     _Option("athrill_timeout_s", "--athrill-timeout",
             "Wall seconds a silent Athrill is waited for before the test counts as a crash.", SECONDS),
+    _Option("robot", "--robot", "The robot's wiring: a built-in name (default, hackev) or a robot TOML file "
+            "[default: the default robot, wheels as the course says]."),
+    _Option("scenario", "--scenario", "A scenario TOML: touch and button presses and serial input at simulated "
+            "times, the same in every test."),
     _Option("time_limit_s", "--time-limit", "Simulated seconds before a test ends as TIME_OVER; a campaign "
             "scores a failed test as this many seconds [default: the course's time_limit_s].", SECONDS),
 ]

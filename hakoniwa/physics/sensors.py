@@ -16,6 +16,8 @@ from dataclasses import dataclass
 
 from hakoniwa.physics.course import Course
 from hakoniwa.physics.noise import NoiseDraw
+from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
+from hakoniwa.physics.scenario import Scenario
 from hakoniwa.physics.world import World
 from hakoniwa.wire.protocol import MOTOR_PORTS, ColorId
 
@@ -31,13 +33,16 @@ class Sensors:
     ultrasonic_mm: int
     gyro_angle_deg: int  # whole turns counted, clockwise positive seen from above, from the last reset
     gyro_rate_dps: int
-    touch: bool  # the robot's bumper: the body touching a wall
+    touch: tuple[bool, bool]  # touch slots 0 and 1: the bumper touching a wall, or the scenario pressing
+    buttons: int  # the EV3 buttons the scenario holds down, as RX BUTTONS' bitmask
     motor_angles_deg: dict[int, int]  # the wheel ports' encoders, from their last reset
 
 
 class SensorModel:
-    def __init__(self, course: Course) -> None:
+    def __init__(self, course: Course, robot: Robot = DEFAULT_ROBOT, scenario: Scenario = Scenario()) -> None:
         self.course = course
+        self.robot = robot
+        self.scenario = scenario
         self.begin(None)
 
     def begin(self, noise: NoiseDraw | None) -> None:
@@ -63,9 +68,19 @@ class SensorModel:
             ultrasonic_mm=ultrasonic_mm,
             gyro_angle_deg=round(self._gyro_reading(truth.gyro_angle_deg, now_us) - self._gyro_zero),
             gyro_rate_dps=round(rate_dps),
-            touch=truth.touch,
+            touch=self._touch(truth.touch, now_us),
+            buttons=self.scenario.buttons(now_us),
             motor_angles_deg={port: round(angle - self._angle_zero[port]) for port, angle in wheels},
         )
+
+    def _touch(self, bumped: bool, now_us: int) -> tuple[bool, bool]:
+        slots = [False, False]
+        if self.robot.bumper:
+            slots[0] = bumped
+        for port in self.scenario.touch_ports_pressed(now_us):
+            if (slot := self.robot.touch_slot(port)) is not None:
+                slots[slot] = True
+        return slots[0], slots[1]
 
     def drive(self, world: World, powers: Sequence[int]) -> None:
         """Apply the motor powers of all ports: the wheel ports drive the wheels, with this command's noise."""

@@ -30,11 +30,14 @@ from athrill_sim.launcher import AthrillLauncher, kill
 from athrill_sim.programs import Program
 from hakoniwa.physics.course import Course
 from hakoniwa.physics.environment import Environment
+from hakoniwa.physics.lcd import draw_screen, forget_screen
 from hakoniwa.physics.noise import NoiseDraw
+from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
+from hakoniwa.physics.scenario import Scenario
 from hakoniwa.physics.slots import Report, Slots
 from hakoniwa.physics.sync import HAKONIWA_START_US, AthrillCrash, run_hakoniwa, run_lockstep
 from hakoniwa.wire.protocol import CrashKind, Event, SyncMode, Tx
-from hakoniwa.wire.rundir import PHYSICS_LOG, TRAJECTORY_FILE
+from hakoniwa.wire.rundir import PHYSICS_LOG, SERIAL_INPUT, TRAJECTORY_FILE
 from hakoniwa.wire.timebase import Scheduler
 
 IDLE_POLL_S = 0.0005
@@ -57,12 +60,13 @@ class TestOutcome:
 
 class PhysicsServer:
     def __init__(self, run_dir: Path, course: Course, program: Program, *, athrill_timeout_s: float,
-                 time_limit_us: int) -> None:
+                 time_limit_us: int, robot: Robot = DEFAULT_ROBOT, scenario: Scenario = Scenario()) -> None:
         self.run_dir = Path(run_dir)
         self.course = course
         self.program = program
         self.athrill_timeout_s = athrill_timeout_s
-        self.env = Environment(course, time_limit_us)
+        self.env = Environment(course, time_limit_us, robot, scenario)
+        (self.run_dir / SERIAL_INPUT).write_text(scenario.serial_lines())
         self.slots = Slots(self.run_dir)
         self.athrill = self.slots.athrill
         self.launcher = AthrillLauncher(self.run_dir, program)
@@ -103,6 +107,8 @@ class PhysicsServer:
             self.env.reset_motor_angle(port)
         if commands.reset_gyro:
             self.env.reset_gyro()
+        if commands.completed:
+            self.env.complete()
 
     # -- one test ------------------------------------------------------------------------------------
     def check_files(self) -> None:
@@ -124,10 +130,11 @@ class PhysicsServer:
 
     def _start_test(self, seq: int) -> NoiseDraw | None:
         self.check_files()
+        forget_screen(self.run_dir)
         noise = self._read_noise()
         self.env.begin(noise)
         self._max_diff_us = 0
-        self.answer_before_start = self.slots.begin(self.program.sync)
+        self.answer_before_start = self.slots.begin(self.program.sync, self.course.info)
         self.publish_sensors()
         self.slots.announce(seq)
         return noise
@@ -153,6 +160,7 @@ class PhysicsServer:
         report = Report(env.event, env.event_us, env.task.passed, env.task.distance_mm, self._max_diff_us,
                         crash.kind if crash else CrashKind.NONE, crash.detail if crash else 0)
         outcome = TestOutcome(seq, report, time.monotonic() - wall_start)
+        draw_screen(self.run_dir)  # before the report: whoever sees the event sees the screen
         self.slots.report(report)
         self._write_trajectory()
         self.tests_run += 1

@@ -12,8 +12,9 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
+from hakoniwa.physics.course import CourseInfo
 from hakoniwa.physics.sensors import Sensors
-from hakoniwa.wire.protocol import (MOTOR_PORTS, RESET_ANGLE_PORTS, TOUCH_PRESSED, CrashKind, Event, Header,
+from hakoniwa.wire.protocol import (ETROBOC_EXT, MOTOR_PORTS, RESET_ANGLE_PORTS, TOUCH_PRESSED, CrashKind, Event, Header,
                                     MappedFile, Rx, SyncMode, Tx, goal_time_words, open_athrill, open_unity)
 from hakoniwa.wire.waiting import futex_wake
 
@@ -41,6 +42,7 @@ class Commands:
     powers: list[int]
     reset_angle_ports: list[int]
     reset_gyro: bool
+    completed: bool  # ETRoboc_notifyCompletedToSimulator(): the program says its run is over
 
 
 class Slots:
@@ -59,14 +61,20 @@ class Slots:
         """The (seed, scale) the controller wrote for this test."""
         return self.unity.read_u32(Rx.NOISE_SEED), self.unity.read_f32(Rx.NOISE_SCALE)
 
-    def begin(self, sync: SyncMode) -> int:
-        """Clear what a new test starts without; returns Athrill's answer counter before the test."""
+    def begin(self, sync: SyncMode, info: CourseInfo) -> int:
+        """Clear what a new test starts without, and write the course's information; returns Athrill's answer
+        counter before the test."""
         a = self.athrill
         a.clear(0, ACTUATORS_END)
+        a.clear(*ETROBOC_EXT)
         a.athrill_time_us = 0  # a real Athrill's clock starts at 0; a stale one would let physics run ahead
         self.unity.clear(*OUR_EXT)
         self.unity.write_u32(Rx.PHYSICS_PID, os.getpid())
         self.unity.write_u32(Rx.SYNC_MODE, int(sync))
+        self.unity.write_u32(Rx.COURSE_CARD_NUMBER, info.card_number)
+        self.unity.write_u32(Rx.COURSE_BLOCK_NUMBER, info.block_number)
+        for i, position in enumerate(info.block_positions):
+            self.unity.write("B", Rx.COURSE_BLOCK_POS + i, position)
         return a.read_u32(Tx.ANSWER_SEQ)
 
     def announce(self, seq: int) -> None:
@@ -79,7 +87,9 @@ class Slots:
         u.write_i32s(Rx.COLOR0_AMBIENT, [s.ambient, int(s.color), s.reflect, *s.rgb])
         u.write_i32s(Rx.GYRO_ANGLE, [s.gyro_angle_deg, s.gyro_rate_dps])
         u.write_i32(Rx.ULTRASONIC_MM, s.ultrasonic_mm)
-        u.write_i32(Rx.TOUCH0, TOUCH_PRESSED if s.touch else 0)
+        u.write_i32(Rx.BUTTONS, s.buttons)
+        u.write_i32(Rx.TOUCH0, TOUCH_PRESSED if s.touch[0] else 0)
+        u.write_i32(Rx.TOUCH1, TOUCH_PRESSED if s.touch[1] else 0)
         for port, angle in s.motor_angles_deg.items():
             u.write_i32(Rx.MOTOR_ANGLE + 4 * port, angle)
         u.unity_time_us = unity_time_us
@@ -94,7 +104,7 @@ class Slots:
         gyro = bool(a.read_i32(Tx.GYRO_RESET))
         if gyro:
             a.write_i32(Tx.GYRO_RESET, 0)
-        return Commands(a.read_i32s(Tx.MOTOR_POWER, MOTOR_PORTS), resets, gyro)
+        return Commands(a.read_i32s(Tx.MOTOR_POWER, MOTOR_PORTS), resets, gyro, a.read_i32(Tx.COMPLETED) == 1)
 
     def report(self, r: Report) -> None:
         u = self.unity

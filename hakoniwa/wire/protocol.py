@@ -8,7 +8,8 @@ body of `athrill_mmap.bin` (TX: Athrill -> physics) is at 0x090F1000. All intege
 
 Offsets in `Rx` and `Tx` are *body* offsets; the file offset is body offset + HEADER_SIZE. The fields our
 own lockstep and our test reports need live in body bytes the real layout leaves unused (`Rx.TEST_SEQ`..,
-`Tx.NEXT_WAKE`..); a real Athrill and a real EV3RT program never look there.
+`Tx.NEXT_WAKE`..) and below ET Robocon's extension (body 480..511 of both files); a real Athrill and a real
+EV3RT program never look there.
 
 Only the standard library is imported here: the mock Athrill is started once per test, and its start-up
 time is part of every trial.
@@ -85,8 +86,13 @@ class Rx:
     MAX_TIME_DIFF_US = 468  # u32: the largest |Athrill - physics| simulation-time difference seen
     CRASH_KIND = 472  # i32, CrashKind of a CRASH event (0 otherwise)
     CRASH_DETAIL = 476  # i32: the exit status, or minus the signal, of the Athrill that crashed
-    NOISE_SEED = 480  # u32, written by the controller before start: the seed of this test's noise draw
-    NOISE_SCALE = 484  # f32, written by the controller: 0 = no noise, 1 = the course's noise levels
+    NOISE_SEED = 440  # u32, written by the controller before start: the seed of this test's noise draw
+    NOISE_SCALE = 444  # f32, written by the controller: 0 = no noise, 1 = the course's noise levels
+    # ET Robocon's simulator extension (its etroboc_ext.h reads them), written by the physics side from the
+    # course: body 480..511 of both files is ET Robocon's, so ours stays below it.
+    COURSE_CARD_NUMBER = 480  # u32, ETROBOC_COURSE_INFO_CARD_NUMBER
+    COURSE_BLOCK_NUMBER = 484  # u32, ETROBOC_COURSE_INFO_BLOCK_NUMBER
+    COURSE_BLOCK_POS = 488  # u8 each, ETROBOC_COURSE_INFO_BLOCK_POS_BLACK1 .. _GREEN2
     # The paper's test automation (Table 1), in the ext area.
     EVENT = 528  # i32, Event
     GOAL_TIME_HI = 532  # u32, goal time [us], upper 32 bits
@@ -110,11 +116,15 @@ class Tx:
     NEXT_WAKE = 448  # i64: the simulation time [us] the robot program sleeps until (NEVER_WAKES: it ended)
     ANSWER_SEQ = 456  # u32: bumped last whenever Athrill publishes its outputs
     ATHRILL_PID = 460  # u32: the mock's pid (the real Athrill does not write it)
+    # ET Robocon's simulator extension.
+    COMPLETED = 480  # i32: ETRoboc_notifyCompletedToSimulator() writes 1, which ends the test (COMPLETED)
     # The paper's test automation (Table 2), in the ext area.
     START = 512  # i32, start flag
     END = 516  # i32, end flag
 
 
+ETROBOC_EXT = (480, 512)  # body bytes of both files that ET Robocon's extension owns
+COURSE_BLOCK_POSITIONS = 10  # BLACK1, BLACK2, RED1, RED2, YELLOW1, YELLOW2, BLUE1, BLUE2, GREEN1, GREEN2
 MOTOR_PORTS = 4
 RESET_ANGLE_PORTS = 3  # the flag of port D would collide with GYRO_RESET
 PARAM_END = PACKET_SIZE
@@ -123,13 +133,15 @@ TOUCH_PRESSED = 4095
 
 
 class Event(enum.IntEnum):
-    """Event state at RX 528 (paper Table 3, plus CRASH for an Athrill that dies or goes silent)."""
+    """Event state at RX 528 (paper Table 3, plus CRASH for an Athrill that dies or goes silent, and
+    COMPLETED for a program that said it is done, ET Robocon's `ETRoboc_notifyCompletedToSimulator()`)."""
 
     NONE = 0
     GOAL = 1
     TIME_OVER = 2
     HIT_WALL = 3
     CRASH = 4
+    COMPLETED = 5
 
 
 class CrashKind(enum.IntEnum):
@@ -339,7 +351,8 @@ def c_header() -> str:
                "WINDOW_SIZE": WINDOW_SIZE, "LAYOUT_VERSION": LAYOUT_VERSION, "EXT_OFF": EXT_OFF,
                "EXT_SIZE": EXT_SIZE, "RX_GUEST_BASE": RX_GUEST_BASE, "TX_GUEST_BASE": TX_GUEST_BASE,
                "MOTOR_PORTS": MOTOR_PORTS, "RESET_ANGLE_PORTS": RESET_ANGLE_PORTS,
-               "TOUCH_PRESSED": TOUCH_PRESSED, "EXIT_BENCH_FAULT": EXIT_BENCH_FAULT}
+               "TOUCH_PRESSED": TOUCH_PRESSED, "EXIT_BENCH_FAULT": EXIT_BENCH_FAULT,
+               "COURSE_BLOCK_POSITIONS": COURSE_BLOCK_POSITIONS}
     lines += [f"#define HAKO_{k} 0x{v:X}u" for k, v in scalars.items()]
     lines.append("#define HAKO_NEVER_WAKES 0x7FFFFFFFFFFFFFFFll")
     lines += [f'#define HAKO_{name}_FILE "{f}"' for name, f in (("UNITY", UNITY_FILE), ("ATHRILL", ATHRILL_FILE))]

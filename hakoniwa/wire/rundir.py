@@ -17,6 +17,12 @@ LOCK_FILE = ".hako.lock"
 TRAJECTORY_FILE = "trajectory.csv"  # the last test's path, for pictures
 PHYSICS_LOG = "physics.log"  # one line per test: what the physics process saw
 ATHRILL_LOG = "athrill.log"  # what the Athrill processes printed (the program's syslog)
+# What a native EV3RT program leaves of its test (the C runtime writes them; docs/NATIVE.md).
+LCD_LOG = "lcd.txt"  # every LCD drawing call of the test, in order, stamped with the simulated time
+LCD_PNG = "lcd.png"  # the 178x128 screen at the test's end, drawn from LCD_LOG by the physics process
+SERIAL_LOG = "serial-{port}.log"  # what the program wrote to ev3_serial_open_file(port)
+SERIAL_INPUT = "serial-input.txt"  # the scenario's [[serial]] input: "<at_us> <port> <hex bytes>" per line
+SDCARD_DIR = "sdcard"  # the folder standing in for the SD card: the program's working directory
 
 # What the physics process tells the controller it starts (the paper's arrangement), in its environment.
 RUN_DIR_ENV = "HAKO_RUN_DIR"  # the run directory

@@ -37,10 +37,10 @@ ER get_tim(SYSTIM *p_systim);
 ER sta_cyc(ID cycid);
 ER stp_cyc(ID cycid);
 
-/* Not provided. */
 ER ter_tsk(ID tskid);
-ER chg_pri(ID tskid, PRI tskpri);
 ER get_pri(ID tskid, PRI *p_tskpri);
+/* Not provided. */
+ER chg_pri(ID tskid, PRI tskpri);
 ER_UINT can_act(ID tskid);
 ER_UINT can_wup(ID tskid);
 ER rel_wai(ID tskid);

@@ -140,7 +140,11 @@ static ER motor_error(motor_port_t port)
 
 int32_t ev3_motor_get_counts(motor_port_t port)
 {
-    return motor_error(port) == E_OK ? read_i32(RX(HAKO_RX_MOTOR_ANGLE + 4 * port)) : 0;
+    ER ercd = motor_error(port);
+    if (ercd == E_OK)
+        return read_i32(RX(HAKO_RX_MOTOR_ANGLE + 4 * port));
+    hako_log("%s(): Failed to get motor counts, ercd: %d", __func__, ercd);
+    return 0;
 }
 
 ER ev3_motor_reset_counts(motor_port_t port)
@@ -158,13 +162,29 @@ ER ev3_motor_set_power(motor_port_t port, int power)
     ER ercd = motor_error(port);
     if (ercd != E_OK)
         return ercd;
-    write_i32(TX(HAKO_TX_MOTOR_POWER + 4 * port), power > 100 ? 100 : power < -100 ? -100 : power);
+    if (power < -100 || power > 100) {
+        int used = power > 0 ? 100 : -100;
+        hako_log("%s(): power %d is out-of-range, %d is used instead.", __func__, power, used);
+        power = used;
+    }
+    write_i32(TX(HAKO_TX_MOTOR_POWER + 4 * port), power);
     return E_OK;
 }
 
 int ev3_motor_get_power(motor_port_t port)
 {
-    return motor_error(port) == E_OK ? read_i32(TX(HAKO_TX_MOTOR_POWER + 4 * port)) : 0;
+    ER ercd = motor_error(port);
+    if (ercd == E_OK)
+        return read_i32(TX(HAKO_TX_MOTOR_POWER + 4 * port));
+    hako_log("%s(): Failed to get motor power, ercd: %d", __func__, ercd);
+    return 0;
+}
+
+/* EV3RT for Athrill does not support it: E_OK, and the motor is left alone (ev3api_motor.c). */
+ER ev3_motor_rotate(motor_port_t port, int degrees, uint32_t speed_abs, bool_t blocking)
+{
+    (void)port, (void)degrees, (void)speed_abs, (void)blocking;
+    return E_OK;
 }
 
 ER ev3_motor_stop(motor_port_t port, bool_t brake)
@@ -177,6 +197,8 @@ ER ev3_motor_stop(motor_port_t port, bool_t brake)
     return E_OK;
 }
 
+/* EV3RT's steer (ev3api_motor.c): |turn| and |power| capped at 100, the inner wheel slowed to
+ * |p|*(100-|t|)/100, so it stops at +-100 and never runs backwards; a positive turn slows the right wheel. */
 ER ev3_motor_steer(motor_port_t left_motor, motor_port_t right_motor, int power, int turn_ratio)
 {
     ER ercd = motor_error(left_motor);
@@ -184,13 +206,18 @@ ER ev3_motor_steer(motor_port_t left_motor, motor_port_t right_motor, int power,
         ercd = motor_error(right_motor);
     if (ercd != E_OK)
         return ercd;
-    if (turn_ratio < -100 || turn_ratio > 100)
-        return E_PAR;
-    int left = power, right = power;
-    if (turn_ratio >= 0)
-        right = power - power * turn_ratio / 50;
-    else
-        left = power + power * turn_ratio / 50;
+    int abs_turn = turn_ratio < 0 ? -turn_ratio : turn_ratio;
+    int abs_power = power < 0 ? -power : power;
+    if (abs_turn > 100)
+        abs_turn = 100;
+    if (abs_power > 100)
+        abs_power = 100;
+    int inner = abs_power * (100 - abs_turn) / 100;
+    int left = turn_ratio > 0 ? abs_power : inner, right = turn_ratio > 0 ? inner : abs_power;
+    if (power < 0) {
+        left = -left;
+        right = -right;
+    }
     ev3_motor_set_power(left_motor, left);
     ev3_motor_set_power(right_motor, right);
     return E_OK;

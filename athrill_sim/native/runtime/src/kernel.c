@@ -13,10 +13,21 @@
  *
  * Times are rounded up to whole physics steps, as the mock kernel does: tslp_tsk(d) wakes at
  * now + ceil(d / step) * step.
+ *
+ * A task that computes without end (EV3RT programs end in `while (1) {}`, or poll a sensor without sleeping)
+ * would stop simulated time, where on the real emulator its instructions take time and interrupts still
+ * come. So a task that has run for HAKO_SPIN_SLICE_US of CPU time in its own code is preempted: it stays
+ * ready at the head of its priority, and simulated time may pass by up to HAKO_SPIN_TIME_US (less if a time
+ * event falls due sooner), as if the spin had taken that long; a task that blocks in time never comes near the slice. A spin never interrupts a kernel
+ * service or the C library (the signal only preempts the program's own code), and how many iterations
+ * a spin makes per step depends on the machine, as on the real emulator.
  */
+#define _GNU_SOURCE
+#include <signal.h>
 #include <stdbool.h>
 #include <stdlib.h>
 #include <sys/mman.h>
+#include <sys/time.h>
 #include <ucontext.h>
 #include <unistd.h>
 
@@ -25,6 +36,8 @@
 #include "runtime.h"
 
 #define HAKO_MIN_STACK (256 * 1024) /* host code (printf, libm) needs more than a v850 task's 4 KiB */
+#define HAKO_SPIN_SLICE_US 2000 /* CPU time in its own code after which a computing task is preempted */
+#define HAKO_SPIN_TIME_US 10000 /* the simulated time a preempted spin is taken to have used */
 
 enum task_state { DORMANT, READY, RUNNING, WAITING };
 enum wait_kind { WAIT_SLEEP, WAIT_DELAY }; /* slp_tsk / tslp_tsk (wup_tsk ends it), or dly_tsk */
@@ -41,6 +54,7 @@ struct task {
     uint_t activations; /* queued act_tsk calls */
     uint_t wakeups; /* queued wup_tsk calls */
     bool fresh; /* starts from its entry function when next dispatched */
+    int64_t spun_at; /* the simulated time it was last preempted for spinning; -1: never */
     ucontext_t context;
     void *stack;
     size_t stack_size;
@@ -62,6 +76,12 @@ static ucontext_t kernel_context;
 static int64_t now_us;
 static uint64_t events_set;
 static int64_t ready_tail, ready_head;
+static volatile sig_atomic_t in_service; /* a kernel service is changing the kernel's state: never preempted */
+
+static int enter_service(void) { return in_service = 1; }
+static void leave_service(int *unused) { (void)unused, in_service = 0; }
+/* Marks a kernel service for the rest of its scope (GCC's cleanup runs on every return). */
+#define SERVICE __attribute__((cleanup(leave_service))) int service_guard_ = enter_service(); (void)service_guard_
 
 int64_t hako_now(void) { return now_us; }
 
@@ -128,6 +148,7 @@ static ER block(enum wait_kind wait, bool timed, int64_t due)
 
 ER act_tsk(ID tskid)
 {
+    SERVICE;
     struct task *t = task_of(tskid);
     if (t == NULL)
         return E_ID;
@@ -140,6 +161,7 @@ ER act_tsk(ID tskid)
 
 ER ext_tsk(void)
 {
+    SERVICE;
     struct task *self = running;
     if (self == NULL)
         return E_CTX;
@@ -153,6 +175,37 @@ ER ext_tsk(void)
     return E_SYS; /* not reached */
 }
 
+ER ter_tsk(ID tskid)
+{
+    SERVICE;
+    struct task *t = task_of(tskid);
+    if (t == NULL)
+        return E_ID;
+    if (t == running)
+        return E_ILUSE;
+    if (t->state == DORMANT)
+        return E_OBJ;
+    t->state = DORMANT;
+    t->timed = false;
+    if (t->activations > 0) { /* ASP3: a queued activation starts it again */
+        t->activations--;
+        activate(t);
+        yield_if_outranked(t);
+    }
+    return E_OK;
+}
+
+ER get_pri(ID tskid, PRI *p_tskpri)
+{
+    struct task *t = task_of(tskid);
+    if (t == NULL)
+        return E_ID;
+    if (t->state == DORMANT)
+        return E_OBJ;
+    *p_tskpri = t->cfg->priority;
+    return E_OK;
+}
+
 ER get_tid(ID *p_tskid)
 {
     *p_tskid = running != NULL ? (ID)(running - tasks + 1) : TSK_NONE;
@@ -161,6 +214,7 @@ ER get_tid(ID *p_tskid)
 
 ER slp_tsk(void)
 {
+    SERVICE;
     if (running == NULL)
         return E_CTX;
     if (running->wakeups > 0) {
@@ -172,6 +226,7 @@ ER slp_tsk(void)
 
 ER tslp_tsk(TMO tmout)
 {
+    SERVICE;
     if (running == NULL)
         return E_CTX;
     if (running->wakeups > 0) {
@@ -187,6 +242,7 @@ ER tslp_tsk(TMO tmout)
 
 ER dly_tsk(RELTIM dlytim)
 {
+    SERVICE;
     if (running == NULL)
         return E_CTX;
     if (dlytim == 0)
@@ -196,6 +252,7 @@ ER dly_tsk(RELTIM dlytim)
 
 ER wup_tsk(ID tskid)
 {
+    SERVICE;
     struct task *t = task_of(tskid);
     if (t == NULL)
         return E_ID;
@@ -225,6 +282,7 @@ static void schedule(struct cyclic *c)
 
 ER sta_cyc(ID cycid)
 {
+    SERVICE;
     struct cyclic *c = cyclic_of(cycid);
     if (c == NULL)
         return E_ID;
@@ -237,6 +295,7 @@ ER sta_cyc(ID cycid)
 
 ER stp_cyc(ID cycid)
 {
+    SERVICE;
     struct cyclic *c = cyclic_of(cycid);
     if (c == NULL)
         return E_ID;
@@ -327,6 +386,42 @@ static void task_entry(void)
     ext_tsk();
 }
 
+extern char __executable_start[], etext[];
+
+static bool in_program_code(const ucontext_t *uc)
+{
+#if defined(__x86_64__)
+    uintptr_t pc = (uintptr_t)uc->uc_mcontext.gregs[REG_RIP];
+#elif defined(__aarch64__)
+    uintptr_t pc = (uintptr_t)uc->uc_mcontext.pc;
+#else
+    uintptr_t pc = 0;
+    (void)uc;
+#endif
+    return pc >= (uintptr_t)__executable_start && pc < (uintptr_t)etext;
+}
+
+static void on_spin_tick(int sig, siginfo_t *info, void *context)
+{
+    (void)sig, (void)info;
+    struct task *self = running;
+    if (self == NULL || in_service || !in_program_code(context))
+        return;
+    make_ready(self, true);
+    self->spun_at = now_us;
+    running = NULL;
+    swapcontext(&self->context, &kernel_context); /* resumed here when dispatched again */
+}
+
+static void start_spin_clock(void)
+{
+    struct sigaction sa = {.sa_sigaction = on_spin_tick, .sa_flags = SA_SIGINFO | SA_RESTART};
+    sigemptyset(&sa.sa_mask);
+    struct itimerval slice = {{0, HAKO_SPIN_SLICE_US}, {0, HAKO_SPIN_SLICE_US}};
+    if (sigaction(SIGVTALRM, &sa, NULL) != 0 || setitimer(ITIMER_VIRTUAL, &slice, NULL) != 0)
+        hako_bench_fault("cannot start the kernel's CPU clock");
+}
+
 static void dispatch(struct task *t)
 {
     if (t->fresh) {
@@ -339,6 +434,7 @@ static void dispatch(struct task *t)
     }
     t->state = RUNNING;
     running = t;
+    in_service = 0;
     swapcontext(&kernel_context, &t->context);
     running = NULL;
 }
@@ -365,6 +461,7 @@ void hako_kernel_run(int64_t start_us)
         hako_bench_fault("no memory for the kernel's tables");
     for (uint_t i = 0; i < hako_task_count; i++) {
         tasks[i].cfg = &hako_task_table[i];
+        tasks[i].spun_at = -1;
         give_stack(&tasks[i]);
         if (tasks[i].cfg->attr & TA_ACT)
             activate(&tasks[i]);
@@ -374,21 +471,27 @@ void hako_kernel_run(int64_t start_us)
         if (cyclics[i].cfg->attr & TA_STA)
             sta_cyc((ID)(i + 1));
     }
+    hako_sdcard_enter();
+    hako_buttons_poll();
+    start_spin_clock();
     for (;;) {
         while (handle_due_event())
             ;
         struct task *t = next_ready();
         hako_window_flush();
-        if (t != NULL) {
+        if (t != NULL && t->spun_at != now_us) {
             dispatch(t);
             continue;
         }
         int64_t wake = next_event();
+        if (t != NULL && wake > now_us + HAKO_SPIN_TIME_US)
+            wake = now_us + HAKO_SPIN_TIME_US; /* a spinning task: the spin took that long */
         hako_publish(now_us, wake);
         if (wake == HAKO_NEVER_WAKES)
             exit(0); /* every task has ended and nothing is left to fire: the outputs stay as they are */
         hako_wait_snapshot(wake);
         hako_window_load();
         now_us = wake;
+        hako_buttons_poll();
     }
 }

@@ -12,6 +12,10 @@
 
 #include "runtime.h"
 
+static char run_dir_path[4096];
+
+const char *hako_run_dir(void) { return run_dir_path; }
+
 static void usage(const char *problem)
 {
     fprintf(stderr, "athrill-native: %s\nusage: athrill-native --run-dir DIR [--test N]\n", problem);
@@ -37,7 +41,9 @@ int main(int argc, char **argv)
     }
     if (run_dir == NULL)
         usage("--run-dir is required");
-    hako_files_open(run_dir);
+    if (realpath(run_dir, run_dir_path) == NULL)
+        hako_bench_fault("run directory %s: %s", run_dir, strerror(errno));
+    hako_files_open(run_dir_path);
     hako_window_map();
     if (test >= 0)
         hako_wait_for_test((uint32_t)test);

@@ -40,6 +40,13 @@ void hako_wait_snapshot(int64_t wake_us);
 int64_t hako_now(void);
 void hako_kernel_run(int64_t start_us) __attribute__((noreturn));
 
+/* main.c: the run directory (absolute: the program's working directory is the SD card folder). */
+const char *hako_run_dir(void);
+
+/* sdcard.c: enter the SD card folder; brick.c: call the click handlers of the buttons just pressed. */
+void hako_sdcard_enter(void);
+void hako_buttons_poll(void);
+
 /* syslog.c: lines on stderr, each written at once. */
 void hako_vline(const char *prefix, const char *format, va_list args);
 void hako_log(const char *format, ...) __attribute__((format(printf, 1, 2)));

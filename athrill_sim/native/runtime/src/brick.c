@@ -1,0 +1,71 @@
+/*
+ * The brick's other devices: button click handlers, the speaker (each call a line in the log; there is no
+ * sound) and the battery (fixed, plausible readings of a charged EV3 pack), and Athrill's stopwatch. A click
+ * handler runs, like a cyclic handler, before any task, at the first snapshot in which its button is down
+ * after being up (a press), as EV3RT calls it from the brick's button event.
+ */
+#include "athrill_syscall.h"
+#include "ev3api.h"
+#include "runtime.h"
+
+#define BATTERY_MV 8000 /* six AA cells, charged */
+#define BATTERY_MA 150 /* the brick idling, motors still */
+
+static ISR click_handlers[TNUM_BUTTON];
+static intptr_t click_exinfs[TNUM_BUTTON];
+static uint32_t buttons_before;
+
+ER ev3_button_set_on_clicked(button_t button, ISR handler, intptr_t exinf)
+{
+    if ((int)button < LEFT_BUTTON || (int)button > BACK_BUTTON)
+        return E_ID;
+    click_handlers[button] = handler;
+    click_exinfs[button] = exinf;
+    return E_OK;
+}
+
+void hako_buttons_poll(void)
+{
+    uint32_t now = *(volatile const uint32_t *)((uintptr_t)HAKO_RX_GUEST_BASE + HAKO_RX_BUTTONS);
+    uint32_t pressed = now & ~buttons_before;
+    buttons_before = now;
+    for (int b = LEFT_BUTTON; b <= BACK_BUTTON; b++)
+        if ((pressed >> b & 1) && click_handlers[b] != NULL)
+            click_handlers[b](click_exinfs[b]);
+}
+
+ER ev3_speaker_set_volume(uint8_t volume)
+{
+    hako_log("speaker: volume %u", (unsigned)volume);
+    return E_OK;
+}
+
+ER ev3_speaker_play_tone(uint16_t frequency, int32_t duration)
+{
+    hako_log("speaker: tone %u Hz for %d ms", (unsigned)frequency, (int)duration);
+    return E_OK;
+}
+
+ER ev3_speaker_play_file(const memfile_t *p_memfile, int32_t duration)
+{
+    if (p_memfile == NULL || p_memfile->buffer == NULL)
+        return E_PAR;
+    hako_log("speaker: %u-byte file for %d ms", (unsigned)p_memfile->filesz, (int)duration);
+    return E_OK;
+}
+
+ER ev3_speaker_stop(void)
+{
+    hako_log("speaker: stop");
+    return E_OK;
+}
+
+int ev3_battery_current_mA(void) { return BATTERY_MA; }
+
+int ev3_battery_voltage_mV(void) { return BATTERY_MV; }
+
+static int64_t stopwatch_us;
+
+void athrill_reset_time(void) { stopwatch_us = hako_now(); }
+
+void athrill_show_time(void) { hako_log("athrill time: %lld us", (long long)(hako_now() - stopwatch_us)); }

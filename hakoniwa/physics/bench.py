@@ -1,0 +1,25 @@
+"""The world a bench serves, from its options: the course, the robot on it and the scenario of every test.
+Loaded once here, so that `hakoniwa-physics` and the commands that check a bench before starting one agree."""
+
+from __future__ import annotations
+
+import dataclasses
+
+from hakoniwa.physics.course import Course, load_course
+from hakoniwa.physics.options import BenchOptions
+from hakoniwa.physics.robots import Robot, RobotError, load_robot
+from hakoniwa.physics.scenario import Scenario, ScenarioError, load_scenario
+
+
+def load_bench(options: BenchOptions) -> tuple[Course, Robot, Scenario]:
+    """Raises CourseError, RobotError or ScenarioError, each one line."""
+    course = load_course(options.course)
+    robot = load_robot(options.robot)
+    scenario = load_scenario(options.scenario)
+    if robot.wiring is not None:
+        course = dataclasses.replace(course, wiring=robot.wiring)
+    for press in scenario.presses:
+        if press.sensor_port is not None and robot.touch_slot(press.sensor_port) is None:
+            raise ScenarioError(f"scenario: robot {robot.name!r} has no touch sensor on port "
+                                f"{press.sensor_port + 1} to press")
+    return course, robot, scenario

@@ -1,0 +1,130 @@
+"""A test scenario beside the course (`--scenario FILE`, TOML): stimuli at simulated times, the same in every
+test of a campaign. `[[press]]` presses a touch sensor (`sensor = "touch"`, `port` 1..4) or an EV3 button
+(`button = "ENTER"`, ...) at `at_s` for `for_s` seconds; `[[serial]]` makes `text` arrive on a serial port
+(`port` "bt" by default, or "uart", "default") at `at_s`. A program that waits for a touch or a remote start
+then starts by itself."""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+from hakoniwa.wire.timebase import US_PER_S
+
+BUTTONS = ("LEFT", "RIGHT", "UP", "DOWN", "ENTER", "BACK")  # button_t order: the bit in RX BUTTONS
+SERIAL_PORTS = ("default", "uart", "bt")
+SENSOR_PORTS = 4
+
+
+class ScenarioError(ValueError):
+    """A scenario file is unusable; the message names the problem."""
+
+
+@dataclass(frozen=True)
+class Press:
+    sensor_port: int | None  # 0-based touch sensor port, or None for a button
+    button: int | None
+    at_us: int
+    for_us: int
+
+    def active(self, now_us: int) -> bool:
+        return self.at_us <= now_us < self.at_us + self.for_us
+
+
+@dataclass(frozen=True)
+class SerialInput:
+    at_us: int
+    port: str
+    text: str
+
+
+@dataclass(frozen=True)
+class Scenario:
+    presses: tuple[Press, ...] = ()
+    serial: tuple[SerialInput, ...] = ()
+
+    def touch_ports_pressed(self, now_us: int) -> set[int]:
+        return {p.sensor_port for p in self.presses if p.sensor_port is not None and p.active(now_us)}
+
+    def buttons(self, now_us: int) -> int:
+        """The RX buttons bitmask at `now_us`."""
+        return sum(1 << p.button for p in self.presses if p.button is not None and p.active(now_us)) & 0x3F
+
+    def serial_lines(self) -> str:
+        """The runtime's serial-input file: "<at_us> <port> <hex bytes>" per input."""
+        return "".join(f"{s.at_us} {s.port} {s.text.encode().hex()}\n" for s in self.serial if s.text)
+
+
+def _seconds(table: dict, key: str, where: str, *, default: float | None = None, positive: bool = False) -> int:
+    value = table.get(key, default)
+    if value is None:
+        raise ScenarioError(f"{where}: missing '{key}'")
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise ScenarioError(f"{where}: '{key}' must be a number of seconds, got {value!r}")
+    if value < 0 or (positive and value == 0):
+        raise ScenarioError(f"{where}: '{key}' must be {'positive' if positive else 'at least 0'}, got {value:g}")
+    return round(value * US_PER_S)
+
+
+def _press(table: object, where: str) -> Press:
+    if not isinstance(table, dict):
+        raise ScenarioError(f"{where}: must be a table")
+    unknown = sorted(set(table) - {"sensor", "button", "port", "at_s", "for_s"})
+    if unknown:
+        raise ScenarioError(f"{where}: unknown key {unknown[0]!r}")
+    at, length = _seconds(table, "at_s", where), _seconds(table, "for_s", where, default=0.1, positive=True)
+    if ("sensor" in table) == ("button" in table):
+        raise ScenarioError(f"{where}: give either sensor = \"touch\" or button = \"ENTER\" (one of them)")
+    if "sensor" in table:
+        if table["sensor"] != "touch":
+            raise ScenarioError(f"{where}: sensor {table['sensor']!r} cannot be pressed (only \"touch\")")
+        port = table.get("port")
+        if isinstance(port, bool) or not isinstance(port, int) or not 1 <= port <= SENSOR_PORTS:
+            raise ScenarioError(f"{where}: a touch press needs port = 1..{SENSOR_PORTS}, got {port!r}")
+        return Press(port - 1, None, at, length)
+    name = str(table["button"]).upper()
+    if name not in BUTTONS:
+        raise ScenarioError(f"{where}: button {table['button']!r} is not one of {', '.join(BUTTONS)}")
+    return Press(None, BUTTONS.index(name), at, length)
+
+
+def _serial(table: object, where: str) -> SerialInput:
+    if not isinstance(table, dict):
+        raise ScenarioError(f"{where}: must be a table")
+    unknown = sorted(set(table) - {"at_s", "text", "port"})
+    if unknown:
+        raise ScenarioError(f"{where}: unknown key {unknown[0]!r}")
+    text, port = table.get("text"), str(table.get("port", "bt")).lower()
+    if not isinstance(text, str):
+        raise ScenarioError(f"{where}: 'text' must be a string")
+    if port not in SERIAL_PORTS:
+        raise ScenarioError(f"{where}: port {table.get('port')!r} is not one of {', '.join(SERIAL_PORTS)}")
+    return SerialInput(_seconds(table, "at_s", where), port, text)
+
+
+def parse_scenario(text: str, where: str = "scenario") -> Scenario:
+    try:
+        spec = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise ScenarioError(f"{where}: not valid TOML: {e}") from None
+    unknown = sorted(set(spec) - {"press", "serial"})
+    if unknown:
+        raise ScenarioError(f"{where}: unknown table {unknown[0]!r} (known: press, serial)")
+    for key in ("press", "serial"):
+        if not isinstance(spec.get(key, []), list):
+            raise ScenarioError(f"{where}: '{key}' must be an array of tables ([[{key}]])")
+    return Scenario(tuple(_press(p, f"{where} press {i + 1}") for i, p in enumerate(spec.get("press", []))),
+                    tuple(_serial(s, f"{where} serial {i + 1}") for i, s in enumerate(spec.get("serial", []))))
+
+
+def load_scenario(path: str | Path | None) -> Scenario:
+    if path is None:
+        return Scenario()
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except (OSError, UnicodeDecodeError) as e:
+        raise ScenarioError(f"scenario {path}: cannot read it: {e}") from None
+    return parse_scenario(text, path.name)
