@@ -21,3 +21,12 @@ def builtin_path(name: str) -> Path | None:
     """The file of a built-in maze, by its name with or without .txt; None if there is none."""
     path = builtin_dir() / (name if name.endswith(SUFFIX) else name + SUFFIX)
     return path if "/" not in name and path.is_file() else None
+
+
+EXAMPLES = ("seed-log.txt",)  # text examples shipped beside the mazes, for the commands in docs/MAZELOG.md
+
+
+def builtin_example(name: str) -> Path | None:
+    if name not in EXAMPLES:
+        return None
+    return Path(str(files("maze").joinpath("data", name)))

@@ -10,11 +10,11 @@ from __future__ import annotations
 import os
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, Callable, TypeVar
 
 import click
 
-from .builtin import builtin_names, builtin_path
+from .builtin import EXAMPLES, builtin_example, builtin_names, builtin_path
 from .compare import compare
 from .direction import LETTER
 from .errors import MazeError
@@ -22,6 +22,7 @@ from .mazefile import dump_maze, parse_maze
 from .mazejson import maze_to_json
 from .model import Cell, Maze, central_goals, inner_wall_count
 from .mouseparams import MouseParams, load_mouse
+from .outputs import atomic_open, refuse_overwrite, write_bytes, write_text
 from .restore import LoadedLog, load_log, restore, select
 from .strategies import OBJECTIVES, STRATEGIES
 from .wallrecord import COORD_LIMIT, RECORD_BYTES, TEXT_HEADER, WallRecord, encode_log, parse_text_records
@@ -29,7 +30,10 @@ from .wallrecord import COORD_LIMIT, RECORD_BYTES, TEXT_HEADER, WallRecord, enco
 if TYPE_CHECKING:
     from .explorer import SearchResult
     from .fastpath import Route
+    from .harness import MouseRun
+    from .motion import SearchRun
 
+F = TypeVar("F", bound=Callable[..., Any])
 MAX_WARNINGS = 20
 DEFAULT_SIZE = 32  # the seed's mouse keeps a 32x32 map even for smaller mazes
 DEFAULT_STRATEGY = "stop"  # closing-stop is step for step the same (measured), so closing is left to `closing`
@@ -38,29 +42,64 @@ InFile = click.Path(exists=True, dir_okay=False, path_type=Path)
 OutFile = click.Path(dir_okay=False, writable=True, path_type=Path)
 
 
-class MazeSource(click.ParamType):
-    """A maze file, or the name of a built-in maze (`mazelog mazes`) when no such file exists."""
+class ShippedSource(click.ParamType):
+    """A file, or (when no such file exists) the name of one shipped in the package; `-` for stdin if allowed."""
 
-    name = "MAZE"
+    def __init__(self, name: str, what: str, lookup: Callable[[str], Path | None], names: Callable[[], list[str]],
+                 stdin: bool = False) -> None:
+        self.name, self.what, self.lookup, self.names, self.stdin = name, what, lookup, names, stdin
 
-    def convert(self, value: object, param: click.Parameter | None, ctx: click.Context | None) -> Path:
+    def convert(self, value: object, param: click.Parameter | None, ctx: click.Context | None) -> Path | None:
+        if self.stdin and value == "-":
+            return None
         path = Path(str(value))
         if path.is_file():
             return path
-        found = builtin_path(str(value))
+        found = self.lookup(str(value))
         if found is None:
-            self.fail(f"{value!r} is neither a file nor a built-in maze ({', '.join(builtin_names())})", param, ctx)
+            self.fail(f"{value!r} is neither a file nor {self.what} ({', '.join(self.names())})", param, ctx)
         return found
 
 
-size_option = click.option("--size", type=click.IntRange(1, COORD_LIMIT), default=None,
-                           help=f"Side of the maze the log belongs to (a log does not record it) "
-                                f"[default: {DEFAULT_SIZE}; with --maze, its size].")
+def MazeSource() -> ShippedSource:
+    """A maze file, or the name of a built-in maze (`mazelog mazes`)."""
+    return ShippedSource("MAZE", "a built-in maze", builtin_path, builtin_names)
+
+
+def TextSource() -> ShippedSource:
+    """A text file, `-` for stdin, or a text example shipped in the package (`seed-log.txt`, the seed's log)."""
+    return ShippedSource("TEXT", "a shipped example", builtin_example, lambda: list(EXAMPLES), stdin=True)
+
+
+class PowerCutPoint(click.ParamType):
+    """A log byte, or `reset`: where the first --reset-at happens."""
+
+    name = "BYTE|reset"
+
+    def convert(self, value: object, param: click.Parameter | None, ctx: click.Context | None) -> int | str:
+        if value == "reset" or isinstance(value, int):
+            return value
+        try:
+            byte = int(str(value))
+        except ValueError:
+            byte = -1
+        if byte < 0:
+            self.fail(f"{value!r} is neither a byte offset (0 or more) nor 'reset'", param, ctx)
+        return byte
+
+
+def size_option_for(with_maze: bool) -> Callable[[F], F]:
+    return click.option("--size", type=click.IntRange(1, COORD_LIMIT), default=None,
+                        help=f"Side of the maze the log belongs to (a log does not record it) "
+                             f"[default: {DEFAULT_SIZE}{'; with --maze, its size' if with_maze else ''}].")
+
+
+size_option = size_option_for(with_maze=True)
 strict_option = click.option("--strict", is_flag=True,
                              help="Refuse a log with any anomaly instead of skipping the bad records.")
-mouse_option = click.option("--mouse", "mouse_spec", default=None, metavar="NAME|FILE",
-                            help="Time model: a built-in mouse (classic, halfsize) or a TOML file "
-                                 "[default: classic up to 16x16, halfsize above; see maze/data/mice.toml].")
+timing_option = click.option("--timing", "timing_spec", default=None, metavar="NAME|FILE",
+                             help="Time model of the mouse: built-in (classic, halfsize) or a TOML file "
+                                  "[default: classic up to 16x16, halfsize above; see maze/data/mice.toml].")
 objective_option = click.option("--objective", type=click.Choice(list(OBJECTIVES)), default="cells",
                                 show_default=True, help="; ".join(f"{k}: {v}" for k, v in OBJECTIVES.items()))
 diagonal_option = click.option("--diagonal", is_flag=True, help="Allow diagonal runs and 45/135/V90 turns.")
@@ -98,6 +137,7 @@ class MazeGroup(click.Group):
 
 
 @click.group(cls=MazeGroup, context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(package_name="hakoniwa-py", prog_name="mazelog")
 def main() -> None:
     """Micromouse wall logs: 16-bit WallRecords appended during a search (see docs/MAZELOG.md).
 
@@ -105,8 +145,15 @@ def main() -> None:
 
 
 def read_maze(path: Path) -> Maze:
+    """By suffix: mms's `.num`, the 256-byte `.maz`, else the common text format."""
+    from .mazeformats import parse_maz, parse_num
+
+    suffix = path.suffix.lower()
     try:
-        return parse_maze(path.read_text(encoding="utf-8"))
+        if suffix == ".maz":
+            return parse_maz(path.read_bytes())
+        text = path.read_text(encoding="utf-8")
+        return parse_num(text) if suffix == ".num" else parse_maze(text)
     except UnicodeDecodeError:
         raise MazeError(f"{path}: not a text maze file") from None
     except MazeError as e:
@@ -135,7 +182,7 @@ def emit(text: str, out: Path | None) -> None:
     if out is None:
         click.echo(text, nl=False)
     else:
-        out.write_text(text, encoding="utf-8")
+        write_text(out, text)
 
 
 def text_view(maze: Maze, view: int | None, footer: str) -> str:
@@ -175,6 +222,7 @@ def replay(log: Path, size: int | None, drop_last: int, until: int | None, fmt: 
            view: int | None, truth_path: Path | None, animate: Path | None, stride: int | None,
            strict: bool) -> None:
     """Restore the maze a wall log describes, starting from an all-unknown maze."""
+    refuse_overwrite({"LOG": log, "--maze": truth_path}, {"--out": out, "--animate": animate})
     truth = read_maze(truth_path) if truth_path else None
     if truth is not None and size is not None and size != truth.size:
         raise click.UsageError(f"--size {size} but the maze is {truth.size}x{truth.size}")
@@ -211,7 +259,7 @@ def draw_replay(log: Path, loaded: LoadedLog, records: list[WallRecord], drop_la
     if gif is not None:
         step = stride or default_stride(len(records))
         count = len(records) // step + 1 + (len(records) % step > 0)
-        with open(gif, "wb") as fp, click.progressbar(film(Replay.start(size, truth), records, step, title),
+        with atomic_open(gif) as fp, click.progressbar(film(Replay.start(size, truth), records, step, title),
                                                       length=count, label="drawing frames", file=sys.stderr) as frames:
             written = write_gif(frames, fp)
         click.echo(f"film: {written} frames, one per {step} record{'s' * (step > 1)} -> {gif} "
@@ -220,7 +268,8 @@ def draw_replay(log: Path, loaded: LoadedLog, records: list[WallRecord], drop_la
         replay = Replay.start(size, truth)
         for rec in records:
             replay.apply(rec)
-        replay.picture(title(replay)).save(png, format="PNG")
+        with atomic_open(png) as fp:
+            replay.picture(title(replay)).save(fp, format="PNG")
 
 
 @main.command()
@@ -228,6 +277,7 @@ def draw_replay(log: Path, loaded: LoadedLog, records: list[WallRecord], drop_la
 @click.option("--png", type=OutFile, default=None, help="Also draw the maze into this PNG file.")
 def show(mazefile: Path, png: Path | None) -> None:
     """Print a maze file (checking it parses) with its size, start and goal."""
+    refuse_overwrite({"MAZE": mazefile}, {"--png": png})
     maze = read_maze(mazefile)
     goals = " ".join(f"({x},{y})" for x, y in maze.goals)
     click.echo(text_view(maze, None, f"{maze.size}x{maze.size}, start {maze.start}, goal {goals}"), nl=False)
@@ -250,7 +300,7 @@ def mazes() -> None:
 
 @main.command()
 @click.argument("log", type=InFile)
-@size_option
+@size_option_for(with_maze=False)
 @strict_option
 def info(log: Path, size: int | None, strict: bool) -> None:
     """Summarise a log: records, bytes, the walls it makes known, anomalies."""
@@ -268,12 +318,19 @@ def info(log: Path, size: int | None, strict: bool) -> None:
 
 
 @main.command()
-@click.argument("source", type=click.File("r", encoding="utf-8"))
+@click.argument("source", type=TextSource())
 @click.argument("log", type=OutFile)
-def encode(source: click.utils.LazyFile, log: Path) -> None:
-    """Turn text records `(x, y, dir, bool)` (dir ^ > v <, N E S W or 0 2 4 6) into a binary log. SOURCE may be -."""
-    records = parse_text_records(source.read())
-    log.write_bytes(encode_log(records))
+def encode(source: Path | None, log: Path) -> None:
+    """Turn text records `(x, y, dir, bool)` (dir ^ > v <, N E S W or 0 2 4 6) into a binary log.
+
+    SOURCE may be - (stdin) or seed-log.txt, the seed's 30-record example shipped in the package."""
+    refuse_overwrite({"SOURCE": source}, {"LOG": log})
+    try:
+        text = sys.stdin.read() if source is None else source.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise MazeError(f"{source}: not a text file") from None
+    records = parse_text_records(text)
+    write_bytes(log, encode_log(records))
     click.echo(f"{len(records)} records, {len(records) * RECORD_BYTES} bytes -> {log}", err=True)
 
 
@@ -314,58 +371,205 @@ def objective_words(objective: str, diagonal: bool, mouse: MouseParams) -> str:
 
 @main.command()
 @click.argument("mazefile", metavar="MAZE", type=MazeSource())
-@click.option("--strategy", type=click.Choice(list(STRATEGIES)), default=DEFAULT_STRATEGY, show_default=True,
-              help="; ".join(f"{k}: {v}" for k, v in STRATEGIES.items()))
+@click.option("--mouse", "program", default=None, metavar="CMD",
+              help="Run this mms-protocol program (e.g. \"python3 Main.py\") as the mouse, unchanged, instead of "
+                   "a built-in strategy; its stderr goes to LOG's name with .stderr.txt.")
+@click.option("--strategy", type=click.Choice(list(STRATEGIES)), default=None,
+              help="Built-in strategy [default: stop]: " + "; ".join(f"{k}: {v}" for k, v in STRATEGIES.items()))
 @objective_option
 @diagonal_option
-@mouse_option
+@timing_option
 @click.option("--log", "log_path", type=OutFile, required=True, help="Where to write the wall log.")
 @goal_option
 @click.option("--png", type=OutFile, default=None,
               help="Draw the mouse's maze, the best path found, visited cells and virtual walls, with a legend.")
-@click.option("--power-cut", type=click.IntRange(min=0), default=None, metavar="BYTE",
-              help="Write the flash image as a power loss before log byte BYTE would leave it.")
-def explore(mazefile: Path, strategy: str, objective: str, diagonal: bool, mouse_spec: str | None, log_path: Path,
-            goal: tuple[Cell, ...], png: Path | None, power_cut: int | None) -> None:
-    """Let a virtual mouse search MAZE (Adachi method) and write the wall log it would keep."""
+@click.option("--power-cut", type=PowerCutPoint(), default=None,
+              help="Write the flash image as a power loss before log byte BYTE would leave it (with --mouse, "
+                   "'reset': at the first --reset-at).")
+@click.option("--max-steps", type=click.IntRange(min=1), default=None, help="--mouse: end after this many cells.")
+@click.option("--time-budget", type=click.FloatRange(min=0, min_open=True), default=None, metavar="SECONDS",
+              help="--mouse: end when the modelled search time passes this (a contest's search minutes).")
+@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=10.0, show_default=True,
+              metavar="SECONDS", help="--mouse: longest wait for the program's next command.")
+@click.option("--reset-at", type=click.IntRange(min=1), multiple=True, metavar="STEP",
+              help="--mouse: press mms's Reset button after this many cells (repeatable).")
+@click.option("--animate", type=OutFile, default=None, metavar="GIF",
+              help="--mouse: a film of the walls it sensed with its own setColor/setText marks.")
+def explore(mazefile: Path, program: str | None, strategy: str | None, objective: str, diagonal: bool,
+            timing_spec: str | None, log_path: Path, goal: tuple[Cell, ...], png: Path | None,
+            power_cut: int | str | None, max_steps: int | None, time_budget: float | None, timeout: float,
+            reset_at: tuple[int, ...], animate: Path | None) -> None:
+    """Search MAZE with a virtual mouse (a built-in strategy, or your own mms program with --mouse) and write
+    the wall log it would keep: for --mouse, the walls the simulator told the program, in order."""
+    mouse_only = {"--max-steps": max_steps, "--time-budget": time_budget, "--reset-at": reset_at or None,
+                  "--animate": animate}
+    if program is None:
+        given = [k for k, v in mouse_only.items() if v is not None] + (["--power-cut reset"]
+                                                                      if power_cut == "reset" else [])
+        if given:
+            raise click.UsageError(f"{given[0]} needs --mouse")
+    elif strategy is not None:
+        raise click.UsageError("--strategy and --mouse exclude each other")
+    refuse_overwrite({"MAZE": mazefile}, {"--log": log_path, "--png": png, "--animate": animate,
+                                          **(mouse_files(log_path) if program else {})})
+    truth = with_goals(read_maze(mazefile), goal)
+    timing = load_mouse(timing_spec, truth.size)
+    if program is not None:
+        explore_mouse(program, truth, mazefile, objective, diagonal, timing, log_path, png, power_cut, max_steps,
+                      time_budget, timeout, reset_at, animate)
+        return
     from .explorer import explore as run_search
 
-    truth = with_goals(read_maze(mazefile), goal)
-    mouse = load_mouse(mouse_spec, truth.size)
-    result = run_search(truth, strategy, objective, diagonal, mouse)
+    strategy = strategy or DEFAULT_STRATEGY
+    result = run_search(truth, strategy, objective, diagonal, timing)
     log_line = write_search_log(result, log_path, power_cut)
-    run = result.search
     click.echo(f"strategy:      {strategy} ({STRATEGIES[strategy]})")
-    click.echo(f"objective:     {objective_words(objective, diagonal, mouse)}")
-    click.echo(f"steps:         {result.steps}")
-    click.echo(f"turns:         {result.turns}")
-    click.echo(f"search time:   {run.seconds:.1f} s under the model ({run.metres:.1f} m at "
-               f"{mouse.search.speed:g} m/s, {run.turns} turns, {run.stops} stops)")
-    click.echo(f"cells visited: {len(set(result.trace))} of {truth.size ** 2}")
+    click.echo(f"objective:     {objective_words(objective, diagonal, timing)}")
+    echo_search(result.steps, result.turns, result.search, timing, len(set(result.trace)), truth.size)
     click.echo(f"wall log:      {log_line}")
     click.echo(f"virtual walls: {len(result.virtual)}")
     if objective == "time":
-        found, true = result.found_route, result.true_route
-        click.echo(f"fastest path:  found {found.seconds:.3f} s, true {true.seconds:.3f} s: "
-                   f"{'yes' if result.fastest else 'NO'}")
+        echo_fastest(result.found_route, result.true_route)
     else:
-        click.echo(f"shortest path: found {result.found_length}, true {result.true_length}: "
-                   f"{'yes' if result.shortest else 'NO'}")
+        echo_shortest(result.found_length, result.true_length)
     if png is not None:
         draw_search(result, truth, mazefile, strategy, objective, png)
 
 
-def write_search_log(result: SearchResult, log_path: Path, power_cut: int | None) -> str:
+def mouse_files(log_path: Path) -> dict[str, Path]:
+    """The files a --mouse run writes beside its log."""
+    return {"the belief log": log_path.with_name(log_path.stem + ".belief" + log_path.suffix),
+            "the program's stderr": log_path.with_name(log_path.stem + ".stderr.txt")}
+
+
+def echo_search(steps: int, turns: int, run: SearchRun, timing: MouseParams, visited: int, size: int) -> None:
+    click.echo(f"steps:         {steps}")
+    click.echo(f"turns:         {turns}")
+    click.echo(f"search time:   {run.seconds:.1f} s under the model ({run.metres:.1f} m at "
+               f"{timing.search.speed:g} m/s, {run.turns} turns, {run.stops} stops)")
+    click.echo(f"cells visited: {visited} of {size ** 2}")
+
+
+def echo_fastest(found: Route | None, true: Route | None) -> None:
+    shown = f"{found.seconds:.3f} s" if found is not None else "none"
+    ok = found is not None and true is not None and found.seconds <= true.seconds + 1e-9
+    click.echo(f"fastest path:  found {shown}, true {true.seconds:.3f} s: {'yes' if ok else 'NO'}")
+
+
+def echo_shortest(found: int, true: int) -> None:
+    click.echo(f"shortest path: found {found if found >= 0 else 'none'}, true {true}: "
+               f"{'yes' if found == true else 'NO'}")
+
+
+def explore_mouse(program: str, truth: Maze, mazefile: Path, objective: str, diagonal: bool, timing: MouseParams,
+                  log_path: Path, png: Path | None, power_cut: int | str | None, max_steps: int | None,
+                  time_budget: float | None, timeout: float, reset_at: tuple[int, ...],
+                  animate: Path | None) -> None:
+    """The user's program as the mouse; whatever happens, the log of what it sensed so far is written."""
+    from .harness import program_argv, run_mouse
+    from .mmsworld import MmsWorld
+
+    if power_cut == "reset" and not reset_at:
+        raise click.UsageError("--power-cut reset needs --reset-at")
+    argv = program_argv(program)
+    files = mouse_files(log_path)
+    world = MmsWorld(truth, timing, reset_at)
+    run = run_mouse(argv, world, files["the program's stderr"], max_steps, time_budget, timeout)
+    log_line = write_mouse_logs(run, log_path, files["the belief log"], power_cut)
+    for warning in world.warnings[:MAX_WARNINGS]:
+        click.echo(f"warning: {warning}", err=True)
+    click.echo(f"mouse:         {program} ({run.ended}{'' if run.status is None else f', status {run.status}'})")
+    click.echo(f"commands:      {run.commands} in {run.wall_s:.2f} s")
+    echo_search(world.steps, world.turns, world.search(), timing, len(set(world.trace)), truth.size)
+    click.echo(f"wall log:      {log_line}")
+    click.echo(f"belief:        {len(world.belief)} setWall/clearWall marks -> {files['the belief log']}")
+    click.echo(f"resets:        {world.resets}")
+    stats = world.stats
+    click.echo("mms stats:     " + ", ".join(f"{name} {stats.value(name)}" for name in
+                                             ("total-distance", "total-turns", "best-run-distance",
+                                              "best-run-turns", "score")))
+    echo_mouse_paths(world.sensed, truth, objective, diagonal, timing)
+    click.echo(f"stderr:        {files['the program' + chr(39) + 's stderr']}")
+    if png is not None:
+        from .render import Overlay, save_png
+
+        overlay = Overlay(visited=set(world.trace), marks=final_marks(world))
+        save_png(world.sensed, png, title=[f"{mazefile.name}: {program}", f"{world.steps} steps, "
+                                           f"{len(world.records)} walls sensed"], overlay=overlay)
+    if animate is not None:
+        film_mouse(world, mazefile, program, animate)
+    if run.fault is not None:
+        raise MazeError(f"--mouse: {run.fault} (the log of what it sensed so far is kept in {log_path})")
+
+
+def final_marks(world: Any) -> dict[Cell, tuple[str, str]]:
+    from .marks import marks_at
+
+    return marks_at(world.marks, len(world.records))
+
+
+def film_mouse(world: Any, mazefile: Path, program: str, gif: Path) -> None:
+    from .film import Replay, default_stride, film, write_gif
+
+    records = world.records
+    step = default_stride(len(records))
+    marks = world.marks
+
+    def title(replay: Replay) -> list[str]:
+        return [f"{mazefile.name}: {program}", f"{replay.applied} of {len(records)} walls sensed"]
+
+    count = len(records) // step + 1 + (len(records) % step > 0)
+    with atomic_open(gif) as fp, click.progressbar(film(Replay.start(world.truth.size, None, marks), records, step,
+                                                        title), length=count, label="drawing frames",
+                                                   file=sys.stderr) as frames:
+        written = write_gif(frames, fp)
+    click.echo(f"film:          {written} frames, one per {step} record{'s' * (step > 1)} -> {gif}")
+
+
+def echo_mouse_paths(sensed: Maze, truth: Maze, objective: str, diagonal: bool, timing: MouseParams) -> None:
+    """The best run the sensed walls prove, against the true maze's."""
+    from .stepmap import pessimistic, shortest_path
+
+    if objective == "time":
+        from .fastpath import fastest_route
+
+        echo_fastest(fastest_route(sensed, pessimistic(sensed), diagonal, timing),
+                     fastest_route(truth, pessimistic(truth), diagonal, timing))
+    else:
+        echo_shortest(len(shortest_path(sensed, pessimistic(sensed))) - 1,
+                      len(shortest_path(truth, pessimistic(truth))) - 1)
+
+
+def write_mouse_logs(run: MouseRun, log_path: Path, belief_path: Path, power_cut: int | str | None) -> str:
+    world = run.world
+    records = world.records
+    write_bytes(belief_path, encode_log(world.belief))
+    data = encode_log(records)
+    if power_cut is None:
+        write_bytes(log_path, data)
+        return f"{len(records)} records, {len(data)} bytes (the walls the program was told) -> {log_path}"
+    from .flash import cut_log
+
+    cut = world.records_at_first_reset * RECORD_BYTES + 1 if power_cut == "reset" else int(power_cut)
+    image, written = cut_log(records, world.truth.size, cut)
+    write_bytes(log_path, image)
+    return (f"{written // RECORD_BYTES} of {len(records)} records written before the power cut at byte {cut}"
+            f"{' (a torn record after them)' if written % RECORD_BYTES else ''}; flash image {len(image)} bytes "
+            f"-> {log_path}")
+
+
+def write_search_log(result: SearchResult, log_path: Path, power_cut: int | str | None) -> str:
     """Write the log (or the flash image a power cut leaves) and say what was written."""
     data = encode_log(result.records)
     total = len(result.records)
     if power_cut is None:
-        log_path.write_bytes(data)
+        write_bytes(log_path, data)
         return f"{total} records, {len(data)} bytes -> {log_path}"
     from .flash import log_sectors, log_writes, run_writes
 
+    assert isinstance(power_cut, int)  # 'reset' is refused without --mouse
     flash, _ = run_writes(log_writes(result), log_sectors(result.maze.size), power_cut)
-    log_path.write_bytes(bytes(flash.data))
+    write_bytes(log_path, bytes(flash.data))
     written = min(power_cut, len(data))
     torn = f" and {written % RECORD_BYTES} byte of the next" if written % RECORD_BYTES else ""
     return (f"{written // RECORD_BYTES} of {total} records written before the power cut at byte {power_cut}{torn}; "
@@ -378,6 +582,7 @@ def draw_search(result: SearchResult, truth: Maze, mazefile: Path, strategy: str
 
     if objective == "time":
         route = result.found_route
+        assert route is not None
         path = [(x / 2, y / 2) for x, y in route.points]
         label = f"fastest run found ({route.seconds:.3f} s)"
     else:
@@ -396,20 +601,33 @@ def is_text(data: bytes) -> bool:
     return True
 
 
-def read_maze_or_log(path: Path, size: int | None, truth: Maze | None, strict: bool) -> tuple[Maze, str]:
-    """A maze file (text that starts with a post), else a binary wall log of --size (or of the --maze's size,
-    whose start and goal it then takes: a log records neither)."""
+def read_maze_or_log(path: Path, size: int | None, truth: Maze | None, strict: bool) -> tuple[Maze, str, str]:
+    """A maze file (text that starts with a post, or .num / .maz), else a binary wall log of --size (or of the
+    --maze's size, whose start and goal it then takes: a log records neither). Returns the maze, what the file
+    was, and what was assumed ("" when nothing was)."""
     data = path.read_bytes()
-    if data[:1] in (b"o", b"+") and is_text(data):
+    if not data:
+        raise MazeError(f"{path}: empty file (neither a maze file nor a wall log with any record)")
+    if (data[:1] in (b"o", b"+") and is_text(data)) or path.suffix.lower() in (".num", ".maz"):
         if size is not None or truth is not None:
             raise click.UsageError("--size and --maze are for a wall log; a maze file has its own")
-        return read_maze(path), "maze file"
+        return read_maze(path), "maze file", ""
     if truth is not None and size is not None and size != truth.size:
         raise click.UsageError(f"--size {size} but the maze is {truth.size}x{truth.size}")
-    size = truth.size if truth is not None else size or DEFAULT_SIZE
+    assumed = ""
+    if truth is None and size is None:
+        size = DEFAULT_SIZE
+        assumed = (f"assumed {size}x{size} with the central goal, as no --maze or --size was given "
+                   f"(a log records neither)")
+    size = truth.size if truth is not None else size
+    assert size is not None
+    if assumed:
+        outside = next((a for a in load_log(data, size).anomalies if "outside the" in a.reason), None)
+        if outside is not None:
+            raise MazeError(f"{path}: {outside}: not a log of a {size}x{size} maze; give --maze or --size")
     loaded = read_log(path, size, strict)
     maze, _ = restore(loaded.records, size, goals=truth.goals if truth is not None else central_goals(size))
-    return maze, f"wall log, {len(loaded.records)} records"
+    return maze, f"wall log, {len(loaded.records)} records", assumed
 
 
 @main.command()
@@ -417,13 +635,13 @@ def read_maze_or_log(path: Path, size: int | None, truth: Maze | None, strict: b
 @size_option
 @objective_option
 @diagonal_option
-@mouse_option
+@timing_option
 @goal_option
 @click.option("--maze", "truth_path", type=MazeSource(), default=None,
               help="For a wall log: the maze it was made in, for its size and goal (not its walls).")
 @click.option("--png", type=OutFile, default=None, help="Draw the maze's known walls and the path.")
 @strict_option
-def path(source: Path, size: int | None, objective: str, diagonal: bool, mouse_spec: str | None,
+def path(source: Path, size: int | None, objective: str, diagonal: bool, timing_spec: str | None,
          goal: tuple[Cell, ...], truth_path: Path | None, png: Path | None, strict: bool) -> None:
     """The best path among the known walls of a maze file or a wall log, its time and its moves.
 
@@ -432,25 +650,45 @@ def path(source: Path, size: int | None, objective: str, diagonal: bool, mouse_s
     from .fastpath import run_of_cells, fastest_route
     from .stepmap import pessimistic, shortest_path
 
-    maze, kind = read_maze_or_log(source, size, read_maze(truth_path) if truth_path else None, strict)
+    refuse_overwrite({"MAZE_OR_LOG": source, "--maze": truth_path}, {"--png": png})
+    maze, kind, assumed = read_maze_or_log(source, size, read_maze(truth_path) if truth_path else None, strict)
+    if assumed and goal:
+        assumed = assumed.replace(" with the central goal", "")
+    if assumed:
+        click.echo(f"note: {assumed}", err=True)
     maze = with_goals(maze, goal)
-    mouse = load_mouse(mouse_spec, maze.size)
+    timing = load_mouse(timing_spec, maze.size)
     known = pessimistic(maze)
     if objective == "time":
-        route = fastest_route(maze, known, diagonal, mouse)
+        route = fastest_route(maze, known, diagonal, timing)
     else:
         cells = [(c % maze.size, c // maze.size) for c in shortest_path(maze, known)]
-        route = run_of_cells(maze, cells, diagonal, mouse) if cells else None
+        route = run_of_cells(maze, cells, diagonal, timing) if cells else None
     if route is None:
         raise MazeError("no path from the start to the goal through walls known to be open")
     goals = " ".join(f"({x},{y})" for x, y in maze.goals)
-    click.echo(f"maze:      {source.name} ({kind}), {maze.size}x{maze.size}, start {maze.start}, goal {goals}")
-    click.echo(f"objective: {objective_words(objective, diagonal, mouse)}")
+    click.echo(f"maze:      {source.name} ({kind}), {maze.size}x{maze.size}, start {maze.start}, goal {goals}"
+               + (" (assumed)" if assumed else ""))
+    click.echo(f"objective: {objective_words(objective, diagonal, timing)}")
     click.echo(f"time:      {route.seconds:.3f} s (fast run under the model)")
-    click.echo(f"length:    {len(route.cells) - 1} cells entered, {route.length * mouse.cell:.2f} m run")
+    click.echo(f"length:    {len(route.cells) - 1} cells entered, {route.length * timing.cell:.2f} m run")
     click.echo(f"moves:     {route.sequence}")
     if png is not None:
         draw_path(maze, route, source, objective, png)
+
+
+def wrap_title(text: str, size: int) -> list[str]:
+    """Title lines that fit the picture's width, broken between moves."""
+    from .render import title_width, text_width
+
+    lines, line = [], ""
+    for word in text.split():
+        candidate = f"{line} {word}" if line else word
+        if line and text_width(candidate) > title_width(size):
+            lines.append(line)
+            candidate = word
+        line = candidate
+    return lines + [line] if line else lines
 
 
 def draw_path(maze: Maze, route: Route, source: Path, objective: str, png: Path) -> None:
@@ -458,4 +696,5 @@ def draw_path(maze: Maze, route: Route, source: Path, objective: str, png: Path)
 
     label = f"{'fastest run' if objective == 'time' else 'fewest cells'}: {route.seconds:.3f} s"
     overlay = Overlay(path=[(x / 2, y / 2) for x, y in route.points], path_label=label)
-    save_png(maze, png, title=[f"{source.name}: best path by {objective}", route.sequence[:90]], overlay=overlay)
+    save_png(maze, png, title=[f"{source.name}: best path by {objective}", *wrap_title(route.sequence, maze.size)],
+             overlay=overlay)

@@ -18,14 +18,12 @@ import numpy as np
 from scipy.sparse import csr_array
 from scipy.sparse.csgraph import dijkstra
 
-from .direction import DELTA, opposite
+from .direction import ALONG, DELTA, DIAGONAL, STEP, opposite
 from .errors import MazeError
-from .model import Cell, Maze
+from .model import Cell, Maze, point_wall
 from .motion import HALF_DIAGONAL, TURNS, straight_seconds, turn_seconds
 from .mouseparams import MouseParams
 
-STEP = ((1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1), (1, -1))
-ALONG, DIAGONAL = (0, 2, 4, 6), (1, 3, 5, 7)
 LAYERS = 3  # A, B, G
 MIN_SECONDS = 1e-9  # zero-length straights still need an edge, and scipy drops zero weights
 MAX_CROSSINGS = 4  # the most walls a turn crosses (the 180)
@@ -132,12 +130,8 @@ class MoveGraph:
         self.px, self.py = xs.ravel(), ys.ravel()
         self.walls = 2 * size * (size + 1)
         self.open_sentinel, self.closed_sentinel = self.walls, self.walls + 1
-        wall = np.full(self.side ** 2, self.closed_sentinel)  # model.wall_id of each midpoint, vectorised
-        horizontal = (self.px % 2 == 1) & (self.py % 2 == 0)
-        vertical = (self.px % 2 == 0) & (self.py % 2 == 1)
-        wall[horizontal] = (self.py[horizontal] // 2) * size + self.px[horizontal] // 2
-        wall[vertical] = size * (size + 1) + (self.py[vertical] // 2) * (size + 1) + self.px[vertical] // 2
-        self.wall_at = wall
+        ids = (point_wall(size, x, y) for y in range(self.side) for x in range(self.side))
+        self.wall_at = np.array([self.closed_sentinel if w is None else w for w in ids])
         self.headings = ALONG + (DIAGONAL if diagonal else ())
         self._build_runs()
         self._build_straights()

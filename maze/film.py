@@ -14,6 +14,7 @@ from typing import IO, Callable, Iterable, Iterator
 import numpy as np
 from PIL import GifImagePlugin, Image
 
+from .marks import Mark, marks_at
 from .model import Cell, Maze
 from .render import COLOURS, LEGEND, Overlay, draw_maze
 from .stepmap import path_down, pessimistic, step_map
@@ -37,14 +38,15 @@ class Replay:
     truth: Maze | None = None
     applied: int = 0
     contradictions: int = 0
+    marks: list[Mark] | None = None  # a mouse program's setColor / setText, shown as they were at each record
 
     def __post_init__(self) -> None:
         self.trail: list[Cell] = [self.maze.start]
         self.wrong: set[int] = set()
 
     @classmethod
-    def start(cls, size: int, truth: Maze | None) -> Replay:
-        return cls(Maze.unknown(size, truth.goals if truth else ()), truth)
+    def start(cls, size: int, truth: Maze | None, marks: list[Mark] | None = None) -> Replay:
+        return cls(Maze.unknown(size, truth.goals if truth else ()), truth, marks=marks)
 
     def apply(self, rec: WallRecord) -> None:
         maze = self.maze
@@ -71,12 +73,15 @@ class Replay:
     def legend(self) -> list[tuple[str, str]]:
         """Fixed for a whole film, so that every frame has the same size."""
         keys = ["wall", "unknown"] + (["goal", "trail", "mouse", "wrong"] if self.truth is not None else [])
+        keys += ["marks"] if self.marks is not None else []
         return [(k, LEGEND[k]) for k in keys]
 
     def picture(self, title: list[str]) -> Image.Image:
         overlay = Overlay()
         if self.truth is not None:
             overlay = Overlay(trail=self.trail, mouse=self.trail[-1], wrong=set(self.wrong))
+        if self.marks is not None:
+            overlay.marks = marks_at(self.marks, self.applied)
         return draw_maze(self.maze, title, overlay, self.legend())
 
 

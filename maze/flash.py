@@ -10,14 +10,17 @@ from __future__ import annotations
 import random
 from dataclasses import dataclass, field
 from math import ceil
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .errors import MazeError
-from .explorer import SearchResult
 from .model import Maze, inner_wall_count
 from .restore import apply_records, load_log, restore
-from .wallrecord import ERASED_BYTE, RECORD_BYTES, encode_log
+from .wallrecord import ERASED_BYTE, RECORD_BYTES, WallRecord, encode_log
+
+if TYPE_CHECKING:
+    from .explorer import SearchResult
 
 SECTOR_BYTES = 2048  # a typical MCU flash page (STM32F1/G4)
 SEQ_BYTES = 2
@@ -106,6 +109,17 @@ def log_writes(result: SearchResult) -> list[Write]:
         erase = tuple(range(log_sectors(result.maze.size))) if i == 0 else ()
         writes.append(Write(j, lo * RECORD_BYTES, encode_log(result.records[lo:hi]), erase))
     return writes
+
+
+def cut_log(records: list[WallRecord], size: int, cut: int) -> tuple[bytes, int]:
+    """The flash image a log appended record by record leaves when the power fails before byte `cut`, and the
+    bytes that made it (an odd count: the last record is torn)."""
+    flash = NorFlash(max(log_sectors(size), ceil(len(records) * RECORD_BYTES / SECTOR_BYTES)), budget=cut)
+    try:
+        flash.program(0, encode_log(records))
+    except PowerCut:
+        pass
+    return bytes(flash.data), flash.programmed
 
 
 def snapshot_writes(result: SearchResult, sectors: int) -> list[Write]:

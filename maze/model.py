@@ -40,6 +40,15 @@ def wall_id(size: int, x: int, y: int, d: int) -> int:
     raise MazeError(f"direction {d} is not a wall direction")
 
 
+def point_wall(size: int, px: int, py: int) -> int | None:
+    """The wall whose midpoint is the half-cell point (px, py) (X + Y odd), else None (a centre or a post)."""
+    if (px + py) % 2 == 0 or not (0 <= px <= 2 * size and 0 <= py <= 2 * size):
+        return None
+    if px % 2:  # horizontal wall: the south side of row py // 2 (the north edge: of the top row)
+        return wall_id(size, px // 2, py // 2, SOUTH) if py < 2 * size else wall_id(size, px // 2, size - 1, NORTH)
+    return wall_id(size, px // 2, py // 2, WEST) if px < 2 * size else wall_id(size, size - 1, py // 2, EAST)
+
+
 @lru_cache(maxsize=None)
 def topology(size: int) -> Topology:
     cell_walls, neighbours, outer = [], [], set()

@@ -89,8 +89,14 @@ def search_run(trace: list[Cell], mouse: MouseParams) -> SearchRun:
                 for a, b in zip(trace, trace[1:])]
     turns = sum(h != g and h != opposite(g) for g, h in zip(headings, headings[1:]))
     pivots = sum(h == opposite(g) for g, h in zip(headings, headings[1:]))
+    return search_counts(len(headings), turns, pivots, mouse)
+
+
+def search_counts(moves: int, turns: int, pivots: int, mouse: MouseParams) -> SearchRun:
+    """The search run from its counts alone, so that a running search (a mouse program) can be timed as it
+    goes: `moves` cells entered, `turns` 90-degree turns in a cell, `pivots` turn-backs."""
     p = mouse.search
-    metres = (len(headings) - turns * (1 - TURNS["90s"].cells)) * mouse.cell
+    metres = (moves - turns * (1 - TURNS["90s"].cells)) * mouse.cell
     segments = pivots + 1
     seconds = metres / p.speed + segments * p.speed / p.accel + pivots * p.pivot_time
     return SearchRun(seconds, metres, turns, segments, pivots)

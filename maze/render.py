@@ -14,6 +14,7 @@ from PIL import Image, ImageDraw, ImageFont
 
 from .direction import EAST, NORTH, SOUTH, WEST
 from .model import Cell, Maze, wall_id
+from .outputs import atomic_open
 
 COLOURS: dict[str, tuple[int, int, int]] = {
     "background": (255, 255, 255),
@@ -27,6 +28,10 @@ COLOURS: dict[str, tuple[int, int, int]] = {
     "trail": (255, 140, 0),
     "wrong": (230, 0, 230),
     "mouse": (0, 0, 0),
+    # the mms colour letters a mouse program may set with setColor
+    "k": (0, 0, 0), "b": (0, 0, 255), "a": (128, 128, 128), "c": (0, 255, 255), "g": (0, 255, 0),
+    "o": (255, 165, 0), "r": (255, 0, 0), "w": (255, 255, 255), "y": (255, 255, 0), "B": (0, 0, 139),
+    "C": (0, 139, 139), "A": (64, 64, 64), "G": (0, 100, 0), "R": (139, 0, 0), "Y": (139, 139, 0),
 }
 INDEX = {name: i for i, name in enumerate(COLOURS)}
 PALETTE = [c for rgb in COLOURS.values() for c in rgb]
@@ -44,6 +49,7 @@ LEGEND: dict[str, str] = {  # colour name: label; the swatch's shape follows fro
     "path": "path",
     "trail": "mouse's path (from the log)",
     "mouse": "mouse (last record)",
+    "marks": "the mouse's own setColor / setText",
 }
 
 
@@ -58,6 +64,7 @@ class Overlay:
     wrong: set[int] = field(default_factory=set)  # wall ids whose known state contradicts the true maze
     trail: list[Cell] = field(default_factory=list)
     mouse: Cell | None = None
+    marks: dict[Cell, tuple[str, str]] = field(default_factory=dict)  # cell: (mms colour letter or "", text)
 
 
 def cell_centres(cells: list[Cell]) -> list[tuple[float, float]]:
@@ -70,6 +77,15 @@ def _font(px: int) -> ImageFont.ImageFont | ImageFont.FreeTypeFont:
         return ImageFont.load_default(size=px)
     except (ImportError, OSError, TypeError):  # Pillow without FreeType: the small bitmap font
         return ImageFont.load_default()
+
+
+def text_width(text: str) -> int:
+    return int(_font(FONT_PX).getlength(text))
+
+
+def title_width(size: int) -> int:
+    """Pixels a title line may take: the maze's width."""
+    return size * cell_px(size)
 
 
 class Canvas:
@@ -121,8 +137,9 @@ def _blank(size: int, title_lines: int, legend: tuple[tuple[str, str], ...]) -> 
     for r, row in enumerate(rows):
         y = y0 + r * LINE_PX + LINE_PX // 2
         for key, label, x in row:
-            if key in ("visited", "goal"):
-                draw.rectangle((x, y - 6, x + 22, y + 6), fill=INDEX[key], outline=INDEX["unknown"])
+            if key in ("visited", "goal", "marks"):
+                fill = INDEX["c" if key == "marks" else key]
+                draw.rectangle((x, y - 6, x + 22, y + 6), fill=fill, outline=INDEX["unknown"])
             elif key == "unknown":
                 for dx in range(0, 23, 5):
                     draw.point([(x + dx, y), (x + dx + 1, y)], fill=INDEX[key])
@@ -138,7 +155,7 @@ def legend_entries(maze: Maze, overlay: Overlay) -> list[tuple[str, str]]:
     """Only what the picture shows."""
     shown = {"wall": True, "unknown": not all(maze.known), "virtual": overlay.virtual, "wrong": overlay.wrong,
              "visited": overlay.visited, "goal": maze.goals, "path": overlay.path, "trail": overlay.trail,
-             "mouse": overlay.mouse is not None}
+             "mouse": overlay.mouse is not None, "marks": overlay.marks}
     labels = {**LEGEND, "path": overlay.path_label}
     return [(key, labels[key]) for key, present in shown.items() if present]
 
@@ -194,23 +211,33 @@ def draw_maze(maze: Maze, title: list[str], overlay: Overlay | None = None,
     width = canvas.image.width
     geo = geometry(maze.size, canvas.px, width, (thick, thick + 1, thick + 2))
     pixels = np.array(canvas.image)
-    flat = pixels.reshape(-1)[canvas.top * width + MARGIN:]
+    # offsets are from the maze area's corner; the outer walls' thickness reaches above it, so the base is added
+    # here rather than slicing: a negative offset into a slice would wrap round to the picture's bottom rows
+    flat = pixels.reshape(-1)
+    base = canvas.top * width + MARGIN
     n = maze.size
     for cells, colour in ((overlay.visited, "visited"), (maze.goals, "goal")):
         if cells:
-            flat[geo.cells[[y * n + x for x, y in cells]]] = INDEX[colour]
+            flat[base + geo.cells[[y * n + x for x, y in cells]]] = INDEX[colour]
+    for (x, y), (letter, _) in overlay.marks.items():
+        if letter:
+            flat[base + geo.cells[y * n + x]] = INDEX[letter]
     known = np.frombuffer(bytes(maze.known), dtype=np.uint8)[geo.walls].astype(bool)
     wall = np.frombuffer(bytes(maze.wall), dtype=np.uint8)[geo.walls].astype(bool)
     virtual = np.isin(geo.walls, list(overlay.virtual))
     wrong = np.isin(geo.walls, list(overlay.wrong)) & ~virtual
     plain = ~virtual & ~wrong
-    flat[geo.dots[plain & ~known]] = INDEX["unknown"]
-    flat[geo.solid[thick][plain & known & wall]] = INDEX["wall"]
-    flat[geo.solid[thick + 1][virtual]] = INDEX["virtual"]
-    flat[geo.solid[thick + 2][wrong]] = INDEX["wrong"]
+    flat[base + geo.dots[plain & ~known]] = INDEX["unknown"]
+    flat[base + geo.solid[thick][plain & known & wall]] = INDEX["wall"]
+    flat[base + geo.solid[thick + 1][virtual]] = INDEX["virtual"]
+    flat[base + geo.solid[thick + 2][wrong]] = INDEX["wrong"]
     canvas.image.paste(Image.fromarray(pixels, "L"))
     canvas.polyline(cell_centres(overlay.trail), "trail", max(2, canvas.px // 6))
     canvas.polyline(overlay.path, "path", max(2, canvas.px // 8))
+    for (x, y), (_, text) in overlay.marks.items():
+        if text:
+            tx, ty = canvas.xy(x + 0.5, y + 0.5)
+            canvas.draw.text((tx, ty), text, fill=INDEX["text"], font=_font(max(8, canvas.px // 3)), anchor="mm")
     sx, sy = canvas.xy(maze.start[0] + 0.5, maze.start[1] + 0.5)
     canvas.draw.text((sx, sy), "S", fill=INDEX["text"], font=canvas.font, anchor="mm")
     if overlay.mouse is not None:
@@ -222,4 +249,5 @@ def draw_maze(maze: Maze, title: list[str], overlay: Overlay | None = None,
 
 def save_png(maze: Maze, out: Path, title: list[str], overlay: Overlay | None = None,
              legend: list[tuple[str, str]] | None = None) -> None:
-    draw_maze(maze, title, overlay, legend).save(out, format="PNG")
+    with atomic_open(out) as fp:
+        draw_maze(maze, title, overlay, legend).save(fp, format="PNG")

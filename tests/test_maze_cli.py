@@ -187,7 +187,7 @@ def test_explore_png_is_readable_and_has_a_legend(tmp_path):
     (["path", "japan2009hef", "--size", "32"], "--size and --maze are for a wall log"),
     (["path", "x.bin", "--maze", "japan2009hef", "--size", "16"], "but the maze is 32x32"),
     (["explore", "minimaze", "--log", "x.bin", "--goal", "9,9"], "cannot reach"),
-    (["explore", "japan2009hef", "--log", "x.bin", "--mouse", "nosuch.toml"], "no such mouse file"),
+    (["explore", "japan2009hef", "--log", "x.bin", "--timing", "nosuch.toml"], "no such mouse file"),
     (["replay", "x.bin", "--maze", "japan2009hef", "--size", "16"], "but the maze is 32x32"),
 ])
 def test_bad_input_is_one_line(tmp_path, monkeypatch, args, message):

@@ -155,7 +155,7 @@ def test_bad_mouse_file_is_one_line_error(tmp_path, text, message):
     bad.write_text(text)
     with pytest.raises(MazeError, match=message):
         load_mouse(str(bad), 32)
-    result = CliRunner().invoke(main, ["path", "japan2009hef", "--objective", "time", "--mouse", str(bad)])
+    result = CliRunner().invoke(main, ["path", "japan2009hef", "--objective", "time", "--timing", str(bad)])
     assert result.exit_code == 1 and result.output.startswith("Error: ") and result.output.count("\n") == 1
 
 

@@ -1,0 +1,147 @@
+"""Runs a user's mms mouse program, unchanged, as a child process: its stdout lines are commands, the answers go
+to its stdin, its stderr to a file. Headless and as fast as the program can talk (no animation delays).
+
+Every way a run can go wrong ends it with one line in `MouseRun.fault` (and the world as it was, so the wall log
+written so far is kept): a line that is no mms command, no line for `timeout` seconds, the program exiting with
+an error status.
+"""
+
+from __future__ import annotations
+
+import os
+import selectors
+import shlex
+import shutil
+import subprocess
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from .errors import MazeError
+from .mms import ProtocolError, parse_command
+from .mmsworld import MmsWorld
+
+READ_BYTES = 65536
+STDERR_TAIL_BYTES = 400
+KILL_WAIT_S = 2.0
+
+
+@dataclass
+class MouseRun:
+    world: MmsWorld
+    commands: int
+    ended: str  # why the run ended, in words
+    fault: str | None  # one line when the run ended because something went wrong
+    status: int | None  # the program's exit status, if it exited
+    wall_s: float
+
+
+def program_argv(command: str) -> list[str]:
+    """The command line of --mouse, checked before anything runs: its first word must be a program."""
+    try:
+        argv = shlex.split(command)
+    except ValueError as e:
+        raise MazeError(f"--mouse {command!r}: {e}") from None
+    if not argv:
+        raise MazeError("--mouse: empty command")
+    exe = argv[0]
+    found = shutil.which(exe) if os.sep not in exe else (exe if os.access(exe, os.X_OK) else None)
+    if found is None:
+        where = "not an executable file" if os.sep in exe else "not found on PATH"
+        raise MazeError(f"--mouse {command!r}: {exe!r} is {where}")
+    return argv
+
+
+def _tail(path: Path) -> str:
+    try:
+        with open(path, "rb") as fp:
+            fp.seek(max(0, path.stat().st_size - STDERR_TAIL_BYTES))
+            lines = fp.read().decode("utf-8", "replace").strip().splitlines()
+    except OSError:
+        return ""
+    return lines[-1].strip() if lines else ""
+
+
+def run_mouse(argv: list[str], world: MmsWorld, stderr_path: Path, max_steps: int | None = None,
+              time_budget: float | None = None, timeout: float = 10.0) -> MouseRun:
+    """Talk to the program until it exits, `max_steps` cells are entered or the modelled search time passes
+    `time_budget`; a fault ends the run early and says why in one line."""
+    t0 = time.perf_counter()
+    with open(stderr_path, "wb") as err:
+        try:
+            proc = subprocess.Popen(argv, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=err, bufsize=0)
+        except OSError as e:
+            raise MazeError(f"--mouse: cannot start {argv[0]!r}: {e.strerror}") from None
+        out_fd, in_fd = proc.stdout.fileno(), proc.stdin.fileno()
+        selector = selectors.DefaultSelector()
+        selector.register(out_fd, selectors.EVENT_READ)
+        buffer = b""
+        commands, lineno = 0, 0
+        ended, fault = "", None
+        last = "(none yet)"
+        try:
+            while True:
+                newline = buffer.find(b"\n")
+                if newline < 0:
+                    if not selector.select(timeout):
+                        fault = f"the program sent no command for {timeout:g} s (last command: {last})"
+                        break
+                    chunk = os.read(out_fd, READ_BYTES)
+                    if not chunk:
+                        ended = "the program exited"
+                        break
+                    buffer += chunk
+                    continue
+                raw, buffer = buffer[:newline], buffer[newline + 1:]
+                lineno += 1
+                line = raw.decode("utf-8", "replace").rstrip("\r")
+                if not line.strip():
+                    continue
+                try:
+                    cmd = parse_command(line)
+                except ProtocolError as e:
+                    fault = f"line {lineno} of the program's output: {e}"
+                    break
+                reply = world.handle(cmd)
+                commands += 1
+                last = f"{line[:40]!r} (line {lineno})"
+                if reply is not None:
+                    try:
+                        os.write(in_fd, reply.encode() + b"\n")
+                    except BrokenPipeError:
+                        ended = "the program exited"
+                        break
+                if max_steps is not None and world.steps >= max_steps:
+                    ended = f"--max-steps {max_steps} reached"
+                    break
+                if time_budget is not None and world.search().seconds > time_budget:
+                    ended = f"--time-budget {time_budget:g} s of modelled search time used up"
+                    break
+        finally:
+            selector.close()
+            status = _finish(proc, ended == "the program exited")
+    if ended == "the program exited" and status:
+        tail = _tail(stderr_path)
+        fault = f"the program exited with status {status}" + (f": {tail}" if tail else "")
+    if fault is not None:
+        ended = "fault"
+    return MouseRun(world, commands, ended, fault, status, time.perf_counter() - t0)
+
+
+def _finish(proc: subprocess.Popen[bytes], exited: bool) -> int | None:
+    """Reap the program; one still running (we stopped the run) is terminated, then killed."""
+    for stream in (proc.stdin, proc.stdout):
+        try:
+            stream.close()
+        except OSError:
+            pass
+    try:
+        return proc.wait(timeout=KILL_WAIT_S if exited else 0.05)
+    except subprocess.TimeoutExpired:
+        proc.terminate()
+    try:
+        proc.wait(timeout=KILL_WAIT_S)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait()
+    return None

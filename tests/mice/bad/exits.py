@@ -1,0 +1,8 @@
+"""Senses a little, then fails with exit status 3."""
+import sys
+
+for query in ("wallFront", "wallLeft", "wallRight"):
+    print(query, flush=True)
+    sys.stdin.readline()
+sys.stderr.write("my mouse: out of memory\n")
+sys.exit(3)
