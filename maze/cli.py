@@ -478,7 +478,8 @@ def explore_mouse(program: str, truth: Maze, mazefile: Path, objective: str, dia
     log_line = write_mouse_logs(run, log_path, files["the belief log"], power_cut)
     for warning in world.warnings[:MAX_WARNINGS]:
         click.echo(f"warning: {warning}", err=True)
-    click.echo(f"mouse:         {program} ({run.ended}{'' if run.status is None else f', status {run.status}'})")
+    status = f", status {run.status}" if run.ended == "the program exited" else ""
+    click.echo(f"mouse:         {program} ({run.ended}{status})")
     click.echo(f"commands:      {run.commands} in {run.wall_s:.2f} s")
     echo_search(world.steps, world.turns, world.search(), timing, len(set(world.trace)), truth.size)
     click.echo(f"wall log:      {log_line}")

@@ -34,11 +34,18 @@ def refuse_overwrite(inputs: dict[str, Path | None], outputs: dict[str, Path | N
                 raise MazeError(f"{name} and {other} are the same file {out}: give each its own")
 
 
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
 @contextmanager
 def atomic_open(path: Path, mode: str = "wb") -> Iterator[IO]:
     """A file object whose contents replace `path` only when the block ends without an error."""
     folder = path.parent if str(path.parent) else Path(".")
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
+    os.chmod(tmp, 0o666 & ~_umask())  # mkstemp's 0600 would make every output private
     try:
         with os.fdopen(fd, mode, **({} if "b" in mode else {"encoding": "utf-8"})) as fp:
             yield fp

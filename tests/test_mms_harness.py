@@ -1,0 +1,133 @@
+"""User mice run unchanged through `mazelog explore --mouse`: the mms templates, a floodfill mouse, and mice that
+break the protocol (one line each, exit 1, the log of what was sensed so far kept)."""
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from maze.builtin import builtin_path
+from maze.cli import main
+from maze.mazefile import parse_maze
+from maze.restore import load_log, restore
+
+MICE = Path(__file__).parent / "mice"
+PY = sys.executable
+
+
+def run(*args: object):
+    return CliRunner().invoke(main, [str(a) for a in args])
+
+
+def field(output: str, name: str) -> str:
+    return next(line.split(":", 1)[1].strip() for line in output.splitlines() if line.startswith(name + ":"))
+
+
+def sensed_walls_are_true(log: Path, maze_name: str) -> int:
+    truth = parse_maze(builtin_path(maze_name).read_text())
+    restored, contradictions = restore(load_log(log.read_bytes(), truth.size, strict=True).records, truth.size)
+    assert contradictions == 0
+    known = [(x, y, d) for x, y, d in truth.inner_walls() if restored.is_known(x, y, d)]
+    assert all(restored.is_wall(x, y, d) == truth.is_wall(x, y, d) for x, y, d in known)
+    return len(known)
+
+
+def test_mms_python_template_runs_unchanged(tmp_path: Path) -> None:
+    log = tmp_path / "py.bin"
+    r = run("explore", "japan2019hef", "--mouse", f"{PY} {MICE / 'mms_python' / 'Main.py'}", "--max-steps", 2000,
+            "--log", log)
+    assert r.exit_code == 0, r.output
+    assert "--max-steps 2000 reached" in r.output and field(r.output, "steps") == "2000"
+    assert sensed_walls_are_true(log, "japan2019hef") > 100
+    assert (tmp_path / "py.stderr.txt").read_text().startswith("Running...")
+
+
+def test_mms_cpp_template_runs_unchanged(tmp_path: Path) -> None:
+    gxx = shutil.which("g++")
+    if gxx is None:
+        pytest.skip("g++ is not on PATH: the mms-cpp template cannot be built")
+    exe = tmp_path / "mouse"
+    src = MICE / "mms_cpp"
+    subprocess.run([gxx, "-O1", "-o", exe, src / "Main.cpp", src / "API.cpp"], check=True)
+    log = tmp_path / "cpp.bin"
+    r = run("explore", "japan2019hef", "--mouse", exe, "--max-steps", 2000, "--log", log)
+    assert r.exit_code == 0, r.output
+    assert field(r.output, "steps") == "2000"
+    assert sensed_walls_are_true(log, "japan2019hef") > 100
+
+
+def test_floodfill_mouse_knows_the_path_that_mazelog_path_finds_on_its_log(tmp_path: Path) -> None:
+    log = tmp_path / "ff.bin"
+    maze = "alljapan-010-1989-fin"
+    r = run("explore", maze, "--mouse", f"{PY} {MICE / 'floodfill.py'}", "--objective", "time", "--diagonal",
+            "--log", log)
+    assert r.exit_code == 0, r.output
+    assert "the program exited, status 0" in r.output
+    found = field(r.output, "fastest path").split()[1]  # "found 7.929 s, true ..."
+    p = run("path", log, "--maze", maze, "--objective", "time", "--diagonal")
+    assert p.exit_code == 0, p.output
+    assert field(p.output, "time").split()[0] == found
+    assert "best-run-distance -1" not in r.output  # it reached the goal: mms recorded a run
+    belief = (tmp_path / "ff.belief.bin").read_bytes()
+    assert len(belief) > 0 and sensed_walls_are_true(log, maze) > 50
+
+
+@pytest.mark.parametrize("mouse, words", [
+    ("bad/garbage.py", "line 3 of the program's output: unknown command 'hello simulator'"),
+    ("bad/exits.py", "the program exited with status 3: my mouse: out of memory"),
+    ("bad/badcoords.py", "line 4 of the program's output: N must be an integer, got 'x'"),
+])
+def test_a_broken_mouse_gets_one_line_and_its_log_is_kept(tmp_path: Path, mouse: str, words: str) -> None:
+    log = tmp_path / "bad.bin"
+    r = run("explore", "minimaze", "--mouse", f"{PY} {MICE / mouse}", "--log", log)
+    assert r.exit_code == 1
+    error = [line for line in r.output.splitlines() if line.startswith("Error:")]
+    assert len(error) == 1 and words in error[0], r.output
+    assert len(log.read_bytes()) >= 2  # the walls sensed in cell (0, 1) before it broke
+
+
+def test_a_mouse_that_never_answers_times_out(tmp_path: Path) -> None:
+    r = run("explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'silent.py'}", "--timeout", "0.5",
+            "--log", tmp_path / "s.bin")
+    assert r.exit_code == 1
+    assert "Error: --mouse: the program sent no command for 0.5 s (last command: 'wallFront' (line 1))" in r.output
+
+
+def test_bad_coordinates_are_a_warning_as_mms_ignores_them(tmp_path: Path) -> None:
+    r = CliRunner().invoke(main, ["explore", "minimaze", "--mouse",
+                                 f"{PY} {MICE / 'bad' / 'badcoords.py'}", "--log",
+                                 str(tmp_path / "b.bin")])
+    assert "warning: setColor 99 99: outside the 16x16 maze (ignored, as mms does)" in r.stderr
+
+
+@pytest.mark.parametrize("command, words", [
+    ("nosuchmouse --fast", "'nosuchmouse' is not found on PATH"),
+    ("./not/here", "'./not/here' is not an executable file"),
+    ("'unclosed", "No closing quotation"),
+])
+def test_mouse_naming_no_program(tmp_path: Path, command: str, words: str) -> None:
+    r = run("explore", "minimaze", "--mouse", command, "--log", tmp_path / "x.bin")
+    assert r.exit_code == 1 and words in r.output and "Traceback" not in r.output
+
+
+def test_strategy_and_mouse_exclude_each_other(tmp_path: Path) -> None:
+    r = run("explore", "minimaze", "--mouse", "true", "--strategy", "full", "--log", tmp_path / "x.bin")
+    assert r.exit_code == 2 and "exclude each other" in r.output
+    r = run("explore", "minimaze", "--max-steps", 5, "--log", tmp_path / "x.bin")
+    assert r.exit_code == 2 and "--max-steps needs --mouse" in r.output
+
+
+def test_reset_and_power_cut_leave_the_log_a_restore_path_must_handle(tmp_path: Path) -> None:
+    log = tmp_path / "cut.bin"
+    r = run("explore", "alljapan-010-1989-fin", "--mouse", f"{PY} {MICE / 'floodfill.py'}", "--reset-at", 20,
+            "--power-cut", "reset", "--log", log)
+    assert r.exit_code == 0, r.output
+    assert field(r.output, "resets") == "1"
+    assert "(a torn record after them)" in r.output
+    loaded = load_log(log.read_bytes(), 16)
+    assert any("torn" in a.reason for a in loaded.anomalies)
+    written = int(field(r.output, "wall log").split()[0])
+    assert len(loaded.records) == written
