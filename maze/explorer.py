@@ -9,18 +9,20 @@ or the fastest run under the time model (maze/fastpath.py).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 from .closing import close_dead_ends, nearest_branch
 from .direction import DIRECTIONS, NORTH, opposite
 from .errors import MazeError
-from .fastpath import Route, fastest_route
 from .model import Cell, Maze
 from .motion import SearchRun, search_run
 from .mouseparams import MouseParams, load_mouse
 from .stepmap import UNREACHED, optimistic, pessimistic, shortest_path, step_map
 from .strategies import OBJECTIVES, STRATEGIES
 from .wallrecord import WallRecord
+
+if TYPE_CHECKING:
+    from .fastpath import Route
 
 TIME_TOLERANCE = 1e-9  # seconds: two routes of the same moves, summed in another order
 
@@ -129,7 +131,8 @@ class Mouse:
         key = (self.version, tuple(targets))
         blocked = optimistic(self.maze, self.virtual)
         if key != self._map_key:
-            self._map, self._map_key = step_map(self.topo, blocked, targets), key
+            # only the cells nearer the targets than the mouse matter while it walks downhill on this map
+            self._map, self._map_key = step_map(self.topo, blocked, targets, until=self.here), key
         dist = self._map
         if dist[self.here] >= UNREACHED:
             return False
@@ -161,12 +164,12 @@ class Mouse:
         blocked = optimistic(self.maze, self.virtual)
         goals = [self.maze.cell_index(g) for g in self.maze.goals]
         start = self.maze.cell_index(self.maze.start)
-        from_goal = step_map(self.topo, blocked, goals)
-        known = step_map(self.topo, pessimistic(self.maze), goals)
+        from_goal = step_map(self.topo, blocked, goals, until=start)
         best = from_goal[start]
+        known = step_map(self.topo, pessimistic(self.maze), goals, until=start, limit=best)
         if known[start] == best:
             return []
-        from_start = step_map(self.topo, blocked, [start])
+        from_start = step_map(self.topo, blocked, [start], limit=best)
         return [c for c in range(self.maze.size ** 2)
                 if from_start[c] + from_goal[c] == best and not self.maze.cell_known(c)]
 
@@ -196,6 +199,8 @@ def explore(truth: Maze, strategy: str, objective: str = "cells", diagonal: bool
     timed = objective == "time"
 
     def planner(blocked: bytes) -> Route | None:
+        from .fastpath import fastest_route  # numpy and scipy: only the time objective needs them
+
         return fastest_route(truth, blocked, diagonal, params)
 
     mouse = Mouse(truth, closing=strategy.startswith("closing"), planner=planner)

@@ -24,6 +24,7 @@ class Topology(NamedTuple):
     cell_walls: tuple[tuple[int, ...], ...]  # c -> wall id per DIRECTIONS entry
     neighbours: tuple[tuple[int, ...], ...]  # c -> neighbour index per DIRECTIONS entry, -1 outside
     outer: frozenset[int]
+    passages: tuple[tuple[tuple[int, int], ...], ...]  # c -> (wall id, neighbour) through each inner wall
 
 
 def wall_id(size: int, x: int, y: int, d: int) -> int:
@@ -65,7 +66,9 @@ def topology(size: int) -> Topology:
                     outer.add(w)
             cell_walls.append(tuple(walls))
             neighbours.append(tuple(nbrs))
-    return Topology(size, 2 * size * (size + 1), tuple(cell_walls), tuple(neighbours), frozenset(outer))
+    passages = tuple(tuple((w, m) for w, m in zip(walls, nbrs) if m >= 0)
+                     for walls, nbrs in zip(cell_walls, neighbours))
+    return Topology(size, 2 * size * (size + 1), tuple(cell_walls), tuple(neighbours), frozenset(outer), passages)
 
 
 def inner_wall_count(size: int) -> int:

@@ -6,7 +6,6 @@ depends on the question, so callers pass a `blocked` array indexed by wall id (s
 
 from __future__ import annotations
 
-from collections import deque
 from typing import Iterable, Sequence
 
 from .model import Cell, Maze, Topology, central_goals
@@ -32,24 +31,31 @@ def pessimistic(maze: Maze) -> bytes:
     return (_as_int(maze.wall) | (_as_int(maze.known) ^ ones)).to_bytes(n, "little")
 
 
-def step_map(topo: Topology, blocked: Sequence[int], sources: Iterable[int]) -> list[int]:
+def step_map(topo: Topology, blocked: Sequence[int], sources: Iterable[int], until: int | None = None,
+             limit: int | None = None) -> list[int]:
+    """Layer by layer (no deque, no per-step index arithmetic): the search asks for a thousand of these.
+
+    `until`: stop once that cell is reached; `limit`: stop after that many steps. Cells not reached by then are
+    UNREACHED, which is all a caller that only looks at nearer cells needs, at a fraction of the cost."""
     dist = [UNREACHED] * (topo.size * topo.size)
-    queue = deque()
+    frontier = []
     for s in sources:
         if dist[s]:
             dist[s] = 0
-            queue.append(s)
-    cell_walls, neighbours = topo.cell_walls, topo.neighbours
-    while queue:
-        c = queue.popleft()
-        nd = dist[c] + 1
-        walls, nbrs = cell_walls[c], neighbours[c]
-        for k in range(4):
-            if not blocked[walls[k]]:
-                m = nbrs[k]
-                if dist[m] > nd:
-                    dist[m] = nd
-                    queue.append(m)
+            frontier.append(s)
+    passages = topo.passages
+    d = 0
+    while frontier:
+        d += 1
+        reached = []
+        for c in frontier:
+            for w, m in passages[c]:
+                if dist[m] > d and not blocked[w]:
+                    dist[m] = d
+                    reached.append(m)
+        frontier = reached
+        if (until is not None and dist[until] < UNREACHED) or (limit is not None and d >= limit):
+            break
     return dist
 
 
