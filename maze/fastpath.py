@@ -27,6 +27,7 @@ from .mouseparams import MouseParams
 LAYERS = 3  # A, B, G
 MIN_SECONDS = 1e-9  # zero-length straights still need an edge, and scipy drops zero weights
 MAX_CROSSINGS = 4  # the most walls a turn crosses (the 180)
+MAX_QUERY_GRAPHS = 4  # (start, goals) pairs kept per move graph: a search has one, `path` of a cell run another
 
 
 @dataclass(frozen=True, order=True)
@@ -118,6 +119,23 @@ def _entered(point: tuple[int, int], previous: tuple[int, int]) -> Cell:
     return (x // 2 if previous[0] < x else x // 2 - 1), y // 2
 
 
+@dataclass
+class QueryGraph:
+    """The CSR graph of one start and goal set, and per edge (in its row order) what must be open for it: for a
+    straight, `len` open walls ahead at node `key`; for a turn, its walls; for a start edge, its first wall too."""
+
+    graph: csr_array
+    st_key: np.ndarray
+    st_len: np.ndarray
+    st_cost: np.ndarray
+    tu_walls: np.ndarray
+    tu_cost: np.ndarray
+    s_key: np.ndarray
+    s_len: np.ndarray
+    s_wall: np.ndarray
+    s_cost: np.ndarray
+
+
 class MoveGraph:
     """Every move a mouse could make in an N x N maze with all inner walls open, priced for one mouse."""
 
@@ -137,6 +155,7 @@ class MoveGraph:
         self._build_straights()
         self._build_turns()
         self._goal_masks: dict[tuple[Cell, ...], np.ndarray] = {}
+        self._queries: dict[tuple[Cell, tuple[Cell, ...]], QueryGraph] = {}
 
     # -- geometry helpers -------------------------------------------------------------------------------------
     def _index(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -178,6 +197,21 @@ class MoveGraph:
             nxt[pts[ok] * 8 + h] = q * 8 + h
             nxt_wall[pts[ok] * 8 + h] = self.wall_at[q]
         self.run_next, self.run_next_wall = nxt, nxt_wall
+        # every node lies on one line of crossings in its heading: the lines as rows (padded with -1), so that
+        # a query counts the open walls ahead of every node at once
+        nodes = np.concatenate([self._entry_points(h) * 8 + h for h in self.headings])
+        has_next = nxt_wall != self.closed_sentinel
+        followed = np.zeros(self.layer, dtype=bool)
+        followed[nxt[nodes[has_next[nodes]]]] = True
+        column = nodes[~followed[nodes]]
+        columns = [column]
+        while True:
+            column = np.where((column >= 0) & has_next[np.maximum(column, 0)], nxt[np.maximum(column, 0)], -1)
+            if (column < 0).all():
+                break
+            columns.append(column)
+        self.lines = np.stack(columns, axis=1)
+        self.line_nodes = self.lines >= 0
 
     def _build_straights(self) -> None:
         run = self.mouse.run
@@ -259,63 +293,91 @@ class MoveGraph:
 
     # -- queries ----------------------------------------------------------------------------------------------
     def _runs(self, open_ext: np.ndarray) -> np.ndarray:
-        """Open walls straight ahead of every node: each round extends every run by one wall (at most 2N+1 rounds)."""
-        ahead_open = open_ext[self.run_next_wall]
+        """Open walls straight ahead of every node: along each line, the distance to its next closed crossing."""
+        ahead_open = open_ext[self.run_next_wall][self.lines] & self.line_nodes
+        width = self.lines.shape[1]
+        position = np.arange(width)
+        closed_at = np.where(ahead_open, width, position)
+        next_closed = np.minimum.accumulate(closed_at[:, ::-1], axis=1)[:, ::-1]
         run = np.zeros(self.layer, dtype=np.int64)
-        for _ in range(2 * self.size + 1):
-            new = np.where(ahead_open, run[self.run_next] + 1, 0)
-            if np.array_equal(new, run):
-                break
-            run = new
+        run[self.lines[self.line_nodes]] = (next_closed - position)[self.line_nodes]
         return run
 
-    def _start_edges(self, start: Cell, goals: tuple[Cell, ...], run: np.ndarray,
-                     open_ext: np.ndarray) -> tuple[list[int], list[int], list[float]]:
-        """Straights from a standing start in the start cell's centre, along each of its four headings."""
+    def _query(self, start: Cell, goals: tuple[Cell, ...]) -> QueryGraph:
+        """The whole graph for one start and goal set, in row order, built once: a query only prices its edges
+        (infinite where a wall blocks them), so no sparse matrix is assembled per query."""
+        key = (start, goals)
+        if key not in self._queries:
+            if len(self._queries) >= MAX_QUERY_GRAPHS:
+                self._queries.pop(next(iter(self._queries)))
+            self._queries[key] = self._build_query(start, goals)
+        return self._queries[key]
+
+    def _build_query(self, start: Cell, goals: tuple[Cell, ...]) -> QueryGraph:
+        to_goal = self._goal_mask(goals)
+        src = np.concatenate([self.st_src, self.st_src[to_goal]])
+        order = np.argsort(src, kind="stable")
+        st_dst = np.concatenate([self.st_dst + self.layer, self.st_dst[to_goal] + 2 * self.layer])[order]
+        st_key = np.concatenate([self.st_key, self.st_key[to_goal]])[order]
+        st_len = np.concatenate([self.st_len, self.st_len[to_goal]])[order]
+        st_cost = np.concatenate([self.st_cost_b, self.st_cost_g[to_goal]])[order]
+        t_order = np.argsort(self.tu_src, kind="stable")
+        s_dst, s_key, s_len, s_wall, s_cost = self._start_edges(start, goals)
+        rows = np.concatenate([src[order], self.tu_src[t_order], np.full(len(s_dst), self.start_node)])
+        cols = np.concatenate([st_dst, self.tu_dst[t_order], s_dst]).astype(np.int32)
+        n = self.start_node + 1
+        indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=n))]).astype(np.int32)
+        graph = csr_array((np.zeros(len(cols)), cols, indptr), shape=(n, n))
+        return QueryGraph(graph, st_key, st_len, st_cost, self.tu_walls[t_order], self.tu_cost[t_order],
+                          s_key, s_len, s_wall, s_cost)
+
+    def _start_edges(self, start: Cell, goals: tuple[Cell, ...]) -> tuple[np.ndarray, ...]:
+        """Straights from a standing start in the start cell's centre, along each of its four headings, of every
+        length: the n-th needs the first wall open and n - 1 open ones after it."""
         p = self.mouse.run
         cx, cy = 2 * start[0] + 1, 2 * start[1] + 1
-        rows: list[int] = []
-        cols: list[int] = []
-        data: list[float] = []
+        dst: list[int] = []
+        key: list[int] = []
+        length: list[int] = []
+        wall: list[int] = []
+        cost: list[float] = []
         goal_set = set(goals)
         for h in ALONG:
             dx, dy = STEP[h]
             first = self._index(cx + dx, cy + dy)
-            if not open_ext[self.wall_at[first]]:
-                continue
-            for n in range(1, int(run[first * 8 + h]) + 2):
+            for n in range(1, 2 * self.size + 1):
                 x, y = cx + (2 * n - 1) * dx, cy + (2 * n - 1) * dy
+                if not (0 <= x < self.side and 0 <= y < self.side):
+                    break
                 node = self._index(x, y) * 8 + h
                 metres = (n - 0.5) * self.mouse.cell
-                rows.append(self.start_node)
-                cols.append(node + self.layer)
-                data.append(straight_seconds(metres, 0.0, p.turn_speed, p.top_speed, p.accel))
+                ends = [(node + self.layer, straight_seconds(metres, 0.0, p.turn_speed, p.top_speed, p.accel))]
                 if _entered((x, y), (x - dx, y - dy)) in goal_set:
-                    rows.append(self.start_node)
-                    cols.append(node + 2 * self.layer)
-                    data.append(straight_seconds(metres, 0.0, None, p.top_speed, p.accel))
-        return rows, cols, data
+                    ends.append((node + 2 * self.layer, straight_seconds(metres, 0.0, None, p.top_speed, p.accel)))
+                for end, seconds in ends:
+                    dst.append(end)
+                    key.append(first * 8 + h)
+                    length.append(n - 1)
+                    wall.append(int(self.wall_at[first]))
+                    cost.append(seconds)
+        return (np.array(dst, dtype=np.int64), np.array(key, dtype=np.int64), np.array(length, dtype=np.int64),
+                np.array(wall, dtype=np.int64), np.array(cost))
 
-    def _solve(self, blocked: bytes | bytearray, start: Cell, goals: tuple[Cell, ...]) -> tuple[csr_array, np.ndarray,
+    def _solve(self, blocked: bytes | bytearray, start: Cell, goals: tuple[Cell, ...]) -> tuple[np.ndarray,
                                                                                                 np.ndarray]:
+        q = self._query(start, goals)
         open_ext = np.concatenate([np.frombuffer(bytes(blocked), dtype=np.uint8) == 0, [True, False]])
         run = self._runs(open_ext)
-        st_ok = self.st_len <= run[self.st_key]
-        to_goal = st_ok & self._goal_mask(goals)
-        tu_ok = open_ext[self.tu_walls].all(axis=1)
-        s_rows, s_cols, s_data = self._start_edges(start, goals, run, open_ext)
-        rows = np.concatenate([self.st_src[st_ok], self.st_src[to_goal], self.tu_src[tu_ok], s_rows])
-        cols = np.concatenate([self.st_dst[st_ok] + self.layer, self.st_dst[to_goal] + 2 * self.layer,
-                               self.tu_dst[tu_ok], s_cols])
-        data = np.concatenate([self.st_cost_b[st_ok], self.st_cost_g[to_goal], self.tu_cost[tu_ok], s_data])
-        n = self.start_node + 1
-        graph = csr_array((data, (rows.astype(np.int32), cols.astype(np.int32))), shape=(n, n))
-        dist, pred = dijkstra(graph, directed=True, indices=self.start_node, return_predecessors=True)
-        return graph, dist, pred
+        q.graph.data[:] = np.concatenate([
+            np.where(run[q.st_key] >= q.st_len, q.st_cost, np.inf),
+            np.where(open_ext[q.tu_walls].all(axis=1), q.tu_cost, np.inf),
+            np.where(open_ext[q.s_wall] & (run[q.s_key] >= q.s_len), q.s_cost, np.inf)])
+        dist, pred = dijkstra(q.graph, directed=True, indices=self.start_node, return_predecessors=True)
+        return dist, pred
 
     def fastest(self, blocked: bytes | bytearray, start: Cell, goals: tuple[Cell, ...]) -> Route | None:
         """The fastest run through walls not blocked (1 = blocked, indexed by wall id); None if there is none."""
-        _, dist, pred = self._solve(blocked, start, goals)
+        dist, pred = self._solve(blocked, start, goals)
         g = dist[2 * self.layer: 3 * self.layer]
         best = int(np.argmin(g))
         if not np.isfinite(g[best]):
