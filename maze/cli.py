@@ -699,3 +699,49 @@ def draw_path(maze: Maze, route: Route, source: Path, objective: str, png: Path)
     overlay = Overlay(path=[(x / 2, y / 2) for x, y in route.points], path_label=label)
     save_png(maze, png, title=[f"{source.name}: best path by {objective}", *wrap_title(route.sequence, maze.size)],
              overlay=overlay)
+
+
+@main.command()
+@click.argument("mazes", nargs=-1, type=click.Path(exists=True, path_type=Path))
+@click.option("--mouse", "programs", multiple=True, metavar="CMD",
+              help="An mms-protocol program to run (repeatable).")
+@click.option("--strategy", "strategies", multiple=True, type=click.Choice(list(STRATEGIES)),
+              help="A built-in strategy to run through the same world (repeatable).")
+@objective_option
+@diagonal_option
+@click.option("--max-steps", type=click.IntRange(min=1), default=None, help="End each mouse run after this many cells.")
+@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=10.0, show_default=True,
+              metavar="SECONDS", help="Longest wait for a mouse's next command.")
+@click.option("--jobs", type=click.IntRange(min=1), default=None, help="Parallel processes [default: half the cores].")
+@click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path), required=True,
+              help="Folder for results.csv, summary.txt and each run's wall log.")
+def bench(mazes: tuple[Path, ...], programs: tuple[str, ...], strategies: tuple[str, ...], objective: str,
+          diagonal: bool, max_steps: int | None, timeout: float, jobs: int | None, out_dir: Path) -> None:
+    """Run mice and built-in strategies over MAZES (files or folders; none: the built-in set) and compare them:
+    one CSV row per run, totals and who is best where."""
+    from multiprocessing import Pool
+
+    from .bench import Entrant, Job, default_jobs, entrant_folder, maze_files, run_job, summary, write_csv
+    from .harness import program_argv
+
+    if not programs and not strategies:
+        raise click.UsageError("give at least one --mouse or --strategy")
+    for program in programs:
+        program_argv(program)  # a command naming no program is refused before anything runs
+    entrants = [Entrant(p, program=p) for p in programs] + [Entrant(f"strategy {s}", strategy=s) for s in strategies]
+    files = maze_files(mazes)
+    for f in files:
+        read_maze(f)  # every maze checked before a worker starts: one line for a bad one
+    os.makedirs(out_dir, exist_ok=True)
+    work = [Job(e, str(f), objective, diagonal, max_steps, timeout, str(entrant_folder(out_dir, e, i)))
+            for i, e in enumerate(entrants) for f in files]
+    rows = []
+    with Pool(min(jobs or default_jobs(), len(work))) as pool, click.progressbar(
+            pool.imap_unordered(run_job, work), length=len(work), label="runs", file=sys.stderr) as results:
+        for row in results:
+            rows.append(row)
+    write_csv(rows, out_dir / "results.csv")
+    text = summary(rows, [e.name for e in entrants], objective)
+    write_text(out_dir / "summary.txt", text)
+    click.echo(text, nl=False)
+    click.echo(f"{len(rows)} runs -> {out_dir / 'results.csv'}, {out_dir / 'summary.txt'}", err=True)

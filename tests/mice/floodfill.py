@@ -56,9 +56,11 @@ def main():
             tell(f"setColor {x} {y} c")
             dist = flood(targets)
             tell(f"setText {x} {y} {dist.get((x, y), -1)}")
-            best = min((d for d in HEADINGS if (x, y, d) not in walls
-                        and (x + STEP[d][0], y + STEP[d][1]) in dist),
-                       key=lambda d: (dist[(x + STEP[d][0], y + STEP[d][1])], d != HEADINGS[h]))
+            ways = [d for d in HEADINGS if (x, y, d) not in walls and (x + STEP[d][0], y + STEP[d][1]) in dist]
+            if not ways:
+                sys.stderr.write(f"no way to {sorted(targets)} from ({x}, {y})\n")
+                return False
+            best = min(ways, key=lambda d: (dist[(x + STEP[d][0], y + STEP[d][1])], d != HEADINGS[h]))
             turn = (HEADINGS.index(best) - h) % 4
             if turn == 1:
                 ask("turnRight")
@@ -73,11 +75,12 @@ def main():
                 sys.exit(2)
             x, y = x + STEP[best][0], y + STEP[best][1]
         learn()
+        return True
 
-    go(centre)
-    sys.stderr.write(f"goal reached at ({x}, {y})\n")
-    go({(0, 0)})
-    sys.stderr.write("back at the start\n")
+    if go(centre):
+        sys.stderr.write(f"goal reached at ({x}, {y})\n")
+    if go({(0, 0)}):
+        sys.stderr.write("back at the start\n")
 
 
 if __name__ == "__main__":
