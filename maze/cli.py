@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any, Callable, TypeVar
 import click
 
 from .builtin import EXAMPLES, builtin_example, builtin_names, builtin_path
-from .compare import compare
+from .compare import WallDiff, compare
 from .direction import LETTER
 from .errors import MazeError
 from .mazefile import dump_maze, parse_maze
@@ -275,10 +275,20 @@ def draw_replay(log: Path, loaded: LoadedLog, records: list[WallRecord], drop_la
 @main.command()
 @click.argument("mazefile", metavar="MAZE", type=MazeSource())
 @click.option("--png", type=OutFile, default=None, help="Also draw the maze into this PNG file.")
-def show(mazefile: Path, png: Path | None) -> None:
-    """Print a maze file (checking it parses) with its size, start and goal."""
-    refuse_overwrite({"MAZE": mazefile}, {"--png": png})
+@click.option("--out", type=OutFile, default=None,
+              help="Also write the maze in the format its suffix names: .num (mms), .maz (16x16 binary), else text.")
+def show(mazefile: Path, png: Path | None, out: Path | None) -> None:
+    """Print a maze file (.txt, .num or .maz; checking it parses) with its size, start and goal."""
+    refuse_overwrite({"MAZE": mazefile}, {"--png": png, "--out": out})
     maze = read_maze(mazefile)
+    if out is not None:
+        from .mazeformats import dump_maz, dump_num
+
+        suffix = out.suffix.lower()
+        if suffix == ".maz":
+            write_bytes(out, dump_maz(maze))
+        else:
+            write_text(out, dump_num(maze) if suffix == ".num" else dump_maze(maze))
     goals = " ".join(f"({x},{y})" for x, y in maze.goals)
     click.echo(text_view(maze, None, f"{maze.size}x{maze.size}, start {maze.start}, goal {goals}"), nl=False)
     if png is not None:
@@ -348,19 +358,46 @@ def decode(log: Path, strict: bool) -> None:
 @main.command()
 @click.argument("mazefile", metavar="MAZE", type=MazeSource())
 @click.argument("log", type=InFile)
+@click.option("--belief", "belief_path", type=InFile, default=None,
+              help="The mouse's own setWall/clearWall marks (LOG.belief.bin of explore --mouse): compared with "
+                   "the true maze and with the walls LOG says it was told.")
 @strict_option
-def diff(mazefile: Path, log: Path, strict: bool) -> None:
-    """Compare what LOG restores with the true maze in MAZE (inner walls only)."""
+def diff(mazefile: Path, log: Path, belief_path: Path | None, strict: bool) -> None:
+    """Compare what LOG restores with the true maze in MAZE (inner walls only), and a mouse's belief with both."""
     truth = read_maze(mazefile)
     loaded = read_log(log, truth.size, strict)
     restored, _ = restore(loaded.records, truth.size)
-    result = compare(truth, restored)
-    click.echo(f"right:   {result.right}")
-    click.echo(f"wrong:   {len(result.wrong)}")
-    click.echo(f"unknown: {result.unknown}")
+    echo_diff("", compare(truth, restored), truth)
+    if belief_path is None:
+        return
+    belief = restore_belief(read_log(belief_path, truth.size, strict).records, truth.size)
+    echo_diff("belief ", compare(truth, belief), truth)
+    told = [(x, y, d) for x, y, d in truth.inner_walls() if restored.is_known(x, y, d)
+            and belief.is_known(x, y, d) and restored.is_wall(x, y, d) != belief.is_wall(x, y, d)]
+    unmarked = sum(1 for x, y, d in truth.inner_walls()
+                   if restored.is_known(x, y, d) and restored.is_wall(x, y, d) and not belief.is_known(x, y, d))
+    click.echo(f"belief against what it was told: {len(told)} marked otherwise, {unmarked} walls told but not marked")
+    for x, y, d in told:
+        click.echo(f"  told otherwise: ({x}, {y}) {LETTER[d]} is {'wall' if restored.is_wall(x, y, d) else 'open'}")
+
+
+def echo_diff(prefix: str, result: WallDiff, truth: Maze) -> None:
+    click.echo(f"{prefix}right:   {result.right}")
+    click.echo(f"{prefix}wrong:   {len(result.wrong)}")
+    click.echo(f"{prefix}unknown: {result.unknown}")
     for x, y, d in result.wrong:
-        truth_word = "wall" if truth.is_wall(x, y, d) else "open"
-        click.echo(f"  wrong: ({x}, {y}) {LETTER[d]} is {truth_word} in the maze")
+        click.echo(f"  {prefix}wrong: ({x}, {y}) {LETTER[d]} is {'wall' if truth.is_wall(x, y, d) else 'open'} "
+                   f"in the maze")
+
+
+def restore_belief(records: list[WallRecord], size: int) -> Maze:
+    """setWall / clearWall as the mouse meant them: the last mark of a wall wins (a log's contradiction rule is
+    for misreads, not for a mouse changing its mind)."""
+    maze = Maze.unknown(size)
+    for r in records:
+        if not (maze.is_outer(r.x, r.y, r.d) and not r.wall):
+            maze.set(r.x, r.y, r.d, r.wall)
+    return maze
 
 
 def objective_words(objective: str, diagonal: bool, mouse: MouseParams) -> str:
@@ -375,7 +412,7 @@ def objective_words(objective: str, diagonal: bool, mouse: MouseParams) -> str:
               help="Run this mms-protocol program (e.g. \"python3 Main.py\") as the mouse, unchanged, instead of "
                    "a built-in strategy; its stderr goes to LOG's name with .stderr.txt.")
 @click.option("--strategy", type=click.Choice(list(STRATEGIES)), default=None,
-              help="Built-in strategy [default: stop]: " + "; ".join(f"{k}: {v}" for k, v in STRATEGIES.items()))
+              help="Built-in strategy [default: stop]: " + "; ".join(f"{k}: {v.description}" for k, v in STRATEGIES.items()))
 @objective_option
 @diagonal_option
 @timing_option
@@ -423,7 +460,7 @@ def explore(mazefile: Path, program: str | None, strategy: str | None, objective
     strategy = strategy or DEFAULT_STRATEGY
     result = run_search(truth, strategy, objective, diagonal, timing)
     log_line = write_search_log(result, log_path, power_cut)
-    click.echo(f"strategy:      {strategy} ({STRATEGIES[strategy]})")
+    click.echo(f"strategy:      {strategy} ({STRATEGIES[strategy].description})")
     click.echo(f"objective:     {objective_words(objective, diagonal, timing)}")
     echo_search(result.steps, result.turns, result.search, timing, len(set(result.trace)), truth.size)
     click.echo(f"wall log:      {log_line}")
@@ -627,6 +664,9 @@ def read_maze_or_log(path: Path, size: int | None, truth: Maze | None, strict: b
         if outside is not None:
             raise MazeError(f"{path}: {outside}: not a log of a {size}x{size} maze; give --maze or --size")
     loaded = read_log(path, size, strict)
+    span = 1 + max((max(r.x, r.y) for r in loaded.records), default=0)
+    if assumed and span < size:
+        assumed += f"; its records span only {span}x{span} cells: is it a {span}x{span} maze? (--size {span})"
     maze, _ = restore(loaded.records, size, goals=truth.goals if truth is not None else central_goals(size))
     return maze, f"wall log, {len(loaded.records)} records", assumed
 

@@ -18,7 +18,7 @@ from .model import Cell, Maze
 from .motion import SearchRun, search_run
 from .mouseparams import MouseParams, load_mouse
 from .stepmap import UNREACHED, optimistic, pessimistic, shortest_path, step_map
-from .strategies import OBJECTIVES, STRATEGIES
+from .strategies import OBJECTIVES, STRATEGIES, AfterGoal
 from .wallrecord import WallRecord
 
 if TYPE_CHECKING:
@@ -203,15 +203,16 @@ def explore(truth: Maze, strategy: str, objective: str = "cells", diagonal: bool
 
         return fastest_route(truth, blocked, diagonal, params)
 
-    mouse = Mouse(truth, closing=strategy.startswith("closing"), planner=planner)
+    plan = STRATEGIES[strategy]
+    mouse = Mouse(truth, closing=plan.closing, planner=planner)
     goals = [truth.cell_index(g) for g in truth.goals]
     start = [truth.cell_index(truth.start)]
     mouse.go_to(goals)
-    if strategy in ("full", "closing"):
-        mouse.explore(mouse.unknown_cells)
-    elif strategy in ("stop", "closing-stop"):
-        mouse.explore(mouse.route_cells if timed else mouse.improvable_cells)
-    if strategy != "goal":
+    targets = {AfterGoal.NOTHING: None, AfterGoal.EVERY_UNKNOWN: mouse.unknown_cells,
+               AfterGoal.STOPPING_RULE: mouse.route_cells if timed else mouse.improvable_cells}[plan.after_goal]
+    if targets is not None:
+        mouse.explore(targets)
+    if plan.returns:
         mouse.go_to(start)
     true_path = shortest_path(truth, pessimistic(truth))
     trace = [mouse.cell(c) for c in mouse.trace]

@@ -50,10 +50,6 @@ class Command:
     text: str = ""
     stat: str = ""
 
-    @property
-    def answered(self) -> bool:
-        return COMMANDS[self.name][1]
-
 
 def _int(token: str, what: str) -> int:
     try:

@@ -12,10 +12,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from .direction import NORTH, SOUTH, STEP, WEST, EAST, opposite, rotate
+from .direction import ALONG, NORTH, STEP, opposite, rotate
 from .marks import CLEAR_ALL, Mark
 from .mms import Command
-from .model import Cell, Maze, point_wall
+from .model import Cell, Maze, point_side, point_wall
 from .motion import SearchRun, search_counts
 from .mouseparams import MouseParams
 from .wallrecord import WallRecord
@@ -176,23 +176,10 @@ class MmsWorld:
             return False
         present = bool(self.truth.wall[w])
         if record and not self.sensed.known[w]:
-            x, y, d = self._side(point, (qx, qy))
+            x, y, d = point_side(self.truth.size, point, (qx, qy))
             self.sensed.set(x, y, d, present)
             self.records.append(WallRecord(x, y, d, present))
         return present
-
-    def _side(self, came_from: tuple[int, int], mid: tuple[int, int]) -> tuple[int, int, int]:
-        """The wall at midpoint `mid` as a side of the cell on `came_from`'s side of it (the other if outside)."""
-        n, (mx, my) = self.truth.size, mid
-        if mx % 2:  # horizontal wall
-            below = (mx // 2, my // 2 - 1, NORTH)
-            above = (mx // 2, my // 2, SOUTH)
-            first, other = (below, above) if came_from[1] < my else (above, below)
-        else:
-            left = (mx // 2 - 1, my // 2, EAST)
-            right = (mx // 2, my // 2, WEST)
-            first, other = (left, right) if came_from[0] < mx else (right, left)
-        return first if 0 <= first[0] < n and 0 <= first[1] < n else other
 
     def _blocked(self, heading: int, ahead: int, record: bool) -> bool:
         point = self.point
@@ -232,7 +219,7 @@ class MmsWorld:
     def _entered(self, cell: Cell) -> None:
         last = self.trace[-1]
         step = (cell[0] - last[0], cell[1] - last[1])
-        move = next((h for h in (EAST, NORTH, WEST, SOUTH) if STEP[h] == step), None)
+        move = next((h for h in ALONG if STEP[h] == step), None)
         if move is not None and self._last_move is not None and move != self._last_move:
             if move == opposite(self._last_move):
                 self.pivots += 1

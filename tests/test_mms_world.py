@@ -3,7 +3,7 @@ scorekeeping, the reset button. Small mazes drawn here, so each answer can be ch
 
 from maze.direction import EAST, NORTH
 from maze.mazefile import parse_maze
-from maze.mms import parse_command
+from maze.mms import COMMANDS, parse_command
 from maze.mmsworld import MmsWorld, effective_distance
 from maze.mouseparams import load_mouse
 from maze.wallrecord import WallRecord
@@ -86,3 +86,10 @@ def test_half_steps_and_the_search_time_model() -> None:
     say(w, "moveForwardHalf", "moveForwardHalf", "turnRight", "turnRight", "moveForward")
     assert w.trace == [(0, 0), (0, 1), (0, 0)] and w.pivots == 1 and w.turns == 2
     assert w.search().seconds > 0
+
+
+def test_the_world_answers_exactly_the_commands_mms_answers() -> None:
+    samples = {"": "", "n": "", "xy": " 1 1", "xyd": " 1 1 n", "xyc": " 1 1 r", "xyt": " 1 1 hi", "stat": " score"}
+    for name, (spec, answered) in COMMANDS.items():
+        reply = world().handle(parse_command(name + samples[spec]))
+        assert (reply is not None) == answered, name
