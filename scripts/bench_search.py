@@ -1,9 +1,11 @@
 """Search strategies over the real contest mazes, for the fewest cells and for the fastest run, and the flash
 cost of backing a search up.
 
-Usage: python scripts/bench_search.py [--quick] [--jobs N] [--cuts N] [--per-maze/--no-per-maze]
+Usage: python scripts/bench_search.py [--quick] [--jobs N] [--cuts N] [--per-maze/--no-per-maze] [--mazes DIR | --builtin]
 
-Mazes come from ../shared/mazes beside the clone. The design was settled on the development set (16x16
+Mazes come from ../shared/mazes beside the clone (the micromouseonline/mazefiles collection at commit
+a71f846897fdd2193e726a1276c6774c9ce9ac67: its classic/, halfsize/ and training/ folders), or from --mazes DIR
+laid out the same way; --builtin runs the 12 mazes shipped in the package instead (a fresh clone has only those). The design was settled on the development set (16x16
 classic + training); the 32x32 halfsize mazes are reported apart, as mazes the design never saw. The mouse is
 the built-in one for each size (maze/data/mice.toml), whose figures were set before any of this was run.
 """
@@ -19,6 +21,7 @@ from pathlib import Path
 
 import click
 
+from maze.builtin import builtin_names, builtin_path
 from maze.explorer import explore
 from maze.flash import SECTOR_BYTES, compare_schemes, snapshot_bytes
 from maze.mazefile import parse_maze
@@ -27,6 +30,7 @@ from maze.strategies import OPTIMAL_CLAIMED, STRATEGIES
 from maze.wallrecord import RECORD_BYTES
 
 MAZES = Path(__file__).resolve().parents[1].parent / "shared" / "mazes"
+MAZEFILES = "micromouseonline/mazefiles at commit a71f846897fdd2193e726a1276c6774c9ce9ac67"
 GROUPS = {"classic": "16x16 classic", "training": "16x16 training", "halfsize": "32x32 halfsize"}
 SETS = {"development set (16x16 classic + training)": ("classic", "training"),
         "held-out set (32x32 halfsize, unseen while designing)": ("halfsize",)}
@@ -53,20 +57,34 @@ class Row:
     true_s: float
 
 
-def run_one(job: tuple[str, Run]) -> Row:
-    path, run = job
+def run_one(job: tuple[str, str, Run]) -> Row:
+    group, path, run = job
     r = explore(parse_maze(Path(path).read_text()), *run)
     timed = r.found_route is not None and r.true_route is not None
-    return Row(Path(path).parent.name, Path(path).stem, run, r.steps, r.turns, len(set(r.trace)), r.shortest,
+    return Row(group, Path(path).stem, run, r.steps, r.turns, len(set(r.trace)), r.shortest,
                r.fastest, r.search.seconds, r.found_route.seconds if timed else 0.0,
                r.true_route.seconds if timed else 0.0)
 
 
-def maze_files(quick: bool, groups: tuple[str, ...]) -> list[Path]:
+def maze_files(root: Path, quick: bool, groups: tuple[str, ...]) -> list[tuple[str, Path]]:
     files = []
     for group in groups:
-        found = sorted((MAZES / group).glob("*.txt"))
-        files += found[:: 8 if group == "classic" else 4 if group == "halfsize" else 1] if quick else found
+        found = sorted((root / group).glob("*.txt"))
+        found = found[:: 8 if group == "classic" else 4 if group == "halfsize" else 1] if quick else found
+        files += [(group, f) for f in found]
+    return files
+
+
+def builtin_files(groups: tuple[str, ...]) -> list[tuple[str, Path]]:
+    """The shipped mazes, grouped as the collection's folders are: 32x32 halfsize, training, classic."""
+    files = []
+    for name in builtin_names():
+        path = builtin_path(name)
+        assert path is not None
+        size = len(path.read_text().splitlines()[0]) // 4
+        group = "halfsize" if size > 16 else "training" if name.startswith(("maze-train", "minimaze")) else "classic"
+        if group in groups:
+            files.append((group, path))
     return files
 
 
@@ -178,18 +196,30 @@ def print_flash_table(maze_path: Path, strategy: str, cuts: int) -> None:
 @click.option("--group", "groups", type=click.Choice(list(GROUPS)), multiple=True,
               help="Only these maze folders (repeatable) [all].")
 @click.option("--per-maze/--no-per-maze", default=True, show_default=True, help="Print the per-maze time table.")
-@click.option("--flash-maze", type=click.Path(exists=True, dir_okay=False, path_type=Path),
-              default=MAZES / "halfsize" / "japan2019hef.txt", show_default=True)
+@click.option("--mazes", "root", type=click.Path(file_okay=False, path_type=Path), default=MAZES,
+              show_default="../shared/mazes", help="A folder with classic/, halfsize/ and training/ maze files.")
+@click.option("--builtin", is_flag=True, help="Use the mazes shipped in the package instead.")
+@click.option("--flash-maze", type=click.Path(exists=True, dir_okay=False, path_type=Path), default=None,
+              help="The 32x32 maze of the flash table [default: japan2019hef].")
 @click.option("--flash-strategy", type=click.Choice(list(STRATEGIES)), default=CANDIDATE, show_default=True)
-def main(quick: bool, jobs: int, cuts: int | None, groups: tuple[str, ...], per_maze: bool, flash_maze: Path,
-         flash_strategy: str) -> None:
+def main(quick: bool, jobs: int, cuts: int | None, groups: tuple[str, ...], per_maze: bool, root: Path,
+         builtin: bool, flash_maze: Path | None, flash_strategy: str) -> None:
     """Benchmark the search strategies (fewest cells and fastest run) and the flash backup schemes."""
-    files = maze_files(quick, groups or tuple(GROUPS))
+    groups = groups or tuple(GROUPS)
+    if builtin:
+        files = builtin_files(groups)
+    elif not root.is_dir():
+        raise click.ClickException(f"no maze folder {root}: it holds {MAZEFILES} (a clone of that repository "
+                                   f"at that commit will do); give --mazes DIR, or --builtin for the mazes shipped "
+                                   f"in the package")
+    else:
+        files = maze_files(root, quick, groups)
     if not files:
-        raise click.ClickException(f"no mazes under {MAZES}")
+        raise click.ClickException(f"no mazes under {root} in {', '.join(groups)}")
+    flash_maze = flash_maze or builtin_path("japan2019hef")
     t0 = time.perf_counter()
     runs = CELL_RUNS + TIME_RUNS
-    jobs_list = [(str(f), run) for f in files for run in runs]
+    jobs_list = [(group, str(f), run) for group, f in files for run in runs]
     with Pool(jobs) as pool, click.progressbar(pool.imap_unordered(run_one, jobs_list), length=len(jobs_list),
                                                label="searching", file=sys.stderr) as bar:
         rows = list(bar)

@@ -155,3 +155,14 @@ def test_the_doc_encode_command_works_in_an_empty_folder(tmp_path: Path, monkeyp
     assert "30 records, 60 bytes -> seed.bin" in r.output
     info = CliRunner().invoke(main, ["info", "--size", "4", "seed.bin"])
     assert "known inner walls: 24 of 24" in info.output
+
+
+def test_bench_search_says_where_its_mazes_come_from(tmp_path: Path) -> None:
+    import subprocess
+    import sys
+
+    script = Path(__file__).parents[1] / "scripts" / "bench_search.py"
+    r = subprocess.run([sys.executable, script, "--mazes", tmp_path / "nothing"], capture_output=True, text=True)
+    assert r.returncode == 1
+    assert "micromouseonline/mazefiles at commit a71f846897fdd2193e726a1276c6774c9ce9ac67" in r.stderr
+    assert "--builtin for the mazes shipped in the package" in r.stderr and "Traceback" not in r.stderr

@@ -1,0 +1,128 @@
+"""How fast mazelog is where issue 17 asks: a whole-process `mazelog explore` of a 32x32 maze with a built-in
+strategy, one fastest-path query, and the mms protocol's cost per command; printed for the built-in mazes
+(development) and for held-out mazes (../shared/mazes/halfsize, or --held-out DIR) apart.
+
+Usage: python scripts/bench_maze_speed.py [--repeat N] [--held-out DIR] [--held-out-count N]
+"""
+
+from __future__ import annotations
+
+import shutil
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import click
+
+from maze.builtin import builtin_path
+from maze.fastpath import fastest_route
+from maze.mazefile import parse_maze
+from maze.mms import parse_command
+from maze.mmsworld import MmsWorld
+from maze.model import Maze
+from maze.mouseparams import load_mouse
+from maze.stepmap import optimistic, pessimistic
+
+ROOT = Path(__file__).resolve().parents[1]
+HELD_OUT = ROOT.parent / "shared" / "mazes" / "halfsize"
+DEV_32 = ["japan2009hef", "japan2019hef"]
+DEV_16 = ["alljapan-010-1989-fin", "alljapan-017-1996-exp-fin"]
+MICE = ROOT / "tests" / "mice"
+
+
+def median_ms(f, repeat: int) -> tuple[float, float]:
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        f()
+        times.append((time.perf_counter() - t0) * 1000)
+    return statistics.median(times), min(times)
+
+
+def whole_process(maze: Path, repeat: int, *extra: str) -> tuple[float, float]:
+    exe = shutil.which("mazelog") or "mazelog"
+    cmd = [exe, "explore", str(maze), "--log", "/dev/null", *extra]
+    return median_ms(lambda: subprocess.run(cmd, check=True, capture_output=True), repeat)
+
+
+def queries(maze_path: Path, repeat: int) -> dict[str, tuple[float, float]]:
+    truth = parse_maze(maze_path.read_text())
+    mouse = load_mouse(None, truth.size)
+    out = {}
+    for diagonal in (False, True):
+        for label, blocked in (("known walls", pessimistic(truth)),
+                               ("unknown open", optimistic(Maze.unknown(truth.size, truth.goals)))):
+            fastest_route(truth, blocked, diagonal, mouse)  # the graph of this size is built once, not timed
+            out[f"{'diagonal' if diagonal else 'straight'}, {label}"] = median_ms(
+                lambda: fastest_route(truth, blocked, diagonal, mouse), repeat)
+    return out
+
+
+def protocol_in_process(repeat: int) -> float:
+    """Parsing and answering, per command, on the mms-python template's command stream."""
+    truth = parse_maze(builtin_path("japan2019hef").read_text())
+    lines = ["wallLeft", "turnLeft", "wallFront", "turnRight", "wallFront", "moveForward", "setColor 1 1 r",
+             "getStat score", "wallRight 3"] * 1000
+    best = float("inf")
+    for _ in range(repeat):
+        world = MmsWorld(truth, load_mouse(None, truth.size))
+        t0 = time.perf_counter()
+        for line in lines:
+            world.handle(parse_command(line))
+        best = min(best, (time.perf_counter() - t0) / len(lines) * 1e6)
+    return best
+
+
+def print_rows(title: str, rows: dict[str, tuple[float, float]]) -> None:
+    print(title)
+    for name, (med, low) in rows.items():
+        print(f"  {name:55} median {med:8.2f} ms   min {low:8.2f} ms")
+
+
+@click.command(context_settings={"help_option_names": ["-h", "--help"]})
+@click.option("--repeat", type=click.IntRange(min=1), default=5, show_default=True)
+@click.option("--held-out", "held_out", type=click.Path(file_okay=False, path_type=Path), default=HELD_OUT,
+              show_default="../shared/mazes/halfsize")
+@click.option("--held-out-count", type=click.IntRange(min=1), default=4, show_default=True,
+              help="How many held-out mazes (every k-th of the folder, sorted).")
+def main(repeat: int, held_out: Path, held_out_count: int) -> None:
+    """Print the figures; no pass/fail (the issue's targets: 0.5 s, 2 ms, 20 us)."""
+    with open("/proc/loadavg") as fp:
+        print(f"load average at start: {fp.read().split()[0]}")
+    held = sorted(held_out.glob("*.txt")) if held_out.is_dir() else []
+    held = held[:: max(1, len(held) // held_out_count)][:held_out_count]
+    sets = {"development (built-in)": [builtin_path(n) for n in DEV_32], "held out": held}
+    for name, mazes in sets.items():
+        if not mazes:
+            print(f"{name}: no mazes (give --held-out DIR)")
+            continue
+        print_rows(f"\nwhole-process `mazelog explore MAZE --log /dev/null`, {name}:",
+                   {f"{m.stem} (stop, cells)": whole_process(m, repeat) for m in mazes})
+        print_rows(f"\nwhole-process with --objective time --diagonal, {name}:",
+                   {f"{m.stem}": whole_process(m, max(1, repeat // 2), "--objective", "time", "--diagonal")
+                    for m in mazes})
+        print(f"\nfastest-path query (in process), {name}:")
+        for m in mazes:
+            print_rows(f" {m.stem}", queries(m, repeat * 4))
+    print_rows("\nfastest-path query, 16x16 (development):", {
+        f"{n}, {k}": v for n in DEV_16 for k, v in queries(builtin_path(n), repeat * 4).items()})
+    print(f"\nmms protocol, parse + answer in process: {protocol_in_process(repeat):.2f} us per command")
+    for label, mouse in (("mms-python template, 2000 steps", f"{sys.executable} {MICE / 'mms_python' / 'Main.py'}"),):
+        exe = shutil.which("mazelog") or "mazelog"
+        t0 = time.perf_counter()
+        out = subprocess.run([exe, "explore", "japan2019hef", "--mouse", mouse, "--max-steps", "2000", "--log",
+                              "/dev/null"], check=True, capture_output=True, text=True).stdout
+        wall = time.perf_counter() - t0
+        commands = next(line for line in out.splitlines() if line.startswith("commands:"))
+        print(f"{label}: {commands.split(':', 1)[1].strip()} ({wall:.2f} s whole process)")
+    ff = f"{sys.executable} {MICE / 'floodfill.py'}"
+    print_rows("\nPython floodfill mouse, to the goal and back, whole process:", {
+        n: median_ms(lambda n=n: subprocess.run([shutil.which("mazelog") or "mazelog", "explore", n, "--mouse", ff,
+                                                 "--log", "/dev/null"], check=True, capture_output=True), repeat)
+        for n in DEV_16})
+
+
+if __name__ == "__main__":
+    main()
