@@ -131,3 +131,24 @@ def test_reset_and_power_cut_leave_the_log_a_restore_path_must_handle(tmp_path: 
     assert any("torn" in a.reason for a in loaded.anomalies)
     written = int(field(r.output, "wall log").split()[0])
     assert len(loaded.records) == written
+
+
+def test_time_budget_ends_the_run(tmp_path: Path) -> None:
+    r = run("explore", "japan2019hef", "--mouse", f"{PY} {MICE / 'mms_python' / 'Main.py'}", "--time-budget", 20,
+            "--log", tmp_path / "b.bin")
+    assert r.exit_code == 0 and "--time-budget 20 s of modelled search time used up" in r.output
+    assert 20 < float(field(r.output, "search time").split()[0]) < 22
+
+
+def test_a_film_shows_the_mouse_marks(tmp_path: Path) -> None:
+    from PIL import Image
+
+    gif, png = tmp_path / "ff.gif", tmp_path / "ff.png"
+    r = run("explore", "alljapan-010-1989-fin", "--mouse", f"{PY} {MICE / 'floodfill.py'}", "--log",
+            tmp_path / "ff.bin", "--animate", gif, "--png", png)
+    assert r.exit_code == 0, r.output
+    with Image.open(gif) as film:
+        assert film.n_frames > 100
+    picture = Image.open(png).convert("RGB")
+    cyan = sum(1 for p in picture.getdata() if p == (0, 255, 255))  # the mouse's setColor 'c'
+    assert cyan > 1000

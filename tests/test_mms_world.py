@@ -93,3 +93,14 @@ def test_the_world_answers_exactly_the_commands_mms_answers() -> None:
     for name, (spec, answered) in COMMANDS.items():
         reply = world().handle(parse_command(name + samples[spec]))
         assert (reply is not None) == answered, name
+
+
+def test_marks_as_they_were_at_each_record() -> None:
+    from maze.marks import CLEAR_ALL, Mark, marks_at
+
+    marks = [Mark(0, (1, 1), colour="r"), Mark(2, (1, 1), text="5"), Mark(3, CLEAR_ALL, colour=""),
+             Mark(4, (2, 2), colour="G")]
+    assert marks_at(marks, 0) == {(1, 1): ("r", "")}
+    assert marks_at(marks, 2) == {(1, 1): ("r", "5")}
+    assert marks_at(marks, 3) == {(1, 1): ("", "5")}
+    assert marks_at(marks, 9) == {(1, 1): ("", "5"), (2, 2): ("G", "")}
