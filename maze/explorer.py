@@ -17,7 +17,8 @@ from .errors import MazeError
 from .model import Cell, Maze
 from .motion import SearchRun, search_run
 from .mouseparams import MouseParams, load_mouse
-from .stepmap import UNREACHED, optimistic, pessimistic, shortest_path, step_map
+from .stepmap import (bit, cells_of, known_cells, layers, mask_of, open_sides, optimistic, pessimistic, shortest_path,
+                      topo_cells)
 from .strategies import OBJECTIVES, STRATEGIES, AfterGoal
 from .wallrecord import WallRecord
 
@@ -78,7 +79,7 @@ class Mouse:
         self.trace = [self.here]
         self.version = 0  # bumped whenever the map changes, so step maps are rebuilt only then
         self._map_key: tuple[int, tuple[int, ...]] | None = None
-        self._map: list[int] = []
+        self._map: list[int] = []  # breadth-first layers (bit masks) from the current targets
         self._closing_key: tuple[int, int] | None = None  # (map version, branch cell) last judged
         self.planner = planner  # fastest route through walls not blocked, for the time objective
         self._route: Route | None = None
@@ -132,12 +133,17 @@ class Mouse:
         blocked = optimistic(self.maze, self.virtual)
         if key != self._map_key:
             # only the cells nearer the targets than the mouse matter while it walks downhill on this map
-            self._map, self._map_key = step_map(self.topo, blocked, targets, until=self.here), key
-        dist = self._map
-        if dist[self.here] >= UNREACHED:
+            self._map = layers(self.topo, open_sides(self.topo, blocked), mask_of(targets, self.maze.size),
+                               until=self.here)
+            self._map_key = key
+        size = self.maze.size
+        here = 1 << bit(self.here, size)
+        d = next((d for d, layer in enumerate(self._map) if layer & here), None)
+        if d is None:
             return False
+        below = self._map[d - 1]
         walls, nbrs = self.topo.cell_walls[self.here], self.topo.neighbours[self.here]
-        downhill = [k for k in range(4) if not blocked[walls[k]] and dist[nbrs[k]] == dist[self.here] - 1]
+        downhill = [k for k in range(4) if not blocked[walls[k]] and nbrs[k] >= 0 and below >> bit(nbrs[k], size) & 1]
         straight = DIRECTIONS.index(self.heading)
         self._move(straight if straight in downhill else downhill[0])
         return True
@@ -156,22 +162,29 @@ class Mouse:
                 return
 
     def unknown_cells(self) -> list[int]:
-        return [c for c in range(self.maze.size ** 2) if not self.maze.cell_known(c)]
+        size = self.maze.size
+        return cells_of(~known_cells(self.topo, self.maze.known) & topo_cells(size), size)
 
     def improvable_cells(self) -> list[int]:
         """Cells not yet fully seen on some optimistic shortest path; empty once no unknown wall can shorten
         the known shortest path (then the optimistic and the proven lengths agree)."""
-        blocked = optimistic(self.maze, self.virtual)
-        goals = [self.maze.cell_index(g) for g in self.maze.goals]
+        sides = open_sides(self.topo, optimistic(self.maze, self.virtual))
+        size = self.maze.size
+        goals = mask_of((self.maze.cell_index(g) for g in self.maze.goals), size)
         start = self.maze.cell_index(self.maze.start)
-        from_goal = step_map(self.topo, blocked, goals, until=start)
-        best = from_goal[start]
-        known = step_map(self.topo, pessimistic(self.maze), goals, until=start, limit=best)
-        if known[start] == best:
+        start_bit = 1 << bit(start, size)
+        from_goal = layers(self.topo, sides, goals, until=start)
+        if not from_goal[-1] & start_bit:
+            return []  # the start cannot reach the goal even with every unknown wall open
+        best = len(from_goal) - 1
+        known = layers(self.topo, open_sides(self.topo, pessimistic(self.maze)), goals, until=start, limit=best)
+        if known[-1] & start_bit and len(known) - 1 == best:
             return []
-        from_start = step_map(self.topo, blocked, [start], limit=best)
-        return [c for c in range(self.maze.size ** 2)
-                if from_start[c] + from_goal[c] == best and not self.maze.cell_known(c)]
+        from_start = layers(self.topo, sides, start_bit, limit=best)
+        on_best = 0
+        for k, layer in enumerate(from_start):
+            on_best |= layer & from_goal[best - k]
+        return cells_of(on_best & ~known_cells(self.topo, self.maze.known), size)
 
     def route_cells(self) -> list[int]:
         """The time objective's stopping rule: cells beside the unknown walls of one fastest route with unknown

@@ -6,6 +6,7 @@ depends on the question, so callers pass a `blocked` array indexed by wall id (s
 
 from __future__ import annotations
 
+from functools import lru_cache
 from typing import Iterable, Sequence
 
 from .model import Cell, Maze, Topology, central_goals
@@ -31,12 +32,8 @@ def pessimistic(maze: Maze) -> bytes:
     return (_as_int(maze.wall) | (_as_int(maze.known) ^ ones)).to_bytes(n, "little")
 
 
-def step_map(topo: Topology, blocked: Sequence[int], sources: Iterable[int], until: int | None = None,
-             limit: int | None = None) -> list[int]:
-    """Layer by layer (no deque, no per-step index arithmetic): the search asks for a thousand of these.
-
-    `until`: stop once that cell is reached; `limit`: stop after that many steps. Cells not reached by then are
-    UNREACHED, which is all a caller that only looks at nearer cells needs, at a fraction of the cost."""
+def step_map(topo: Topology, blocked: Sequence[int], sources: Iterable[int]) -> list[int]:
+    """Layer by layer over precomputed passages (no deque, no per-step index arithmetic)."""
     dist = [UNREACHED] * (topo.size * topo.size)
     frontier = []
     for s in sources:
@@ -54,9 +51,86 @@ def step_map(topo: Topology, blocked: Sequence[int], sources: Iterable[int], unt
                     dist[m] = d
                     reached.append(m)
         frontier = reached
-        if (until is not None and dist[until] < UNREACHED) or (limit is not None and d >= limit):
-            break
     return dist
+
+
+_OPEN_DIGIT = bytes([ord("1")]) + bytes([ord("0")]) * 255  # flag 0 (not blocked, or not known) -> "1"
+
+
+def _bits(flags: bytes, size: int, rows: int, width: int) -> int:
+    """`rows` runs of `width` 0/1 flags as a mask in the padded layout (bit y*(N+1) + x), 1 where a flag is 0."""
+    digits = flags.translate(_OPEN_DIGIT)
+    if width == size:  # a horizontal wall row: pad each row with a '0' to the stride N + 1
+        digits = b"0".join(digits[i * size:(i + 1) * size] for i in range(rows))
+    return int(digits[::-1], 2)
+
+
+def open_sides(topo: Topology, blocked: Sequence[int]) -> tuple[int, int, int, int]:
+    """Bit masks of the cells whose east, north, west and south walls are not blocked, in the padded layout
+    (bit y*(N+1) + x; column N is never entered, its west wall being the outer east wall): a whole step-map layer
+    is then a few operations on one integer instead of a loop over cells. Both masks of a wall family come
+    from one slice of the flags, as the wall index lays them out (model.wall_id)."""
+    n = topo.size
+    flags = bytes(blocked)
+    vertical = n * (n + 1)
+    south = _bits(flags[:vertical], n, n + 1, n)  # south side of row y = horizontal wall row y
+    west = _bits(flags[vertical:], n, n, n + 1)  # west side of (x, y) = vertical wall y*(N+1) + x
+    return west >> 1, south >> (n + 1), west, south
+
+
+def known_cells(topo: Topology, known: Sequence[int]) -> int:
+    """Bit mask (padded layout) of the cells whose four walls are all known."""
+    east, north, west, south = open_sides(topo, known)  # "open" here: the flag is 0, i.e. not known
+    return ~(east | north | west | south) & topo_cells(topo.size)
+
+
+@lru_cache(maxsize=8)
+def topo_cells(size: int) -> int:
+    """The mask of every real cell in the padded layout."""
+    return mask_of(range(size * size), size)
+
+
+def bit(c: int, size: int) -> int:
+    """Cell index c = y*N + x as its bit number y*(N+1) + x in the padded layout."""
+    return c + c // size
+
+
+def layers(topo: Topology, sides: tuple[int, int, int, int], sources: int, until: int | None = None,
+           limit: int | None = None) -> list[int]:
+    """Breadth-first layers as bit masks: layer d holds the cells d steps from `sources` (a mask). Stops once
+    cell `until` is reached, or after `limit` steps: callers that only look at nearer cells need no more."""
+    east, north, west, south = sides
+    stride = topo.size + 1
+    seen = front = sources
+    out = [front]
+    stop = 0 if until is None else 1 << bit(until, topo.size)
+    while front and not front & stop and (limit is None or len(out) <= limit):
+        front = ((((front & east) << 1) | ((front & west) >> 1) | ((front & north) << stride)
+                  | ((front & south) >> stride)) & ~seen)
+        if not front:
+            break
+        seen |= front
+        out.append(front)
+    return out
+
+
+def cells_of(mask: int, size: int) -> list[int]:
+    """The cell indices of a mask (padded layout), in increasing order."""
+    cells = []
+    stride = size + 1
+    while mask:
+        low = mask & -mask
+        b = low.bit_length() - 1
+        cells.append(b - b // stride)
+        mask ^= low
+    return cells
+
+
+def mask_of(cells: Iterable[int], size: int) -> int:
+    mask = 0
+    for c in cells:
+        mask |= 1 << bit(c, size)
+    return mask
 
 
 def path_down(topo: Topology, blocked: Sequence[int], dist: list[int], start: int) -> list[int]:
