@@ -16,6 +16,7 @@ from typing import Iterator
 from .builtin import builtin_names, builtin_path
 from .direction import DELTA, NORTH
 from .errors import MazeError
+from .mazeio import read_maze
 from .mms import parse_command
 from .mmsworld import MmsWorld
 from .model import Cell, Maze
@@ -98,8 +99,6 @@ def commands_for(trace: list[Cell]) -> Iterator[str]:
 
 
 def run_job(job: Job) -> Row:
-    from .cli import read_maze  # the one reader of every maze format
-
     truth = read_maze(Path(job.maze))
     timing = load_mouse(None, truth.size)
     world = MmsWorld(truth, timing)

@@ -18,7 +18,8 @@ from .builtin import EXAMPLES, builtin_example, builtin_names, builtin_path
 from .compare import WallDiff, compare
 from .direction import LETTER
 from .errors import MazeError
-from .mazefile import dump_maze, parse_maze
+from .mazefile import dump_maze
+from .mazeio import read_maze
 from .mazejson import maze_to_json
 from .model import Cell, Maze, central_goals, inner_wall_count
 from .mouseparams import MouseParams, load_mouse
@@ -142,22 +143,6 @@ def main() -> None:
     """Micromouse wall logs: 16-bit WallRecords appended during a search (see docs/MAZELOG.md).
 
     A MAZE argument is a maze file or the name of a built-in maze (`mazelog mazes`)."""
-
-
-def read_maze(path: Path) -> Maze:
-    """By suffix: mms's `.num`, the 256-byte `.maz`, else the common text format."""
-    from .mazeformats import parse_maz, parse_num
-
-    suffix = path.suffix.lower()
-    try:
-        if suffix == ".maz":
-            return parse_maz(path.read_bytes())
-        text = path.read_text(encoding="utf-8")
-        return parse_num(text) if suffix == ".num" else parse_maze(text)
-    except UnicodeDecodeError:
-        raise MazeError(f"{path}: not a text maze file") from None
-    except MazeError as e:
-        raise MazeError(f"{path}: {e}") from None
 
 
 def read_log(path: Path, size: int, strict: bool) -> LoadedLog:
