@@ -522,7 +522,11 @@ def explore_mouse(program: str, truth: Maze, mazefile: Path, objective: str, dia
     if animate is not None:
         film_mouse(world, mazefile, program, animate)
     if run.fault is not None:
-        raise MazeError(f"--mouse: {run.fault} (the log of what it sensed so far is kept in {log_path})")
+        message = f"--mouse: {run.fault} (the log of what it sensed so far is kept in {log_path})"
+        if run.fault.startswith("interrupted"):
+            click.echo(f"Error: {message}", err=True)
+            raise click.exceptions.Exit(130)  # as for any Ctrl-C
+        raise MazeError(message)
 
 
 def final_marks(world: Any) -> dict[Cell, tuple[str, str]]:

@@ -22,6 +22,7 @@ from .mms import ProtocolError, parse_command
 from .mmsworld import MmsWorld
 
 READ_BYTES = 65536
+MAX_LINE_BYTES = 1 << 16  # a longer line without a newline is no command: the program is printing garbage
 STDERR_TAIL_BYTES = 400
 KILL_WAIT_S = 2.0
 
@@ -91,6 +92,10 @@ def run_mouse(argv: list[str], world: MmsWorld, stderr_path: Path, max_steps: in
                         ended = "the program exited"
                         break
                     buffer += chunk
+                    if len(buffer) > MAX_LINE_BYTES and b"\n" not in buffer:
+                        fault = (f"line {lineno + 1} of the program's output is longer than {MAX_LINE_BYTES} bytes "
+                                 f"(no mms command is)")
+                        break
                     continue
                 raw, buffer = buffer[:newline], buffer[newline + 1:]
                 lineno += 1
@@ -117,6 +122,8 @@ def run_mouse(argv: list[str], world: MmsWorld, stderr_path: Path, max_steps: in
                 if time_budget is not None and world.search().seconds > time_budget:
                     ended = f"--time-budget {time_budget:g} s of modelled search time used up"
                     break
+        except KeyboardInterrupt:
+            fault = f"interrupted (Ctrl-C) after {commands} commands"
         finally:
             selector.close()
             status = _finish(proc, ended == "the program exited")

@@ -44,7 +44,10 @@ def _umask() -> int:
 def atomic_open(path: Path, mode: str = "wb") -> Iterator[IO]:
     """A file object whose contents replace `path` only when the block ends without an error."""
     folder = path.parent if str(path.parent) else Path(".")
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
+    except OSError as e:  # name the output the user gave, not our temporary file
+        raise MazeError(f"{path}: cannot write there ({e.strerror})") from None
     os.chmod(tmp, 0o666 & ~_umask())  # mkstemp's 0600 would make every output private
     try:
         with os.fdopen(fd, mode, **({} if "b" in mode else {"encoding": "utf-8"})) as fp:

@@ -166,3 +166,10 @@ def test_bench_search_says_where_its_mazes_come_from(tmp_path: Path) -> None:
     assert r.returncode == 1
     assert "micromouseonline/mazefiles at commit a71f846897fdd2193e726a1276c6774c9ce9ac67" in r.stderr
     assert "--builtin for the mazes shipped in the package" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_an_output_in_a_missing_folder_is_named_as_given(tmp_path: Path) -> None:
+    out = tmp_path / "no" / "such" / "run.bin"
+    r = run("explore", "minimaze", "--log", out)
+    assert r.exit_code == 1
+    assert r.output.strip() == f"Error: {out}: cannot write there (No such file or directory)"
