@@ -123,7 +123,7 @@ def run_mouse(argv: list[str], world: MmsWorld, stderr_path: Path, max_steps: in
                     ended = f"--time-budget {time_budget:g} s of modelled search time used up"
                     break
         except KeyboardInterrupt:
-            fault = f"interrupted (Ctrl-C) after {commands} commands"
+            fault = f"interrupted (Ctrl-C) after {commands} command{'s' * (commands != 1)}"
         finally:
             selector.close()
             status = _finish(proc, ended == "the program exited")

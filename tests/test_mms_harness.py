@@ -155,3 +155,24 @@ def test_a_film_shows_the_mouse_marks(tmp_path: Path) -> None:
         assert film.n_frames > 100
     pixels = np.array(Image.open(png).convert("RGB"))
     assert np.all(pixels == (0, 255, 255), axis=2).sum() > 1000  # the mouse's setColor 'c'
+
+
+def test_ctrl_c_keeps_the_logs_and_exits_130(tmp_path: Path) -> None:
+    import signal
+    import time
+
+    log = tmp_path / "int.bin"
+    exe = shutil.which("mazelog")
+    assert exe is not None
+    proc = subprocess.Popen([exe, "explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'silent.py'}",
+                             "--timeout", "30", "--log", str(log)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)
+    deadline = time.monotonic() + 20
+    while not (tmp_path / "int.stderr.txt").exists() and time.monotonic() < deadline:
+        time.sleep(0.05)
+    time.sleep(0.5)  # the mouse has asked its one question and gone quiet
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=20)
+    assert proc.returncode == 130
+    assert "Error: --mouse: interrupted (Ctrl-C) after 1 command (" in err and "Traceback" not in err
+    assert log.exists()
