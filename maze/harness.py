@@ -105,6 +105,9 @@ def run_mouse(argv: list[str], world: MmsWorld, stderr_path: Path, max_steps: in
                 try:
                     cmd = parse_command(line)
                 except ProtocolError as e:
+                    if not e.fatal:  # no answer was due: mms drops it and the program carries on
+                        world.warnings.append(f"line {lineno} of the program's output: {e} (ignored, as mms does)")
+                        continue
                     fault = f"line {lineno} of the program's output: {e}"
                     break
                 reply = world.handle(cmd)

@@ -27,7 +27,9 @@ COMMANDS: dict[str, tuple[str, bool]] = {
     "setText": ("xyt", False), "clearText": ("xy", False), "clearAllText": ("", False),
     "getStat": ("stat", True),
 }
-WALL_LETTERS: dict[str, int] = {"n": NORTH, "e": EAST, "s": SOUTH, "w": WEST}
+WALL_LETTERS: dict[str, int] = {"n": NORTH, "e": EAST, "s": SOUTH, "w": WEST,
+                                "N": NORTH, "E": EAST, "S": SOUTH, "W": WEST}  # mms's own README writes 'W'
+
 COLOURS = "kbacgorwyBCAGRY"  # mms's colour letters: black, blue, grey, cyan, green, orange, red, white, yellow, dark...
 STATS = ("total-distance", "total-turns", "best-run-distance", "best-run-turns", "current-run-distance",
          "current-run-turns", "total-effective-distance", "best-run-effective-distance",
@@ -36,7 +38,12 @@ MAX_TEXT = 10  # mms shows at most this many characters in a cell
 
 
 class ProtocolError(MazeError):
-    """A line the mouse printed that no mms command matches."""
+    """A line the mouse printed that no mms command matches. `fatal` unless it names a command that gets no
+    answer (setWall, setColor, ...): mms ignores those, the program does not wait, and the run can go on."""
+
+    def __init__(self, message: str, fatal: bool = True) -> None:
+        super().__init__(message)
+        self.fatal = fatal
 
 
 @dataclass(frozen=True)
@@ -55,43 +62,50 @@ def _int(token: str, what: str) -> int:
     try:
         return int(token)
     except ValueError:
-        raise ProtocolError(f"{what} must be an integer, got {token!r}") from None
+        raise ValueError(f"{what} must be an integer, got {token!r}") from None
 
 
 def parse_command(line: str) -> Command:
     """One line as the program printed it (without its newline); ProtocolError says what is wrong with it."""
-    head, _, rest = line.strip(" \r").partition(" ")
+    head, _, rest = line.strip(" \r\t").partition(" ")
     if head not in COMMANDS:
         shown = line if len(line) <= 60 else line[:57] + "..."
         raise ProtocolError(f"unknown command {shown!r} (mms would ignore it and the program would wait forever)")
-    spec, _ = COMMANDS[head]
+    spec, answered = COMMANDS[head]
+    try:
+        return _parse_args(head, spec, rest)
+    except ValueError as e:
+        raise ProtocolError(str(e), fatal=answered) from None
+
+
+def _parse_args(head: str, spec: str, rest: str) -> Command:
     if spec == "xyt":
         xs, _, rest2 = rest.lstrip(" ").partition(" ")
         ys, _, text = rest2.lstrip(" ").partition(" ")
         if not xs or not ys:
-            raise ProtocolError(f"{head} needs X Y TEXT")
+            raise ValueError(f"{head} needs X Y TEXT")
         printable = "".join(c if " " <= c <= "~" else "?" for c in text)  # as mms does
         return Command(head, x=_int(xs, "X"), y=_int(ys, "Y"), text=printable[:MAX_TEXT])
     args = rest.split()
     if spec in ("", "n", "stat"):
         most = 0 if spec == "" else 1
         if len(args) > most or (spec == "stat" and len(args) != 1):
-            raise ProtocolError(f"{head} takes {'no arguments' if spec == '' else 'one argument'}, got {rest!r}")
+            raise ValueError(f"{head} takes {'no arguments' if spec == '' else 'one argument'}, got {rest!r}")
         if spec == "stat":
             if args[0] not in STATS:
-                raise ProtocolError(f"unknown statistic {args[0]!r} (one of {', '.join(STATS)})")
+                raise ValueError(f"unknown statistic {args[0]!r} (one of {', '.join(STATS)})")
             return Command(head, stat=args[0])
         return Command(head, count=_int(args[0], "N") if args else None)
     want = 2 if spec == "xy" else 3
     if len(args) != want:
-        raise ProtocolError(f"{head} needs {'X Y' if want == 2 else 'X Y ' + spec[2].upper()}, got {rest!r}")
+        raise ValueError(f"{head} needs {'X Y' if want == 2 else 'X Y ' + spec[2].upper()}, got {rest!r}")
     x, y = _int(args[0], "X"), _int(args[1], "Y")
     if spec == "xyd":
         if args[2] not in WALL_LETTERS:
-            raise ProtocolError(f"{head}: direction must be n, e, s or w, got {args[2]!r}")
+            raise ValueError(f"{head}: direction must be n, e, s or w, got {args[2]!r}")
         return Command(head, x=x, y=y, direction=WALL_LETTERS[args[2]])
     if spec == "xyc":
         if len(args[2]) != 1 or args[2] not in COLOURS:
-            raise ProtocolError(f"{head}: colour must be one of {COLOURS}, got {args[2]!r}")
+            raise ValueError(f"{head}: colour must be one of {COLOURS}, got {args[2]!r}")
         return Command(head, x=x, y=y, colour=args[2])
     return Command(head, x=x, y=y)

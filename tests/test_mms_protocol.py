@@ -74,3 +74,21 @@ def test_well_formed_commands_round_trip(name: str, x: int, y: int, n: int, d: s
         assert cmd.text == text
     if spec == "stat":
         assert cmd.stat == stat
+
+
+@pytest.mark.parametrize("line, fatal", [
+    ("wallFront x", True),  # an answer is due: the program would wait for ever
+    ("getStat speed", True),
+    ("hello", True),
+    ("setWall 1 2 q", False),  # no answer is due: mms drops it and the program goes on
+    ("setColor 1 2 purple", False),
+    ("clearText a b", False),
+])
+def test_which_bad_lines_end_the_run(line: str, fatal: bool) -> None:
+    with pytest.raises(ProtocolError) as e:
+        parse_command(line)
+    assert e.value.fatal is fatal
+
+
+def test_wall_letters_in_either_case_as_mms_readme_writes_them() -> None:
+    assert parse_command("setWall 0 0 W") == Command("setWall", direction=WEST)
