@@ -22,6 +22,7 @@ from .mms import ProtocolError, parse_command
 from .mmsworld import MmsWorld
 
 READ_BYTES = 65536
+MAX_COMMANDS = 2_000_000  # mms's templates never stop on their own: a run ends here at the latest (minutes)
 MAX_LINE_BYTES = 1 << 16  # a longer line without a newline is no command: the program is printing garbage
 STDERR_TAIL_BYTES = 400
 KILL_WAIT_S = 2.0
@@ -121,6 +122,9 @@ def run_mouse(argv: list[str], world: MmsWorld, stderr_path: Path, max_steps: in
                         break
                 if max_steps is not None and world.steps >= max_steps:
                     ended = f"--max-steps {max_steps} reached"
+                    break
+                if commands >= MAX_COMMANDS:
+                    ended = f"{MAX_COMMANDS} commands sent (a program that never ends its search; see --max-steps)"
                     break
                 if time_budget is not None and world.search().seconds > time_budget:
                     ended = f"--time-budget {time_budget:g} s of modelled search time used up"
