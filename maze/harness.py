@@ -9,6 +9,7 @@ an error status.
 from __future__ import annotations
 
 import os
+import select
 import selectors
 import shlex
 import shutil
@@ -75,6 +76,7 @@ def run_mouse(argv: list[str], world: MmsWorld, stderr_path: Path, max_steps: in
         except OSError as e:
             raise MazeError(f"--mouse: cannot start {argv[0]!r}: {e.strerror}") from None
         out_fd, in_fd = proc.stdout.fileno(), proc.stdin.fileno()
+        os.set_blocking(in_fd, False)  # a program that never reads its answers must not block us once the pipe is full
         selector = selectors.DefaultSelector()
         selector.register(out_fd, selectors.EVENT_READ)
         buffer = b""
@@ -116,7 +118,10 @@ def run_mouse(argv: list[str], world: MmsWorld, stderr_path: Path, max_steps: in
                 last = f"{line[:40]!r} (line {lineno})"
                 if reply is not None:
                     try:
-                        os.write(in_fd, reply.encode() + b"\n")
+                        if not _send(in_fd, reply.encode() + b"\n", timeout):
+                            fault = (f"the program read none of its answers for {timeout:g} s (last command: "
+                                     f"{last})")
+                            break
                     except BrokenPipeError:
                         ended = "the program exited"
                         break
@@ -140,6 +145,17 @@ def run_mouse(argv: list[str], world: MmsWorld, stderr_path: Path, max_steps: in
     if fault is not None:
         ended = "fault"
     return MouseRun(world, commands, ended, fault, status, time.perf_counter() - t0)
+
+
+def _send(fd: int, data: bytes, timeout: float) -> bool:
+    """Write all of `data`, waiting at most `timeout` seconds at a time for the program to make room."""
+    while data:
+        try:
+            data = data[os.write(fd, data):]
+        except BlockingIOError:
+            if not select.select([], [fd], [], timeout)[1]:
+                return False
+    return True
 
 
 def _finish(proc: subprocess.Popen[bytes], exited: bool) -> int | None:

@@ -92,6 +92,14 @@ def test_a_broken_mouse_gets_one_line_and_its_log_is_kept(tmp_path: Path, mouse:
     assert log.exists()
 
 
+def test_a_mouse_that_never_reads_its_answers_times_out(tmp_path: Path) -> None:
+    r = run("explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'deaf.py'}", "--timeout", "0.5",
+            "--log", tmp_path / "d.bin")
+    assert r.exit_code == 1
+    assert "Error: --mouse: the program read none of its answers for 0.5 s" in r.output
+    assert len((tmp_path / "d.bin").read_bytes()) >= 2
+
+
 def test_a_mouse_that_never_answers_times_out(tmp_path: Path) -> None:
     r = run("explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'silent.py'}", "--timeout", "0.5",
             "--log", tmp_path / "s.bin")
