@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
+from math import ceil
 
 import numpy as np
 from scipy.sparse import csr_array
@@ -24,7 +25,8 @@ from .model import Cell, Maze, point_wall
 from .motion import HALF_DIAGONAL, TURNS, straight_seconds, turn_seconds
 from .mouseparams import MouseParams
 
-LAYERS = 3  # A, B, G
+LAYERS = 4  # A, B, G, C
+A, B, G, C = range(LAYERS)
 MIN_SECONDS = 1e-9  # zero-length straights still need an edge, and scipy drops zero weights
 MAX_CROSSINGS = 4  # the most walls a turn crosses (the 180)
 MAX_QUERY_GRAPHS = 4  # (start, goals) pairs kept per move graph: a search has one, `path` of a cell run another
@@ -125,6 +127,7 @@ class QueryGraph:
     straight, `len` open walls ahead at node `key`; for a turn, its walls; for a start edge, its first wall too."""
 
     graph: csr_array
+    before_turns: int  # straights (rows of A) before the turns; the chain's (rows of C) after them
     st_key: np.ndarray
     st_len: np.ndarray
     st_cost: np.ndarray
@@ -220,7 +223,7 @@ class MoveGraph:
             pts = self._entry_points(h)
             sx, sy = self._stride(h)
             top, unit = self._top_speed(h), self._unit(h)
-            for n in range(2 * self.size + 1):
+            for n in range(min(2 * self._chain_k(h), 2 * self.size + 1)):
                 ex, ey = self.px[pts] + n * sx, self.py[pts] + n * sy
                 ok = self._inside(ex, ey)
                 if not ok.any():
@@ -243,6 +246,50 @@ class MoveGraph:
         self.st_cost_b = np.concatenate(cost_b)
         self.st_cost_g = np.concatenate(cost_g)
         self.st_end_cell = np.concatenate(ends)
+        # a free-ended straight to the goal line of k or more steps goes through the chain (see _build_chain)
+        self.st_g_direct = self.st_len < np.array([self._chain_k(h) for h in range(8)])[self.st_key % 8]
+        self._build_chain()
+
+    def _chain_k(self, h: int) -> int:
+        """Steps a straight in heading h needs to reach top speed from turn speed (and to brake back)."""
+        run, top = self.mouse.run, self._top_speed(h)
+        step = self._unit(h) * self.mouse.cell
+        d_up = (top * top - run.turn_speed ** 2) / (2 * run.accel)
+        k = max(1, ceil(d_up / step))
+        return k + 1 if k * step < d_up else k
+
+    def _build_chain(self) -> None:
+        """Long straights as a chain, so that their count grows with the maze and not with its square: from A, k
+        steps speeding up to top speed into layer C; in C one step at top speed at a time; from C, k steps braking
+        into B, or straight over the goal line into G. A straight of n >= 2k steps then costs exactly its
+        trapezoid, and one of n >= k steps to the goal line its free-ended time."""
+        run = self.mouse.run
+        src, dst, key, length, cost, goal_cell = [], [], [], [], [], []
+        for h in self.headings:
+            pts = self._entry_points(h)
+            sx, sy = self._stride(h)
+            k, top = self._chain_k(h), self._top_speed(h)
+            step = self._unit(h) * self.mouse.cell
+            speed_up = straight_seconds(k * step, run.turn_speed, None, top, run.accel)  # braking costs the same
+            nodes = pts * 8 + h
+            for n, seconds, from_layer, to_layer in ((k, speed_up, A, C), (1, step / top, C, C), (k, speed_up, C, B)):
+                ex, ey = self.px[pts] + n * sx, self.py[pts] + n * sy
+                ok = self._inside(ex, ey)
+                src.append(nodes[ok] + from_layer * self.layer)
+                dst.append(self._index(ex[ok], ey[ok]) * 8 + h + to_layer * self.layer)
+                key.append(nodes[ok])
+                length.append(np.full(ok.sum(), n))
+                cost.append(np.full(ok.sum(), seconds))
+                goal_cell.append(np.full(ok.sum(), -1))
+            src.append(nodes + C * self.layer)  # C -> G: over the goal line at top speed (goals chosen per query)
+            dst.append(nodes + G * self.layer)
+            key.append(nodes)
+            length.append(np.zeros(len(nodes), dtype=np.int64))
+            cost.append(np.zeros(len(nodes)))  # an explicit zero in a CSR matrix is an edge to scipy
+            goal_cell.append(self._entered_cells(pts, h))
+        self.ch_src, self.ch_dst = np.concatenate(src), np.concatenate(dst)
+        self.ch_key, self.ch_len = np.concatenate(key), np.concatenate(length)
+        self.ch_cost, self.ch_goal_cell = np.concatenate(cost), np.concatenate(goal_cell)
 
     def _entered_cells(self, points: np.ndarray, h: int) -> np.ndarray:
         """Flat index of the cell a mouse heading h enters at each wall point (-1 outside the maze)."""
@@ -314,21 +361,29 @@ class MoveGraph:
         return self._queries[key]
 
     def _build_query(self, start: Cell, goals: tuple[Cell, ...]) -> QueryGraph:
-        to_goal = self._goal_mask(goals)
-        src = np.concatenate([self.st_src, self.st_src[to_goal]])
+        to_goal = self._goal_mask(goals) & self.st_g_direct
+        in_goal = np.isin(self.ch_goal_cell, [y * self.size + x for x, y in goals])
+        chain = (self.ch_goal_cell < 0) | in_goal
+        # the straights' and the chain's edges all need open walls ahead; their rows (A, then C) come before and
+        # after the turns' (B) in the matrix, so they are kept as one array in row order with the turns between
+        src = np.concatenate([self.st_src, self.st_src[to_goal], self.ch_src[chain]])
         order = np.argsort(src, kind="stable")
-        st_dst = np.concatenate([self.st_dst + self.layer, self.st_dst[to_goal] + 2 * self.layer])[order]
-        st_key = np.concatenate([self.st_key, self.st_key[to_goal]])[order]
-        st_len = np.concatenate([self.st_len, self.st_len[to_goal]])[order]
-        st_cost = np.concatenate([self.st_cost_b, self.st_cost_g[to_goal]])[order]
+        st_dst = np.concatenate([self.st_dst + B * self.layer, self.st_dst[to_goal] + G * self.layer,
+                                 self.ch_dst[chain]])[order]
+        st_key = np.concatenate([self.st_key, self.st_key[to_goal], self.ch_key[chain]])[order]
+        st_len = np.concatenate([self.st_len, self.st_len[to_goal], self.ch_len[chain]])[order]
+        st_cost = np.concatenate([self.st_cost_b, self.st_cost_g[to_goal], self.ch_cost[chain]])[order]
         t_order = np.argsort(self.tu_src, kind="stable")
         s_dst, s_key, s_len, s_wall, s_cost = self._start_edges(start, goals)
-        rows = np.concatenate([src[order], self.tu_src[t_order], np.full(len(s_dst), self.start_node)])
-        cols = np.concatenate([st_dst, self.tu_dst[t_order], s_dst]).astype(np.int32)
+        src = src[order]
+        before = int(np.searchsorted(src, B * self.layer))  # rows of A; those of C follow the turns
+        rows = np.concatenate([src[:before], self.tu_src[t_order], src[before:],
+                               np.full(len(s_dst), self.start_node)])
+        cols = np.concatenate([st_dst[:before], self.tu_dst[t_order], st_dst[before:], s_dst]).astype(np.int32)
         n = self.start_node + 1
         indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=n))]).astype(np.int32)
         graph = csr_array((np.zeros(len(cols)), cols, indptr), shape=(n, n))
-        return QueryGraph(graph, st_key, st_len, st_cost, self.tu_walls[t_order], self.tu_cost[t_order],
+        return QueryGraph(graph, before, st_key, st_len, st_cost, self.tu_walls[t_order], self.tu_cost[t_order],
                           s_key, s_len, s_wall, s_cost)
 
     def _start_edges(self, start: Cell, goals: tuple[Cell, ...]) -> tuple[np.ndarray, ...]:
@@ -351,9 +406,9 @@ class MoveGraph:
                     break
                 node = self._index(x, y) * 8 + h
                 metres = (n - 0.5) * self.mouse.cell
-                ends = [(node + self.layer, straight_seconds(metres, 0.0, p.turn_speed, p.top_speed, p.accel))]
+                ends = [(node + B * self.layer, straight_seconds(metres, 0.0, p.turn_speed, p.top_speed, p.accel))]
                 if _entered((x, y), (x - dx, y - dy)) in goal_set:
-                    ends.append((node + 2 * self.layer, straight_seconds(metres, 0.0, None, p.top_speed, p.accel)))
+                    ends.append((node + G * self.layer, straight_seconds(metres, 0.0, None, p.top_speed, p.accel)))
                 for end, seconds in ends:
                     dst.append(end)
                     key.append(first * 8 + h)
@@ -368,9 +423,11 @@ class MoveGraph:
         q = self._query(start, goals)
         open_ext = np.concatenate([np.frombuffer(bytes(blocked), dtype=np.uint8) == 0, [True, False]])
         run = self._runs(open_ext)
+        straights = np.where(run[q.st_key] >= q.st_len, q.st_cost, np.inf)
         q.graph.data[:] = np.concatenate([
-            np.where(run[q.st_key] >= q.st_len, q.st_cost, np.inf),
+            straights[:q.before_turns],
             np.where(open_ext[q.tu_walls].all(axis=1), q.tu_cost, np.inf),
+            straights[q.before_turns:],
             np.where(open_ext[q.s_wall] & (run[q.s_key] >= q.s_len), q.s_cost, np.inf)])
         dist, pred = dijkstra(q.graph, directed=True, indices=self.start_node, return_predecessors=True)
         return dist, pred
@@ -378,11 +435,11 @@ class MoveGraph:
     def fastest(self, blocked: bytes | bytearray, start: Cell, goals: tuple[Cell, ...]) -> Route | None:
         """The fastest run through walls not blocked (1 = blocked, indexed by wall id); None if there is none."""
         dist, pred = self._solve(blocked, start, goals)
-        g = dist[2 * self.layer: 3 * self.layer]
+        g = dist[G * self.layer: (G + 1) * self.layer]
         best = int(np.argmin(g))
         if not np.isfinite(g[best]):
             return None
-        nodes = [best + 2 * self.layer]
+        nodes = [best + G * self.layer]
         while nodes[-1] != self.start_node:
             nodes.append(int(pred[nodes[-1]]))
         return self._route(nodes[::-1], dist, start)
@@ -392,7 +449,8 @@ class MoveGraph:
         return (p % self.side, p // self.side), h
 
     def _edge(self, u: int, v: int, start: Cell) -> tuple[list[tuple[int, int]], str, float]:
-        """The walls edge u->v crosses (as points), its token ('' for a zero-length straight) and its length."""
+        """The walls edge u->v crosses (as points), its token ('' for a piece of a straight, which _route joins)
+        and its length in cells."""
         (vx, vy), h = self._point(v)
         if u == self.start_node:
             cx, cy = 2 * start[0] + 1, 2 * start[1] + 1
@@ -400,22 +458,32 @@ class MoveGraph:
             n = (abs(vx - cx) + abs(vy - cy) + 1) // 2
             return [(cx + (2 * k - 1) * dx, cy + (2 * k - 1) * dy) for k in range(1, n + 1)], f"S{n - 0.5:g}", n - 0.5
         (ux, uy), _ = self._point(u)
-        if u // self.layer == 0:  # a straight from A
+        if u // self.layer in (A, C):  # a straight, or a piece of one
             sx, sy = self._stride(h)
             n = max(abs(vx - ux) // max(abs(sx), 1), abs(vy - uy) // max(abs(sy), 1))
-            token = f"{'S' if h in ALONG else 'D'}{n}" if n else ""
-            return [(ux + k * sx, uy + k * sy) for k in range(1, n + 1)], token, n * self._unit(h)
+            return [(ux + k * sx, uy + k * sy) for k in range(1, n + 1)], "", n * self._unit(h)
         shape = self.shapes[self._turn_lookup[(u, v)]]
         return [(ux + ox, uy + oy) for ox, oy in shape.offsets], shape.token, TURNS[shape.name].cells
 
     def _route(self, nodes: list[int], dist: np.ndarray, start: Cell) -> Route:
         points = [(2 * start[0] + 1, 2 * start[1] + 1)]
         moves: list[Move] = []
+        straight: tuple[int, float] | None = None  # (node it began at, cells so far) of a straight being joined
         for u, v in zip(nodes, nodes[1:]):
             crossed, token, cells = self._edge(u, v, start)
             points += crossed
             if token:
                 moves.append(Move(token, cells, float(dist[v] - dist[u])))
+                continue
+            begin, length = straight or (u, 0.0)
+            length += cells
+            straight = (begin, length)
+            if v // self.layer in (B, G):  # the straight ends here
+                h = v % 8
+                steps = round(length / self._unit(h))
+                if steps:
+                    moves.append(Move(f"{'S' if h in ALONG else 'D'}{steps}", length, float(dist[v] - dist[begin])))
+                straight = None
         cells = [start] + [_entered(p, q) for q, p in zip(points, points[1:])]
         walls = [int(self.wall_at[self._index(x, y)]) for x, y in points[1:]]
         return Route(moves, float(dist[nodes[-1]]), points, walls, cells)
