@@ -2,7 +2,11 @@
 strategy, one fastest-path query, and the mms protocol's cost per command; printed for the built-in mazes
 (development) and for held-out mazes (../shared/mazes/halfsize, or --held-out DIR) apart.
 
-Usage: python scripts/bench_maze_speed.py [--repeat N] [--held-out DIR] [--held-out-count N]
+Usage: python scripts/bench_maze_speed.py [--repeat N] [--held-out DIR] [--held-out-count N] [--section S]...
+
+The query section runs on an older maze package too, for a before/after table under similar load:
+    git archive main maze | tar -x -C /tmp/before
+    cd /tmp && PYTHONPATH=/tmp/before python /path/to/scripts/bench_maze_speed.py --section query
 """
 
 from __future__ import annotations
@@ -16,11 +20,10 @@ from pathlib import Path
 
 import click
 
+import maze
 from maze.builtin import builtin_path
 from maze.fastpath import fastest_route
 from maze.mazefile import parse_maze
-from maze.mms import parse_command
-from maze.mmsworld import MmsWorld
 from maze.model import Maze
 from maze.mouseparams import load_mouse
 from maze.stepmap import optimistic, pessimistic
@@ -62,6 +65,9 @@ def queries(maze_path: Path, repeat: int) -> dict[str, tuple[float, float]]:
 
 def protocol_in_process(repeat: int) -> float:
     """Parsing and answering, per command, on the mms-python template's command stream."""
+    from maze.mms import parse_command
+    from maze.mmsworld import MmsWorld
+
     truth = parse_maze(builtin_path("japan2019hef").read_text())
     lines = ["wallLeft", "turnLeft", "wallFront", "turnRight", "wallFront", "moveForward", "setColor 1 1 r",
              "getStat score", "wallRight 3"] * 1000
@@ -87,10 +93,13 @@ def print_rows(title: str, rows: dict[str, tuple[float, float]]) -> None:
               show_default="../shared/mazes/halfsize")
 @click.option("--held-out-count", type=click.IntRange(min=1), default=4, show_default=True,
               help="How many held-out mazes (every k-th of the folder, sorted).")
-def main(repeat: int, held_out: Path, held_out_count: int) -> None:
+@click.option("--section", "sections", type=click.Choice(["explore", "query", "protocol"]), multiple=True,
+              help="Only these parts (repeatable) [all].")
+def main(repeat: int, held_out: Path, held_out_count: int, sections: tuple[str, ...]) -> None:
     """Print the figures; no pass/fail (the issue's targets: 0.5 s, 2 ms, 20 us)."""
+    sections = sections or ("explore", "query", "protocol")
     with open("/proc/loadavg") as fp:
-        print(f"load average at start: {fp.read().split()[0]}")
+        print(f"maze package {Path(maze.__file__).parent}; load average at start: {fp.read().split()[0]}")
     held = sorted(held_out.glob("*.txt")) if held_out.is_dir() else []
     held = held[:: max(1, len(held) // held_out_count)][:held_out_count]
     sets = {"development (built-in)": [builtin_path(n) for n in DEV_32], "held out": held}
@@ -98,16 +107,21 @@ def main(repeat: int, held_out: Path, held_out_count: int) -> None:
         if not mazes:
             print(f"{name}: no mazes (give --held-out DIR)")
             continue
-        print_rows(f"\nwhole-process `mazelog explore MAZE --log /dev/null`, {name}:",
-                   {f"{m.stem} (stop, cells)": whole_process(m, repeat) for m in mazes})
-        print_rows(f"\nwhole-process with --objective time --diagonal, {name}:",
-                   {f"{m.stem}": whole_process(m, max(1, repeat // 2), "--objective", "time", "--diagonal")
-                    for m in mazes})
-        print(f"\nfastest-path query (in process), {name}:")
-        for m in mazes:
-            print_rows(f" {m.stem}", queries(m, repeat * 4))
-    print_rows("\nfastest-path query, 16x16 (development):", {
-        f"{n}, {k}": v for n in DEV_16 for k, v in queries(builtin_path(n), repeat * 4).items()})
+        if "explore" in sections:
+            print_rows(f"\nwhole-process `mazelog explore MAZE --log /dev/null`, {name}:",
+                       {f"{m.stem} (stop, cells)": whole_process(m, repeat) for m in mazes})
+            print_rows(f"\nwhole-process with --objective time --diagonal, {name}:",
+                       {f"{m.stem}": whole_process(m, max(1, repeat // 2), "--objective", "time", "--diagonal")
+                        for m in mazes})
+        if "query" in sections:
+            print(f"\nfastest-path query (in process), {name}:")
+            for m in mazes:
+                print_rows(f" {m.stem}", queries(m, repeat * 4))
+    if "query" in sections:
+        print_rows("\nfastest-path query, 16x16 (development):", {
+            f"{n}, {k}": v for n in DEV_16 for k, v in queries(builtin_path(n), repeat * 4).items()})
+    if "protocol" not in sections:
+        return
     print(f"\nmms protocol, parse + answer in process: {protocol_in_process(repeat):.2f} us per command")
     for label, mouse in (("mms-python template, 2000 steps", f"{sys.executable} {MICE / 'mms_python' / 'Main.py'}"),):
         exe = shutil.which("mazelog") or "mazelog"
