@@ -1,5 +1,6 @@
 """A floodfill mouse for the mms protocol: to the central goal the way most mice assume it, back to the start,
-then exit. It marks the walls it learns with setWall and the cells it has been in with setColor / setText."""
+then exit. It marks the walls it learns with setWall and the cells it has been in with setColor / setText; after
+a reset (wasReset) it acknowledges it and carries on from the start with the walls it had."""
 
 import sys
 from collections import deque
@@ -52,6 +53,11 @@ def main():
     def go(targets):
         nonlocal x, y, h
         while (x, y) not in targets:
+            if ask("wasReset") == "true":  # a crash: back to the start, keeping the map (as restored from a backup)
+                tell("clearAllColor")
+                ask("ackReset")
+                x, y, h = 0, 0, 0
+                sys.stderr.write("reset: restarting from the start with the walls kept\n")
             learn()
             tell(f"setColor {x} {y} c")
             dist = flood(targets)
