@@ -79,13 +79,13 @@ def run_mouse(argv: list[str], world: MmsWorld, stderr_path: Path, max_steps: in
         os.set_blocking(in_fd, False)  # a program that never reads its answers must not block us once the pipe is full
         selector = selectors.DefaultSelector()
         selector.register(out_fd, selectors.EVENT_READ)
-        buffer = b""
+        buffer, start = b"", 0  # lines are taken from `start` on, so a burst of lines is not copied line by line
         commands, lineno = 0, 0
         ended, fault = "", None
         last = "(none yet)"
         try:
             while True:
-                newline = buffer.find(b"\n")
+                newline = buffer.find(b"\n", start)
                 if newline < 0:
                     if not selector.select(timeout):
                         fault = f"the program sent no command for {timeout:g} s (last command: {last})"
@@ -94,13 +94,13 @@ def run_mouse(argv: list[str], world: MmsWorld, stderr_path: Path, max_steps: in
                     if not chunk:
                         ended = "the program exited"
                         break
-                    buffer += chunk
+                    buffer, start = buffer[start:] + chunk, 0
                     if len(buffer) > MAX_LINE_BYTES and b"\n" not in buffer:
                         fault = (f"line {lineno + 1} of the program's output is longer than {MAX_LINE_BYTES} bytes "
                                  f"(no mms command is)")
                         break
                     continue
-                raw, buffer = buffer[:newline], buffer[newline + 1:]
+                raw, start = buffer[start:newline], newline + 1
                 lineno += 1
                 line = raw.decode("utf-8", "replace").rstrip("\r")
                 if not line.strip():
@@ -141,7 +141,8 @@ def run_mouse(argv: list[str], world: MmsWorld, stderr_path: Path, max_steps: in
             status = _finish(proc, ended == "the program exited")
     if ended == "the program exited" and status:
         tail = _tail(stderr_path)
-        fault = f"the program exited with status {status}" + (f": {tail}" if tail else "")
+        how = f"was killed by signal {-status}" if status < 0 else f"exited with status {status}"
+        fault = f"the program {how}" + (f": {tail}" if tail else "")
     if fault is not None:
         ended = "fault"
     return MouseRun(world, commands, ended, fault, status, time.perf_counter() - t0)

@@ -80,6 +80,7 @@ def test_floodfill_mouse_knows_the_path_that_mazelog_path_finds_on_its_log(tmp_p
     ("bad/exits.py", "the program exited with status 3: my mouse: out of memory"),
     ("bad/badcoords.py", "line 4 of the program's output: N must be an integer, got 'x'"),
     ("bad/flood.py", "line 2 of the program's output is longer than 65536 bytes (no mms command is)"),
+    ("bad/killed.py", "the program was killed by signal 9"),
 ])
 def test_a_broken_mouse_gets_one_line_and_its_log_is_kept(tmp_path: Path, mouse: str, words: str) -> None:
     log = tmp_path / "bad.bin"
