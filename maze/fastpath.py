@@ -21,7 +21,7 @@ from scipy.sparse.csgraph import dijkstra
 
 from .direction import ALONG, DELTA, DIAGONAL, STEP, opposite
 from .errors import MazeError
-from .model import Cell, Maze, point_wall
+from .model import Cell, Maze, point_wall, sides_of
 from .motion import HALF_DIAGONAL, TURNS, straight_seconds, turn_seconds
 from .mouseparams import MouseParams
 
@@ -115,10 +115,8 @@ class Route:
 
 def _entered(point: tuple[int, int], previous: tuple[int, int]) -> Cell:
     """The cell on the far side of the wall at `point` for a mouse coming from `previous`."""
-    x, y = point
-    if x % 2:  # horizontal wall
-        return x // 2, y // 2 if previous[1] < y else y // 2 - 1
-    return (x // 2 if previous[0] < x else x // 2 - 1), y // 2
+    x, y, _ = sides_of(point, previous)[1]
+    return x, y
 
 
 @dataclass

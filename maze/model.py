@@ -50,17 +50,22 @@ def point_wall(size: int, px: int, py: int) -> int | None:
     return wall_id(size, px // 2, py // 2, WEST) if px < 2 * size else wall_id(size, size - 1, py // 2, EAST)
 
 
-def point_side(size: int, came_from: tuple[int, int], mid: tuple[int, int]) -> tuple[int, int, int]:
-    """The wall at half-cell midpoint `mid` as (x, y, direction) of the cell on `came_from`'s side of it (the
-    other cell when that one is outside the maze): how a mouse that sensed it would log it."""
+def sides_of(mid: tuple[int, int], came_from: tuple[int, int]) -> tuple[tuple[int, int, int], tuple[int, int, int]]:
+    """The two cells beside the wall at half-cell midpoint `mid`, as (x, y, direction of that wall from the cell):
+    first the one on `came_from`'s side, then the one beyond (either may lie outside the maze)."""
     mx, my = mid
     if mx % 2:  # horizontal wall
         below, above = (mx // 2, my // 2 - 1, NORTH), (mx // 2, my // 2, SOUTH)
-        first, other = (below, above) if came_from[1] < my else (above, below)
-    else:
-        left, right = (mx // 2 - 1, my // 2, EAST), (mx // 2, my // 2, WEST)
-        first, other = (left, right) if came_from[0] < mx else (right, left)
-    return first if 0 <= first[0] < size and 0 <= first[1] < size else other
+        return (below, above) if came_from[1] < my else (above, below)
+    left, right = (mx // 2 - 1, my // 2, EAST), (mx // 2, my // 2, WEST)
+    return (left, right) if came_from[0] < mx else (right, left)
+
+
+def point_side(size: int, came_from: tuple[int, int], mid: tuple[int, int]) -> tuple[int, int, int]:
+    """The wall at `mid` as a side of the cell on `came_from`'s side of it (the other cell when that one is
+    outside the maze): how a mouse that sensed it would log it."""
+    near, far = sides_of(mid, came_from)
+    return near if 0 <= near[0] < size and 0 <= near[1] < size else far
 
 
 @lru_cache(maxsize=None)
