@@ -458,10 +458,13 @@ def explore(mazefile: Path, program: str | None, strategy: str | None, objective
         draw_search(result, truth, mazefile, strategy, objective, png)
 
 
+BELIEF, STDERR = "the belief log", "the program's stderr"  # the names refuse_overwrite gives these files
+
+
 def mouse_files(log_path: Path) -> dict[str, Path]:
     """The files a --mouse run writes beside its log."""
-    return {"the belief log": log_path.with_name(log_path.stem + ".belief" + log_path.suffix),
-            "the program's stderr": log_path.with_name(log_path.stem + ".stderr.txt")}
+    return {BELIEF: log_path.with_name(log_path.stem + ".belief" + log_path.suffix),
+            STDERR: log_path.with_name(log_path.stem + ".stderr.txt")}
 
 
 def echo_search(steps: int, turns: int, run: SearchRun, timing: MouseParams, visited: int, size: int) -> None:
@@ -496,8 +499,8 @@ def explore_mouse(program: str, truth: Maze, mazefile: Path, objective: str, dia
     argv = program_argv(program)
     files = mouse_files(log_path)
     world = MmsWorld(truth, timing, reset_at)
-    run = run_mouse(argv, world, files["the program's stderr"], max_steps, time_budget, timeout)
-    log_line = write_mouse_logs(run, log_path, files["the belief log"], power_cut)
+    run = run_mouse(argv, world, files[STDERR], max_steps, time_budget, timeout)
+    log_line = write_mouse_logs(run, log_path, files[BELIEF], power_cut)
     for warning in world.warnings[:MAX_WARNINGS]:
         click.echo(f"warning: {warning}", err=True)
     status = f", status {run.status}" if run.ended == "the program exited" else ""
@@ -505,14 +508,14 @@ def explore_mouse(program: str, truth: Maze, mazefile: Path, objective: str, dia
     click.echo(f"commands:      {run.commands} in {run.wall_s:.2f} s")
     echo_search(world.steps, world.turns, world.search(), timing, len(set(world.trace)), truth.size)
     click.echo(f"wall log:      {log_line}")
-    click.echo(f"belief:        {len(world.belief)} setWall/clearWall marks -> {files['the belief log']}")
+    click.echo(f"belief:        {len(world.belief)} setWall/clearWall marks -> {files[BELIEF]}")
     click.echo(f"resets:        {world.resets}")
     stats = world.stats
     click.echo("mms stats:     " + ", ".join(f"{name} {stats.value(name)}" for name in
                                              ("total-distance", "total-turns", "best-run-distance",
                                               "best-run-turns", "score")))
     echo_mouse_paths(world.sensed, truth, objective, diagonal, timing)
-    click.echo(f"stderr:        {files['the program' + chr(39) + 's stderr']}")
+    click.echo(f"stderr:        {files[STDERR]}")
     if png is not None:
         from .render import Overlay, save_png
 
@@ -572,9 +575,10 @@ def write_mouse_logs(run: MouseRun, log_path: Path, belief_path: Path, power_cut
     records = world.records
     write_bytes(belief_path, encode_log(world.belief))
     data = encode_log(records)
-    if power_cut is None:
+    if power_cut is None or (power_cut == "reset" and not world.resets):
         write_bytes(log_path, data)
-        return f"{len(records)} records, {len(data)} bytes (the walls the program was told) -> {log_path}"
+        never = " (no reset happened, so no power cut)" if power_cut is not None else ""
+        return f"{len(records)} records, {len(data)} bytes (the walls the program was told){never} -> {log_path}"
     from .flash import cut_log
 
     cut = world.records_at_first_reset * RECORD_BYTES + 1 if power_cut == "reset" else int(power_cut)

@@ -187,3 +187,12 @@ def test_ctrl_c_keeps_the_logs_and_exits_130(tmp_path: Path) -> None:
     assert proc.returncode == 130
     assert "Error: --mouse: interrupted (Ctrl-C) after 1 command (" in err and "Traceback" not in err
     assert log.exists()
+
+
+def test_power_cut_at_a_reset_that_never_came_cuts_nothing(tmp_path: Path) -> None:
+    log = tmp_path / "whole.bin"
+    r = run("explore", "minimaze", "--mouse", f"{PY} {MICE / 'floodfill.py'}", "--reset-at", 100000,
+            "--power-cut", "reset", "--log", log)
+    assert r.exit_code == 0, r.output
+    assert "(no reset happened, so no power cut)" in r.output
+    assert not load_log(log.read_bytes(), 16).anomalies
