@@ -32,6 +32,7 @@ if TYPE_CHECKING:
     from .explorer import SearchResult
     from .fastpath import Route
     from .harness import MouseRun
+    from .mmsworld import MmsWorld
     from .motion import SearchRun
 
 F = TypeVar("F", bound=Callable[..., Any])
@@ -532,13 +533,13 @@ def explore_mouse(program: str, truth: Maze, mazefile: Path, objective: str, dia
         raise MazeError(message)
 
 
-def final_marks(world: Any) -> dict[Cell, tuple[str, str]]:
+def final_marks(world: MmsWorld) -> dict[Cell, tuple[str, str]]:
     from .marks import marks_at
 
     return marks_at(world.marks, len(world.records))
 
 
-def film_mouse(world: Any, mazefile: Path, program: str, gif: Path) -> None:
+def film_mouse(world: MmsWorld, mazefile: Path, program: str, gif: Path) -> None:
     from .film import Replay, default_stride, film, write_gif
 
     records = world.records
