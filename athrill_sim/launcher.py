@@ -4,16 +4,19 @@ Starting a Python process costs 0.1-0.3 s, a third of a whole test, so a program
 one test ahead: when test N starts, the process for N+1 is launched too, imports everything, and waits
 (without touching the files) until the physics side announces test N+1. The real emulator cannot wait like
 that: it starts running the moment it is launched, so it is started with its test.
+
+Each process's output reaches `athrill.log` through `CappedOutput`, capped per test.
 """
 
 from __future__ import annotations
 
 import subprocess
+import threading
 from pathlib import Path
 
+from athrill_sim.output import CappedOutput
 from athrill_sim.programs import Program
 from hakoniwa.wire.rundir import ATHRILL_LOG
-
 
 
 class AthrillLauncher:
@@ -22,7 +25,20 @@ class AthrillLauncher:
         self.program = program
         self._spare: tuple[int, subprocess.Popen] | None = None
         self._log = open(run_dir / ATHRILL_LOG, "ab")
+        self._write_lock = threading.Lock()
+        self._outputs: dict[int, CappedOutput] = {}  # by pid, while the process or its output lasts
         program.prepare(run_dir)
+
+    def _spawn(self, seq: int) -> subprocess.Popen:
+        proc = self.program.spawn(self.run_dir, seq, subprocess.PIPE)
+        self._outputs = {pid: out for pid, out in self._outputs.items() if out.running}
+        self._outputs[proc.pid] = CappedOutput(proc.stdout, self._log, self._write_lock, f"the Athrill of test {seq}")
+        return proc
+
+    def last_lines(self, proc: subprocess.Popen, n: int) -> list[str]:
+        """The last lines an ended process printed: a crashed program's own error."""
+        out = self._outputs.get(proc.pid)
+        return out.last_lines(n) if out is not None else []
 
     def take(self, seq: int) -> subprocess.Popen:
         """The process for test `seq` (OSError if it cannot be started)."""
@@ -34,10 +50,10 @@ class AthrillLauncher:
                 proc = spare
             else:
                 kill(spare)
-        proc = proc or self.program.spawn(self.run_dir, seq, self._log)
+        proc = proc or self._spawn(seq)
         if self.program.prelaunch:
             try:
-                self._spare = (seq + 1, self.program.spawn(self.run_dir, seq + 1, self._log))
+                self._spare = (seq + 1, self._spawn(seq + 1))
             except OSError:  # the next test will try again, and fail on its own account if it must
                 self._spare = None
         return proc
@@ -46,6 +62,8 @@ class AthrillLauncher:
         if self._spare is not None:
             kill(self._spare[1])
             self._spare = None
+        for out in self._outputs.values():
+            out.join()
         self._log.close()
 
 

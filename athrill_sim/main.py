@@ -1,7 +1,8 @@
 """`athrill-sim`: the mock Athrill process. The physics process starts a fresh one for every test.
 
-Its exit status tells the physics process whose fault a crash was: EXIT_BENCH_FAULT when the mapped files
-could not be used (the bench's fault, never scored), anything else once the robot program had started.
+When the mapped files cannot be used (the bench's fault, never scored) it marks a bench fault and exits with
+EXIT_BENCH_FAULT; once the robot program runs, every exit is the program's: its own `sys.exit(3)` too, and an
+exception, whose traceback's last lines the physics process shows the user.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ from athrill_sim.bus import MemoryBus
 from athrill_sim.ev3api import Ev3Api
 from athrill_sim.kernel import Kernel, KernelExit, wait_for_test
 from hakoniwa.clickutil import HELP
-from hakoniwa.wire.processes import EXIT_BENCH_FAULT
+from hakoniwa.wire.processes import EXIT_BENCH_FAULT, mark_bench_fault
 from hakoniwa.wire.protocol import ProtocolError
 
 
@@ -33,6 +34,9 @@ def main(run_dir: Path | None, app: str, test_seq: int | None, check: bool) -> N
         task = load_app(app)
     except ValueError as e:
         raise click.ClickException(str(e)) from None
+    if not callable(task):
+        raise click.ClickException(f"--app {app}: {type(task).__name__} {task!r} is not a function (a robot "
+                                   "program is a function taking the Ev3Api)")
     if check:
         return
     if run_dir is None:
@@ -41,6 +45,7 @@ def main(run_dir: Path | None, app: str, test_seq: int | None, check: bool) -> N
         bus = MemoryBus(run_dir)
     except ProtocolError as e:
         click.echo(f"athrill-sim: bench fault: {e}", err=True)
+        mark_bench_fault(run_dir, str(e))
         sys.exit(EXIT_BENCH_FAULT)
     try:
         if test_seq is not None:

@@ -24,7 +24,10 @@ from pathlib import Path
 from hakoniwa.wire.processes import die_with_parent
 from hakoniwa.wire.protocol import ATHRILL_FILE, UNITY_FILE, SyncMode
 
-BUILD_ATHRILL_HINT = "build it with scripts/build_athrill2.sh build/athrill, then pass --athrill2 build/athrill/athrill2"
+BUILD_ATHRILL_HINT = ("build it from TOPPERS' sources (github.com/toppers/athrill-target-v850e2m @ d7123b6 with "
+                      "github.com/toppers/athrill @ 8bf811e as its athrill/ folder: ATHRILL_SRC=that/folder "
+                      "scripts/build_athrill2.sh build/athrill; docs/REAL-ATHRILL.md), then pass --athrill2 "
+                      "build/athrill/athrill2")
 ELF_MAGIC = b"\x7fELF"
 V850_MACHINES = (36, 87, 0x9080)  # e_machine of v850 images: EM_V800 (what the TOPPERS toolchain writes), EM_V850, old GNU
 
@@ -66,6 +69,7 @@ class Program:
     in_run_dir: bool = False  # run with the run directory as working directory
     config_files: dict[str, str] = field(default_factory=dict)  # written into the run directory once
     check_argv: tuple[str, ...] = ()  # a command that exits non-zero, saying why, if the program cannot run
+    files: tuple[Path, ...] = ()  # what the program is made of (its sources, its image), for a campaign's journal
 
     def prepare(self, run_dir: Path) -> None:
         for name, text in self.config_files.items():
@@ -88,12 +92,12 @@ class Program:
             lines = [line for line in out.strip().splitlines() if line.strip()]
             raise ProgramError(lines[-1].removeprefix("Error: ") if lines else "the robot program cannot run")
 
-    def spawn(self, run_dir: Path, test_seq: int, log) -> subprocess.Popen:
+    def spawn(self, run_dir: Path, test_seq: int, output) -> subprocess.Popen:
         """Start the process for test `test_seq`. It gets a session of its own, so that a Ctrl-C meant for
         the campaign does not kill it mid-test (the physics process stops it), and dies with the physics
         process, so that nothing is left running if that is killed."""
         args = [a.format(test=test_seq, run_dir=run_dir) for a in self.argv]
-        return subprocess.Popen(args, stdin=subprocess.DEVNULL, stdout=log, stderr=log,
+        return subprocess.Popen(args, stdin=subprocess.DEVNULL, stdout=output, stderr=subprocess.STDOUT,
                                 cwd=run_dir if self.in_run_dir else None, start_new_session=True,
                                 preexec_fn=die_with_parent)
 
@@ -101,20 +105,38 @@ class Program:
 def python_program(spec: str) -> Program:
     mock = (sys.executable, "-m", "athrill_sim.main", "--app", spec)
     return Program(f"python app {spec}", SyncMode.LOCKSTEP, True,
-                   (*mock, "--run-dir", "{run_dir}", "--test", "{test}"), check_argv=(*mock, "--check"))
+                   (*mock, "--run-dir", "{run_dir}", "--test", "{test}"), check_argv=(*mock, "--check"),
+                   files=python_module_file(spec))
+
+
+def python_module_file(spec: str) -> tuple[Path, ...]:
+    """The source file of a Python program's module, found without running the module (a module that cannot
+    be found has no file: the program check then says why it cannot load)."""
+    import importlib.util
+
+    from athrill_sim.apps import BUILTIN
+
+    module = BUILTIN.get(spec, spec).partition(":")[0]
+    try:
+        found = importlib.util.find_spec(module)
+    except (ImportError, ValueError):
+        return ()
+    return (Path(found.origin),) if found is not None and found.origin and Path(found.origin).is_file() else ()
 
 
 def native_program(source: Path) -> Program:
     """A user's EV3RT C program (a .c file or a workspace folder), built now, before any test starts."""
     from athrill_sim.native import NativeBuildError
     from athrill_sim.native.build import build_app
+    from athrill_sim.native.workspace import find_app
 
     try:
         exe = build_app(source)
+        files = find_app(source).hashed
     except NativeBuildError as e:
         raise ProgramError(str(e)) from None
     return Program(f"native C app {source}", SyncMode.LOCKSTEP, True,
-                   (str(exe), "--run-dir", "{run_dir}", "--test", "{test}"))
+                   (str(exe), "--run-dir", "{run_dir}", "--test", "{test}"), files=files)
 
 
 def elf_program(image: Path, athrill2: str | None) -> Program:
@@ -123,7 +145,8 @@ def elf_program(image: Path, athrill2: str | None) -> Program:
     device = "".join(f"{key}\t{value}\n" for key, value in ATHRILL_DEVICE)
     return Program(f"v850 image {image} on {exe}", SyncMode.HAKONIWA, False,
                    (exe, "-c1", "-t", "-1", "-m", MEMORY_CONFIG, "-d", DEVICE_CONFIG, str(image.resolve())),
-                   in_run_dir=True, config_files={MEMORY_CONFIG: memory, DEVICE_CONFIG: device})
+                   in_run_dir=True, config_files={MEMORY_CONFIG: memory, DEVICE_CONFIG: device},
+                   files=(image.resolve(),))
 
 
 def find_athrill2(given: str | None) -> str:

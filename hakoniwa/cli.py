@@ -21,6 +21,7 @@ from hakoniwa.wire.processes import describe_exit, exit_status
 from hakoniwa.wire.rundir import TRAJECTORY_FILE, diagnose
 from testctl.launch import controller_command, run_physics
 from testctl import paper
+from testctl.fingerprint import FILES_KEY
 from testctl.options import campaign_options, make_out_dir, noise_options, plan
 from testctl.suite import DEFAULT_FILE
 from testctl.validate import DEFAULT_DRAWS, SMOKE_DRAWS
@@ -72,9 +73,18 @@ def _writable_file(path: Path, option: str) -> None:
 def trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: float, run_dir: Path | None,
           as_json: bool, trajectory: Path | None, **bench) -> None:
     """Run one test with the given parameters and print the event and lap time."""
+    from testctl.interrupts import stopped_by
+
+    try:
+        _trial(kp, ki, kd, power, seed, noise, run_dir, as_json, trajectory, pop_bench(bench))
+    except KeyboardInterrupt as e:
+        stopped_by(e)
+
+
+def _trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: float, run_dir: Path | None,
+           as_json: bool, trajectory: Path | None, options: BenchOptions) -> None:
     if trajectory is not None:
         _writable_file(trajectory, "--trajectory")
-    options = pop_bench(bench)
     with tempfile.TemporaryDirectory(prefix="hako-") as tmp:
         rd = run_dir or Path(tmp)
         out = rd / "result.json"
@@ -94,6 +104,8 @@ def trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: float
             lap = f"lap {result['lap_time_s']:.2f} s" if result["lap_time_s"] is not None else result["event"]
             draw_trajectory(load_course(options.course), read_trajectory(rd / TRAJECTORY_FILE), trajectory,
                             title=f"Kp={kp:g} Ki={ki:g} Kd={kd:g} power={power:g}: {lap}")
+    if result.get("program_output"):  # the program's own error, which the run folder's log alone would hold
+        click.echo(f"hako: the program's last lines:\n{result['program_output']}", err=True)
     if as_json:
         click.echo(json.dumps(result, sort_keys=True))
     else:
@@ -130,6 +142,16 @@ def run(benches: int | None, scheduler: str | None, validate: int | None, **opti
     failures; the objective is the mean lap time (the time limit for a failure). Tests run on --benches
     benches at once; then the best set is tested on --validate fresh noise draws.
     Every test is journaled; kill and --resume at any time."""
+    from testctl.interrupts import sigterm_interrupts, stopped_by
+
+    with sigterm_interrupts():
+        try:
+            _run(benches, scheduler, validate, options)
+        except KeyboardInterrupt as e:  # before the campaign started or after it ended: nothing to resume
+            stopped_by(e)
+
+
+def _run(benches: int | None, scheduler: str | None, validate: int | None, options: dict) -> None:
     n = how_many_benches(benches, scheduler)
     if validate is None:
         validate = SMOKE_DRAWS if options["smoke"] else DEFAULT_DRAWS
@@ -137,6 +159,7 @@ def run(benches: int | None, scheduler: str | None, validate: int | None, **opti
     p = plan(**options, penalty_s=time_limit_s(given))
     bench = _campaign_bench(p.bench, given)
     check_bench(bench)
+    files = recorded_files(p.bench, bench)
     run_dir = p.out_dir / "run"
     from testctl.bench import Bench
     from testctl.cluster import ClusterError, DaskExecutor
@@ -148,7 +171,7 @@ def run(benches: int | None, scheduler: str | None, validate: int | None, **opti
         raise click.ClickException(str(e)) from None
     local = Bench(bench, run_dir)
     try:
-        run_campaign(p, executor, bench_info=bench_info(bench),
+        run_campaign(p, executor, bench_info={**bench_info(bench), FILES_KEY: files},
                      trial_once=lambda spec: (local.run(spec), run_dir), course_folder=Path(bench.course),
                      failures=(ClusterError,), validate=validate)
     finally:
@@ -235,6 +258,19 @@ def bench_info(bench: BenchOptions) -> dict:
     return {field: getattr(bench, field) for field in RECORDED_BENCH}
 
 
+def recorded_files(stored: dict, bench: BenchOptions) -> dict:
+    """The hashes of the bench's files, for the journal; a resume whose files are not the journal's is refused,
+    naming them (a journal from before the hashes were recorded cannot be checked)."""
+    from testctl.fingerprint import FILES_KEY, changes, fingerprint
+
+    files = fingerprint(bench, RECORDED_BENCH)
+    if FILES_KEY in stored and (changed := changes(stored[FILES_KEY], files, bench)):
+        raise click.ClickException(f"--resume: the campaign's files changed since it started ({'; '.join(changed)}); "
+                                   "its results so far were measured with the old ones: restore them, or start a "
+                                   "new campaign with another --out")
+    return files
+
+
 def _campaign_bench(stored: dict, given: BenchOptions) -> BenchOptions:
     """The bench for a campaign: as given, with paths made absolute for workers elsewhere; a resumed campaign
     runs on the bench its journal records, and giving another is an error."""
@@ -254,7 +290,14 @@ def _campaign_bench(stored: dict, given: BenchOptions) -> BenchOptions:
 
 
 def _absolute(spec: str | None) -> str | None:
-    return str(Path(spec).resolve()) if spec is not None and Path(spec).exists() else spec
+    """A path made absolute for workers elsewhere; a built-in course or app name stays a name (a file of that
+    name in the working directory does not shadow it)."""
+    from athrill_sim.apps import BUILTIN, C_BUILTIN
+    from hakoniwa.physics.course import builtin_course
+
+    if spec is None or spec in BUILTIN or spec in C_BUILTIN or builtin_course(spec) is not None:
+        return spec
+    return str(Path(spec).resolve()) if Path(spec).exists() else spec
 
 
 if __name__ == "__main__":

@@ -7,7 +7,9 @@ controller stays the only writer of the journal: workers only return results.
 Faults: a bench that dies mid-test raises, and Dask runs the test again (`retries`), on a fresh bench; a
 worker that dies mid-test has its test rescheduled on another worker by the scheduler. Either way the
 controller receives each test's result exactly once, so nothing is lost or counted twice; and since a
-test's result depends only on its parameters and noise seed, it does not matter where it ran.
+test's result depends only on its parameters and noise seed, it does not matter where it ran. A cluster
+that has lost every worker for NO_WORKERS_TIMEOUT_S, or its scheduler, cannot go on: that is a one-line
+`ClusterError` (the campaign then prints the resume command), never a hang or a traceback.
 """
 
 from __future__ import annotations
@@ -18,6 +20,8 @@ import shutil
 import signal
 import tempfile
 import threading
+import time
+from concurrent.futures import CancelledError
 from pathlib import Path
 
 from distributed import Client, LocalCluster, as_completed, get_worker
@@ -31,6 +35,9 @@ from testctl.result import TestResult
 PLUGIN_NAME = "hakoniwa-bench"
 RETRIES = 2  # a test whose bench died is run again this many times before the campaign gives up
 CONNECT_TIMEOUT_S = 10
+NO_WORKERS_TIMEOUT_S = 60.0  # a cluster without a worker this long is not coming back by itself
+POLL_S = 0.05  # how often a wait for results looks for one
+LOOK_EVERY_S = 1.0  # and how often it asks the scheduler about the workers
 
 
 class ClusterError(RuntimeError):
@@ -80,13 +87,20 @@ class DaskExecutor(Executor):
                 self.client = Client(scheduler, timeout=CONNECT_TIMEOUT_S)
             except (OSError, TimeoutError) as e:
                 raise ClusterError(f"cannot reach the Dask scheduler at {scheduler}: {e}") from None
+            # The campaign says in one line what became of a cluster it loses; Dask's own tracebacks of
+            # the lost connection would bury that line.
+            for name in [n for n in logging.root.manager.loggerDict if n.split(".")[0] == "distributed"]:
+                logging.getLogger(name).setLevel(logging.CRITICAL)
         else:
             # The workers must not see the user's Ctrl-C (it is the campaign's to handle): a signal ignored
             # when a process starts stays ignored in the processes it starts.
             previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
             try:
+                # No dashboard; and the scheduler's HTTP server (which it starts even so) on a free port, not on
+                # 8787, where another campaign's or a notebook's would make every campaign warn.
                 self._cluster = LocalCluster(n_workers=benches, threads_per_worker=1, processes=True,
-                                             dashboard_address=None, silence_logs=logging.ERROR)
+                                             dashboard_address=None, silence_logs=logging.ERROR,
+                                             scheduler_kwargs={"dashboard": False, "dashboard_address": ":0"})
             finally:
                 signal.signal(signal.SIGINT, previous)
             self.client = Client(self._cluster)
@@ -96,6 +110,7 @@ class DaskExecutor(Executor):
             self.close()
             raise ClusterError(f"the Dask scheduler at {scheduler} has no workers") from None
         self.client.register_plugin(BenchHost(options), name=PLUGIN_NAME)
+        self.where = scheduler or "the local cluster"
         self.capacity = len(self.client.scheduler_info()["workers"])
         self._done = as_completed()
         self._specs: dict[str, TestSpec] = {}
@@ -106,10 +121,35 @@ class DaskExecutor(Executor):
         self._done.add(future)
 
     def next_result(self) -> tuple[TestSpec, TestResult, str]:
+        without_workers_since: float | None = None
+        next_look = time.monotonic() + LOOK_EVERY_S
+        while not self._done.has_ready():
+            time.sleep(POLL_S)
+            if (now := time.monotonic()) < next_look:
+                continue
+            next_look = now + LOOK_EVERY_S
+            if not self._workers():
+                without_workers_since = without_workers_since or now
+                if now - without_workers_since > NO_WORKERS_TIMEOUT_S:
+                    raise ClusterError(f"every Dask worker of {self.where} is gone (none for "
+                                       f"{NO_WORKERS_TIMEOUT_S:.0f} s); start workers again")
+            else:
+                without_workers_since = None
         future = next(self._done)
         spec = self._specs.pop(future.key)
-        result, bench = future.result()
+        try:
+            result, bench = future.result()
+        except CancelledError as e:  # distributed's FutureCancelledError: the scheduler connection is gone
+            raise ClusterError(f"lost the Dask scheduler at {self.where}: {getattr(e, 'reason', e)}") from None
         return spec, result, bench
+
+    def _workers(self) -> int:
+        if self.client.status != "running":
+            raise ClusterError(f"lost the Dask scheduler at {self.where} ({self.client.status})")
+        try:
+            return len(self.client.scheduler_info()["workers"])
+        except (OSError, TimeoutError) as e:  # distributed's CommClosedError is an OSError
+            raise ClusterError(f"lost the Dask scheduler at {self.where}: {e}") from None
 
     @property
     def running(self) -> int:

@@ -2,9 +2,11 @@
 
 A campaign of 100 parameter sets takes hours on the bench, and the user may kill it at any moment; the
 journal is what makes that cheap. Each line is flushed and fsynced before the next test starts, so a kill
-loses at most the test that was running. A kill in the middle of a write leaves a torn last line; loading
-drops it (and truncates it away before appending), while damage anywhere else is an error, since it means
-the file is not what we wrote. The first line is a header (space, options and the bench) written atomically
+loses at most the test that was running. A kill in the middle of a write leaves a torn last line, one without
+its newline (we write each line with its newline in one call); loading drops it (and truncates it away
+before appending). Anything else that does not read back (a complete line that is not a record, a second
+record of the same repetition) means the file is not what we wrote: an error naming the line, and the file
+is left as it is, as Optuna's journal storage does. The first line is a header (space, options and the bench) written atomically
 with the file, so `--resume` can refuse to continue a campaign under different settings.
 
 Tests run on several benches at once finish in any order, so lines are in the order tests finished; a
@@ -153,15 +155,23 @@ def _parse(path: Path) -> tuple[dict[str, Any], list[TestRecord], int]:
         raise JournalError(f"{path}: journal format {fmt}; this version reads formats "
                            f"{', '.join(map(str, READABLE_FORMATS))}")
     records: list[TestRecord] = []
+    counted: dict[tuple[int, int], int] = {}  # (set, repetition) of each scored record -> its line number
     good_len = len(lines[0]) + 1
-    body = lines[1:]
-    # The last element follows the final newline: b"" for an intact file, else a line torn by a kill.
-    for i, raw in enumerate(body[:-1]):
+    # Every element but the last ended with a newline, so it was written whole; the last follows the final
+    # newline: b"" for an intact file, else a line torn by a kill, which is dropped.
+    for number, raw in enumerate(lines[1:-1], start=2):
         try:
-            records.append(TestRecord.from_json(raw.decode("utf-8"), fmt))
+            record = TestRecord.from_json(raw.decode("utf-8"), fmt)
         except (ValueError, KeyError, TypeError, AttributeError):
-            if i == len(body) - 2:  # a damaged last line: the tail of an interrupted write
-                break
-            raise JournalError(f"{path}: line {i + 2} is damaged") from None
+            raise JournalError(f"{path}: line {number} is damaged (a complete line that is not a test record); "
+                               "the file was left as it is") from None
+        if not record.result.bench_fault:  # a spoiled test is run again under the same (set, repetition)
+            key = (record.set_index, record.rep)
+            if key in counted:
+                raise JournalError(f"{path}: line {number} records set {record.set_index + 1} repetition "
+                                   f"{record.rep} a second time (first on line {counted[key]}); the file was "
+                                   "left as it is")
+            counted[key] = number
+        records.append(record)
         good_len += len(raw) + 1
     return header, records, good_len

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import os
 import signal
 import subprocess
 import sys
@@ -15,12 +16,20 @@ def controller_command(*args: str) -> list[str]:
 
 
 def run_physics(cmd: list[str]) -> int:
-    """Run the physics process in the foreground and return its exit status. Ctrl-C reaches it and the
-    controller through the process group and they end the run (the controller saying how to resume), so
-    this process ignores it and just waits."""
-    proc = subprocess.Popen(cmd, preexec_fn=die_with_parent)
-    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    """Run the physics process (and the controller it starts) and return its exit status.
+
+    The bench runs in a process group of its own, so a Ctrl-C reaches this process alone: caught by a
+    process of the bench, it would end as a traceback of whatever that process was importing, or as click's
+    "Aborted!". This process ends the bench with SIGTERM instead, which each of its processes dies of
+    quietly (the Athrill with its physics process), and raises the KeyboardInterrupt for its caller to say
+    one line."""
+    proc = subprocess.Popen(cmd, preexec_fn=die_with_parent, process_group=0)
     try:
         return proc.wait()
-    finally:
-        signal.signal(signal.SIGINT, previous)
+    except KeyboardInterrupt:
+        try:
+            os.killpg(proc.pid, signal.SIGTERM)
+        except ProcessLookupError:
+            pass
+        proc.wait()
+        raise

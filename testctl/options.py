@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from hakoniwa.clickutil import NOISE_SCALE, option_group
+from hakoniwa.wire.rundir import RunDirBusy, RunDirLock
 from testctl.optimizers import OPTIMIZERS
 from testctl.journal import JOURNAL_FILE, JournalError, read_journal
 from testctl.space import ParameterSpace, SpaceError
@@ -71,6 +72,7 @@ class CampaignPlan:
     out_dir: Path
     resume: bool
     bench: dict[str, Any]  # the bench the journal records (course, app, time limit), empty for a new one
+    lock: RunDirLock  # held from the plan to the end of the campaign: one live campaign per folder
 
 
 def plan(trials: int | None, init_points: int | None, repeats: int | None, seed: int | None,
@@ -89,21 +91,44 @@ def plan(trials: int | None, init_points: int | None, repeats: int | None, seed:
             if space_file is not None or set(given) - {"trials"} or smoke:
                 raise click.UsageError("--resume takes the campaign's settings from its journal; only --trials "
                                        "may be given (to extend it)")
-            header, _ = read_journal(resume / JOURNAL_FILE)
-            config = CampaignConfig.from_header(header)
+            lock = lock_folder(resume) if resume.is_dir() else None  # no folder: read_journal says so
+            try:
+                header, _ = read_journal(resume / JOURNAL_FILE)
+                config = CampaignConfig.from_header(header)
+            except JournalError:
+                if lock is not None:
+                    lock.release()
+                raise
             if trials is not None:
                 config = dataclasses.replace(config, trials=trials)
-            return CampaignPlan(config, resume, True, dict(header.get("bench", {})))
+            assert lock is not None
+            return CampaignPlan(config, resume, True, dict(header.get("bench", {})), lock)
         space = ParameterSpace.load(space_file) if space_file is not None else ParameterSpace.default()
         config = CampaignConfig(space=space, penalty_s=penalty_s, **{**(SMOKE if smoke else {}), **given})
     except (SpaceError, JournalError, ValueError) as e:
         raise click.ClickException(str(e)) from None
     out_dir = out or Path("runs") / f"campaign-{dt.datetime.now():%Y%m%d-%H%M%S}"
+    make_out_dir(out_dir)
+    lock = lock_folder(out_dir)
     if (out_dir / JOURNAL_FILE).exists():
+        lock.release()
         raise click.ClickException(f"{out_dir} already holds a campaign; use --resume {out_dir} to continue it "
                                    "or choose another --out")
-    make_out_dir(out_dir)
-    return CampaignPlan(config, out_dir, False, {})
+    return CampaignPlan(config, out_dir, False, {}, lock)
+
+
+def lock_folder(out_dir: Path) -> RunDirLock:
+    """Take the campaign folder for this process's whole life, so that a second run or a resume of a campaign
+    that is still running is refused before it can write a line (two writers would interleave the journal)."""
+    lock = RunDirLock(out_dir, "campaign folder")
+    try:
+        lock.acquire()
+    except RunDirBusy as e:
+        raise click.ClickException(f"{e}; wait for it to end, or stop it, before running or resuming it "
+                                   "here") from None
+    except OSError as e:
+        raise click.ClickException(f"{out_dir}: cannot lock the campaign folder: {e.strerror or e}") from None
+    return lock
 
 
 def make_out_dir(out_dir: Path) -> None:

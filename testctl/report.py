@@ -114,30 +114,40 @@ def format_summary(summary: CampaignSummary) -> str:
     )
 
 
-def _iteration_axes(fig: Figure, summary: CampaignSummary, top: str, bottom: str) -> tuple[Any, Any]:
-    """Two stacked axes over the set number (from 1, the paper's 'iteration'), initial design shaded."""
-    ax_top, ax_bottom = fig.subplots(2, 1, sharex=True)
+def _iteration_axes(fig: Figure, summary: CampaignSummary, *labels: str) -> list[Any]:
+    """Stacked axes over the set number (from 1, the paper's 'iteration'), initial design shaded."""
+    axes = list(fig.subplots(len(labels), 1, sharex=True, squeeze=False)[:, 0])
     n_init = sum(s.phase == PHASE_INIT for s in summary.sets)
-    for ax, label in ((ax_top, top), (ax_bottom, bottom)):
+    for ax, label in zip(axes, labels):
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
         if n_init:
             ax.axvspan(0.5, n_init + 0.5, color="0.9", zorder=0, label="initial random design")
-    ax_bottom.set_xlabel("parameter set (iteration)")
-    ax_bottom.xaxis.set_major_locator(MaxNLocator(integer=True))
-    return ax_top, ax_bottom
+    axes[-1].set_xlabel("parameter set (iteration)")
+    axes[-1].xaxis.set_major_locator(MaxNLocator(integer=True))
+    return axes
+
+
+def param_colour(i: int) -> str:
+    """Kp, Ki, Kd in the paper's red, blue, green; further parameters in colours none of those takes."""
+    return _PARAM_COLOURS[i] if i < len(_PARAM_COLOURS) else f"C{i + 1}"  # C3 is matplotlib's red
 
 
 def plot_fig8(path: Path, summary: CampaignSummary) -> None:
-    """Fig. 8: the searched values per iteration (Kp red, Ki blue, Kd green) and the lap time per iteration
-    (failed sets drawn as crosses at the penalty)."""
-    fig = Figure(figsize=(8, 6), layout="constrained")
-    ax_params, ax_lap = _iteration_axes(fig, summary, "parameter value", "lap time [s]")
+    fig8(summary).savefig(path, dpi=100)
+
+
+def fig8(summary: CampaignSummary) -> Figure:
+    """Fig. 8: the searched values per iteration (Kp red, Ki blue, Kd green), one panel per parameter since
+    their ranges differ (gains in 0..5, a motor power in 10..30), and the lap time per iteration (failed sets
+    drawn as crosses at the penalty)."""
+    names = summary.config.space.names
+    fig = Figure(figsize=(8, 2.5 + 1.5 * len(names)), layout="constrained")
+    *ax_params, ax_lap = _iteration_axes(fig, summary, *names, "lap time [s]")
     its = [s.number for s in summary.sets]
-    for i, name in enumerate(summary.config.space.names):
-        colour = _PARAM_COLOURS[i] if i < len(_PARAM_COLOURS) else f"C{i}"
-        ax_params.plot(its, [s.x[i] for s in summary.sets], ".-", color=colour, label=name, lw=1)
-    ax_params.legend(loc="upper left", bbox_to_anchor=(1.01, 1))
+    for i, (ax, name) in enumerate(zip(ax_params, names)):
+        ax.plot(its, [s.x[i] for s in summary.sets], ".-", color=param_colour(i), label=name, lw=1)
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1))
     ok = [s for s in summary.sets if s.verdict.success]
     failed = [s for s in summary.sets if not s.verdict.success]
     ax_lap.plot(its, [s.value for s in summary.sets], "-", color="0.6", lw=0.8)
@@ -148,7 +158,7 @@ def plot_fig8(path: Path, summary: CampaignSummary) -> None:
     ax_lap.axhline(summary.config.penalty_s, color="red", ls=":", lw=0.8)
     ax_lap.legend(loc="upper left", bbox_to_anchor=(1.01, 1))
     fig.suptitle("Search values of the control parameters and lap time")
-    fig.savefig(path, dpi=100)
+    return fig
 
 
 def plot_fig9(path: Path, summary: CampaignSummary) -> None:

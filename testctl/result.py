@@ -14,7 +14,8 @@ class TestResult:
     `goal_time_us` is 0 for every event but GOAL. `wall_s` is how long the test took in wall-clock time,
     which is informative only: in the lockstep the event and goal time never depend on it. For a CRASH,
     `crash_kind` says whose fault it may have been and `crash_detail` the Athrill's exit status (negative:
-    the signal that killed it).
+    the signal that killed it); `program_output` holds the last lines a program that crashed printed (its
+    own error, such as a Python traceback's end), which would otherwise stay in a run folder's athrill.log.
     """
 
     __test__ = False  # not a pytest class
@@ -28,6 +29,7 @@ class TestResult:
     sync: SyncMode = SyncMode.LOCKSTEP
     crash_kind: CrashKind = CrashKind.NONE
     crash_detail: int = 0
+    program_output: str = ""
 
     @property
     def success(self) -> bool:
@@ -64,6 +66,8 @@ class TestResult:
              "max_time_diff_us": self.max_time_diff_us}
         if self.event == Event.CRASH:
             d.update(crash=self.crash_kind.name.lower(), crash_detail=self.crash_detail, crash_reason=self.crash_reason())
+        if self.program_output:
+            d["program_output"] = self.program_output
         return d
 
     @classmethod
@@ -74,4 +78,5 @@ class TestResult:
         return cls(Event[d["event"]], int(d["goal_time_us"]), wall_s, int(d.get("checkpoints", 0)),
                    round(float(d.get("distance_m", 0.0)) * 1000), int(d.get("max_time_diff_us", 0)),
                    SyncMode[d.get("sync", "lockstep").upper()],
-                   CrashKind[crash.upper()] if crash else CrashKind.NONE, int(d.get("crash_detail", 0)))
+                   CrashKind[crash.upper()] if crash else CrashKind.NONE, int(d.get("crash_detail", 0)),
+                   str(d.get("program_output", "")))

@@ -17,8 +17,9 @@ from typing import Callable, Mapping
 
 from hakoniwa.wire.protocol import (MAX_NOISE_SCALE, PARAM_END, CrashKind, Event, MappedFile, ProtocolError, Rx, SyncMode, Tx,
                                goal_time_from_words, open_athrill, open_unity)
-from testctl.result import TestResult
+from hakoniwa.wire.rundir import PROGRAM_OUTPUT_FILE
 from hakoniwa.wire.waiting import pid_alive, wait_for
+from testctl.result import TestResult
 
 POLL_S = 0.002  # a test takes about a second; a 2 ms nap costs nothing and leaves the CPU to the bench
 
@@ -85,10 +86,17 @@ class TrialRunner:
         result = TestResult(event, goal_us if event == Event.GOAL else 0, 0.0, u.read_u32(Rx.CHECKPOINTS),
                             u.read_u32(Rx.DISTANCE_MM), u.read_u32(Rx.MAX_TIME_DIFF_US),
                             SyncMode(u.read_u32(Rx.SYNC_MODE)), CrashKind(u.read_i32(Rx.CRASH_KIND)),
-                            u.read_i32(Rx.CRASH_DETAIL))
+                            u.read_i32(Rx.CRASH_DETAIL), self._program_output() if event == Event.CRASH else "")
         self.athrill.write_i32(Tx.START, 0)
         self._wait(lambda: u.read_i32(Rx.EVENT) == Event.NONE, "the reset after the test")
         return dataclasses.replace(result, wall_s=time.monotonic() - start)
+
+    def _program_output(self) -> str:
+        """What the physics process kept of a crashed program's last words (nothing for other crashes)."""
+        try:
+            return (self.run_dir / PROGRAM_OUTPUT_FILE).read_text(errors="replace").strip()
+        except OSError:
+            return ""
 
     def end(self) -> None:
         """end = 1: the physics process exits."""

@@ -4,6 +4,7 @@ clear word when it stops early (how it stopped, and how to continue it)."""
 from __future__ import annotations
 
 import sys
+from collections import Counter
 from collections.abc import Callable
 from pathlib import Path
 
@@ -11,6 +12,7 @@ import click
 
 from testctl.campaign import BenchBroken, Campaign, CampaignSummary, SetResult
 from testctl.executor import Executor, TestSpec
+from testctl.interrupts import stopped_by
 from testctl.journal import JOURNAL_FILE, JournalError
 from testctl.options import CampaignPlan
 from testctl.progress import ProgressLine
@@ -18,8 +20,6 @@ from testctl.result import TestResult
 from testctl.runner import PhysicsGone
 
 BEST_TRAJECTORY_PNG = "best_trajectory.png"
-INTERRUPTED = 130
-
 # Runs one test on a local bench and returns its result and the run directory holding its trajectory.
 TrialOnce = Callable[[TestSpec], tuple[TestResult, Path]]
 
@@ -38,11 +38,13 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
     from testctl.validate import VALIDATION_PNG, draw_validation, validate_best
 
     validation = None
+    label = f"campaign {p.out_dir}"
     try:
-        with click.progressbar(length=p.config.total_sets, label=f"campaign {p.out_dir}", show_eta=False,
+        with click.progressbar(length=p.config.total_sets, label=label, show_eta=False,
                                item_show_func=lambda s: s, file=sys.stderr) as bar:
-            summary = Campaign(p.config, p.out_dir, executor, on_progress=ProgressLine(bar), resume=p.resume,
-                               bench_info=bench_info).run()
+            plain = None if sys.stderr.isatty() else lambda line: click.echo(f"{label}: {line}", err=True)
+            summary = Campaign(p.config, p.out_dir, executor, on_progress=ProgressLine(bar, plain=plain),
+                               resume=p.resume, bench_info=bench_info).run()
         files = write_report(p.out_dir, summary)
         if summary.best is not None and validate:
             with click.progressbar(length=validate, label=f"validating the best set on {validate} fresh draws",
@@ -59,9 +61,10 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
     except OSError as e:
         raise click.ClickException(f"cannot write {e.filename or 'the campaign files'}: {e.strerror or e}; "
                                    f"{resume_hint(p.out_dir)}") from None
-    except KeyboardInterrupt:
-        click.echo(f"\ninterrupted: {resume_hint(p.out_dir)}", err=True)
-        sys.exit(INTERRUPTED)
+    except KeyboardInterrupt as e:
+        stopped_by(e, resume_hint(p.out_dir))
+    finally:
+        p.lock.release()
     if p.resume and len(summary.sets) > p.config.total_sets:
         click.echo(f"note: the campaign already has {len(summary.sets)} sets, more than the "
                    f"{p.config.total_sets} its options ask for; nothing was run, the report was rewritten", err=True)
@@ -69,6 +72,21 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
     if validation is not None:
         click.echo(validation.describe())
     click.echo("wrote " + ", ".join(str(f) for f in files))
+    if summary.sets and summary.best is None:
+        raise click.ClickException(no_success(summary, p.out_dir))
+
+
+def outcome(result: TestResult) -> str:
+    reason = result.crash_reason()
+    return f"{result.event.name} ({reason})" if reason else result.event.name
+
+
+def no_success(summary: CampaignSummary, out_dir: Path) -> str:
+    """Why no set succeeded, in one line: the outcome most of the scored tests had."""
+    outcomes = Counter(outcome(t.result) for s in summary.sets for t in s.tests)
+    (most, n), = outcomes.most_common(1)
+    return (f"no parameter set succeeded: {n} of {sum(outcomes.values())} scored tests ended {most}; "
+            f"the report is in {out_dir}")
 
 
 def best_spec(summary: CampaignSummary) -> TestSpec:

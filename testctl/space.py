@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from hakoniwa.clickutil import FLOAT32_MAX
 from hakoniwa.wire.protocol import PARAM_END, Rx
 from testctl import paper
 
@@ -70,13 +71,12 @@ class ParameterSpace:
                 raise SpaceError(f"{p.name!r} and {seen_offsets[p.offset]!r} share offset {p.offset}")
             seen_offsets[p.offset] = p.name
         for p in self.params:
-            if not (math.isfinite(p.low) and math.isfinite(p.high)):
-                raise SpaceError(f"{p.name!r}: bounds must be finite numbers")
+            _check_float32(p.name, "low", p.low)
+            _check_float32(p.name, "high", p.high)
             if p.low >= p.high:
                 raise SpaceError(f"{p.name!r}: low {p.low} must be below high {p.high}")
         for f in self.fixed:
-            if not math.isfinite(f.value):
-                raise SpaceError(f"{f.name!r}: fixed value must be a finite number")
+            _check_float32(f.name, "value", f.value)
 
     @classmethod
     def default(cls) -> ParameterSpace:
@@ -157,6 +157,13 @@ class ParameterSpace:
         parts = [f"{p.name}@{p.offset}[{p.low:g},{p.high:g}]" for p in self.params]
         parts += [f"{f.name}@{f.offset}={f.value:g}" for f in self.fixed]
         return " ".join(parts)
+
+
+def _check_float32(name: str, what: str, value: float) -> None:
+    """Every slot is a float32: a value it cannot hold would fail inside a worker, test after test."""
+    if not (math.isfinite(value) and abs(value) <= FLOAT32_MAX):
+        raise SpaceError(f"{name!r}: {what} {value!r} does not fit a float32 slot (a finite number within "
+                         f"±{FLOAT32_MAX:.7g})")
 
 
 def _check_offset(name: str, offset: int) -> None:

@@ -67,7 +67,7 @@ def test_create_never_overwrites(tmp_path: Path) -> None:
         Journal.create(path, HEADER)
 
 
-@pytest.mark.parametrize("tail", [b'{"set": 1, "pha', b"\x00\x00\x00", b'{"set": 1}\n', b"\n"])
+@pytest.mark.parametrize("tail", [b'{"set": 1, "pha', b"\x00\x00\x00", b'{"set": 1}'])
 def test_torn_last_line_is_dropped_and_cut_before_appending(tmp_path: Path, tail: bytes) -> None:
     path = tmp_path / "j.jsonl"
     records = write(path, 4)
@@ -104,3 +104,43 @@ def test_bad_header(tmp_path: Path, content: bytes, problem: str) -> None:
 def test_missing_journal(tmp_path: Path) -> None:
     with pytest.raises(JournalError, match="no journal"):
         Journal.open(tmp_path / "j.jsonl")
+
+
+@pytest.mark.parametrize("tail", [b'{"set": 1}\n', b"\n", b'{"set": 1, "event": "NEW_EVENT"}\n', b"\x00\x00\n"])
+def test_a_complete_last_line_that_is_not_a_record_is_corruption_and_kept(tmp_path: Path, tail: bytes) -> None:
+    """Only a line without its newline can be a torn write; a finished line that does not read back is damage,
+    reported with its number, and opening the journal to append must not cut it away."""
+    path = tmp_path / "j.jsonl"
+    write(path, 4)
+    with open(path, "ab") as f:
+        f.write(tail)
+    before = path.read_bytes()
+    with pytest.raises(JournalError, match="line 6 is damaged"):
+        read_journal(path)
+    with pytest.raises(JournalError, match="line 6 is damaged"):
+        Journal.open(path)
+    assert path.read_bytes() == before
+
+
+def test_a_duplicated_record_is_corruption_naming_its_line(tmp_path: Path) -> None:
+    path = tmp_path / "j.jsonl"
+    write(path, 4)
+    lines = path.read_bytes().split(b"\n")
+    path.write_bytes(b"\n".join([*lines[:3], lines[2], *lines[3:]]))  # the second record, twice
+    before = path.read_bytes()
+    with pytest.raises(JournalError, match="line 4 records set 1 repetition 2 a second time \\(first on line 3\\)"):
+        Journal.open(path)
+    assert path.read_bytes() == before
+
+
+def test_a_bench_fault_and_its_rerun_share_a_repetition(tmp_path: Path) -> None:
+    from campaign_doubles import BENCH_FAULT
+
+    path = tmp_path / "j.jsonl"
+    fault = TestRecord(0, "init", {"Kp": 1.0}, 1, BENCH_FAULT, "t")
+    rerun = TestRecord(0, "init", {"Kp": 1.0}, 1, result(Event.GOAL, 33.0), "t")
+    with Journal.create(path, HEADER) as j:
+        j.append(fault)
+        j.append(fault)
+        j.append(rerun)
+    assert read_journal(path)[1] == [fault, fault, rerun]

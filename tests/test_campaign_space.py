@@ -5,6 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
 from hakoniwa.wire.protocol import Rx
 from testctl.space import ParameterSpace, SpaceError
@@ -97,3 +99,30 @@ def test_bad_file_raises_one_line_space_error(tmp_path: Path, text: str, problem
 def test_missing_file(tmp_path: Path) -> None:
     with pytest.raises(SpaceError, match="cannot read"):
         ParameterSpace.load(tmp_path / "nope.toml")
+
+
+@settings(max_examples=80, deadline=None)
+@given(key=st.sampled_from(["high", "value"]),
+       number=st.floats(-1e300, 1e300) | st.integers(-10**40, 10**40))
+def test_every_value_and_bound_is_checked_against_its_float32_slot(tmp_path_factory, key: str, number) -> None:
+    """A number a float32 slot cannot hold (1e39) is refused when the file is read, naming the slot's type;
+    one it holds exactly as the command line would take it is accepted."""
+    import struct
+
+    from hakoniwa.clickutil import FLOAT32_MAX
+
+    if key == "high":
+        assume(float(number) > -3e38)
+        text = GOOD.replace("low = 0", "low = -3e38").replace("high = 5", f"high = {number!r}")
+    else:
+        text = GOOD.replace("value = 15", f"value = {number!r}")
+    path = tmp_path_factory.mktemp("space") / "s.toml"
+    path.write_text(text)
+    try:
+        struct.pack("<f", float(number))  # what the bench does with it, in every test
+    except OverflowError:
+        with pytest.raises(SpaceError, match=f"{key} .* does not fit a float32 slot"):
+            ParameterSpace.load(path)
+    else:
+        if abs(float(number)) <= FLOAT32_MAX:
+            ParameterSpace.load(path)

@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from testctl.journal import JOURNAL_FILE, read_journal
-from conftest import hako, tagged_env, tagged_processes
+from conftest import hako, one_line_error, tagged_env, tagged_processes
 
 DASK = [sys.executable, "-m", "dask"]
 CAMPAIGN = ["--batch", "2", "--trials", "3", "--seed", "1"]
@@ -89,8 +89,9 @@ def test_a_cluster_of_separate_workers_gives_the_same_results(tmp_path, local_re
     assert done.returncode == 0, done.stderr
     assert (out / "results.csv").read_text() == (local_reference / "results.csv").read_text()
     assert essence(out) == essence(local_reference)
-    benches = {r.bench for r in read_journal(out / JOURNAL_FILE)[1]}
-    assert len(benches) == 2  # both workers ran tests
+    header, records = read_journal(out / JOURNAL_FILE)
+    assert len({r.bench for r in records}) == 2  # both workers ran tests
+    assert header["options"]["batch"] == 2  # the batch it ran with, not one from the local CPU count
 
 
 @pytest.mark.slow
@@ -170,3 +171,60 @@ def test_a_bench_killed_mid_campaign_is_rebuilt_and_its_test_rerun(tmp_path, loc
     while tagged_processes(tag, b"hakoniwa.physics.main") and time.monotonic() < deadline:
         time.sleep(0.2)
     assert tagged_processes(tag, b"hakoniwa.physics.main") == []
+
+
+def campaign_on(cluster: LocalDask, out: Path) -> subprocess.Popen:
+    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--scheduler", cluster.address,
+                             *CAMPAIGN, "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while not (out / JOURNAL_FILE).is_file() or len(read_journal(out / JOURNAL_FILE)[1]) < 1:
+        assert time.monotonic() < deadline and proc.poll() is None
+        time.sleep(0.2)
+    return proc
+
+
+def stopped_with_the_resume_command(proc: subprocess.Popen, out: Path, *words: str) -> None:
+    _, err = proc.communicate(timeout=300)
+    progress = f"campaign {out}"  # the progress lines, plain off a terminal
+    err = "\n".join(line for line in err.splitlines() if not line.startswith(progress))
+    one_line_error(subprocess.CompletedProcess(proc.args, proc.returncode, "", err), f"hako run --resume {out}",
+                   *words)
+    read_journal(out / JOURNAL_FILE)  # intact
+
+
+def kill_scheduler(cluster: LocalDask) -> None:
+    cluster.scheduler.kill()
+
+
+def kill_every_worker(cluster: LocalDask) -> None:
+    os.killpg(cluster.workers[0].pid, signal.SIGKILL)  # the worker, its nanny and its bench
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("kill, words", [
+    (kill_scheduler, ("lost the Dask scheduler",)),
+    (kill_every_worker, ("every Dask worker", "none for 60 s")),  # after NO_WORKERS_TIMEOUT_S
+])
+def test_a_cluster_lost_mid_campaign_ends_it_with_one_line_and_the_resume_command(tmp_path, kill, words):
+    cluster = LocalDask(tmp_path, 1)
+    out = tmp_path / "campaign"
+    try:
+        proc = campaign_on(cluster, out)
+        kill(cluster)
+        stopped_with_the_resume_command(proc, out, *words)
+    finally:
+        cluster.close()
+
+
+def test_a_local_cluster_starts_no_dashboard(tmp_path):
+    """Another dashboard on 8787 (a second campaign, a notebook) must not make every campaign warn."""
+    with socket.socket() as busy:
+        busy.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        try:
+            busy.bind(("", 8787))
+        except OSError:
+            pass  # someone holds it already: the same situation
+        busy.listen()
+        done = hako_run("--smoke", "--out", str(tmp_path / "c"))
+    assert done.returncode == 0, done.stderr
+    assert "8787" not in done.stderr and "dashboard" not in done.stderr.lower()

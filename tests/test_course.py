@@ -113,3 +113,25 @@ def test_bad_areas_and_wiring_are_clear_errors(tmp_path, extra, message):
     toml.write_text(toml.read_text() + extra)
     with pytest.raises(CourseError, match=message):
         load_course(folder)
+
+
+@pytest.mark.parametrize("shadow", ["file", "folder"])
+def test_a_file_or_folder_named_oval_does_not_shadow_the_builtin_course(tmp_path, monkeypatch, shadow):
+    local = tmp_path / "oval"
+    local.mkdir() if shadow == "folder" else local.write_text("not a course")
+    monkeypatch.chdir(tmp_path)
+    assert load_course("oval").folder == COURSES_DIR / "oval"
+    with pytest.raises(CourseError, match="oval"):
+        load_course("./oval")  # the local one, named as a path
+
+
+def test_hako_trial_takes_the_builtin_course_beside_a_folder_named_oval(tmp_path):
+    import json
+
+    from conftest import hako
+
+    (tmp_path / "oval").mkdir()
+    (tmp_path / "line_trace").write_text("")  # nor does a file shadow a built-in app
+    r = hako("trial", "--course", "oval", "--time-limit", "1", "--noise", "0", "--json", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert json.loads(r.stdout)["event"] == "TIME_OVER"

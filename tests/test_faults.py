@@ -13,11 +13,12 @@ from pathlib import Path
 import pytest
 
 from bench_fixtures import PAPER, physics
-from hakoniwa.wire.processes import EXIT_BENCH_FAULT
+from hakoniwa.wire.processes import BENCH_FAULT_MARKER, EXIT_BENCH_FAULT
 from hakoniwa.wire.protocol import ATHRILL_FILE, HEADER_SIZE, UNITY_FILE, CrashKind, Event, Rx
 from hakoniwa.wire.rundir import PHYSICS_LOG
 from hakoniwa.physics.sync import exit_crash
 from testctl.journal import JOURNAL_FILE, read_journal
+from conftest import one_line_error
 
 IDLE_APP = '''
 def main_task(api):
@@ -27,20 +28,27 @@ def main_task(api):
 
 
 class Exited:
-    def __init__(self, code: int) -> None:
+    def __init__(self, code: int, pid: int = 4242) -> None:
         self.returncode = code
+        self.pid = pid
 
 
-@pytest.mark.parametrize("code, started, kind", [
-    (EXIT_BENCH_FAULT, True, CrashKind.BENCH),  # the mock could not use the mapped files
-    (1, False, CrashKind.BENCH),  # exited before it opened them: the bench's fault
-    (-signal.SIGSEGV, True, CrashKind.PROGRAM),  # died running the program
-    (-signal.SIGSEGV, False, CrashKind.PROGRAM),  # in the program's own start-up code
-    (1, True, CrashKind.PROGRAM),
+@pytest.mark.parametrize("code, started, marked, kind", [
+    (EXIT_BENCH_FAULT, True, True, CrashKind.BENCH),  # it could not use the mapped files, and said so
+    (EXIT_BENCH_FAULT, True, False, CrashKind.PROGRAM),  # the user's own exit(3)
+    (0, True, False, CrashKind.PROGRAM),  # the user's own exit(0) mid-test
+    (1, False, False, CrashKind.BENCH),  # exited before it opened them: the bench's fault
+    (-signal.SIGSEGV, True, False, CrashKind.PROGRAM),  # died running the program
+    (-signal.SIGSEGV, False, False, CrashKind.PROGRAM),  # in the program's own start-up code
+    (1, True, False, CrashKind.PROGRAM),
 ])
-def test_whose_fault_an_exited_athrill_is(code, started, kind):
-    crash = exit_crash(Exited(code), started=started)
+def test_whose_fault_an_exited_athrill_is(tmp_path, code, started, marked, kind):
+    if marked:
+        (tmp_path / f"{BENCH_FAULT_MARKER}4242").write_text("athrill_mmap.bin: size 104 bytes\n")
+    crash = exit_crash(Exited(code), started=started, run_dir=tmp_path)
     assert crash.kind == kind and crash.detail == code
+    assert ("size 104 bytes" in str(crash)) == marked
+    assert not (tmp_path / f"{BENCH_FAULT_MARKER}4242").exists()  # taken, so a reused pid cannot inherit it
 
 
 @pytest.mark.parametrize("victim", [UNITY_FILE, ATHRILL_FILE])
@@ -127,8 +135,24 @@ def test_a_truncated_mapped_file_is_a_clear_error(tmp_path):
     assert "Traceback" not in err
 
 
+@pytest.mark.parametrize("when", ["early", "mid-test"])
+def test_ctrl_c_in_hako_trial_is_one_line_and_130(tmp_path, when):
+    """Early: while the physics process is still starting (importing); mid-test: once test 1 runs."""
+    proc = start_trial(tmp_path)
+    if when == "early":
+        pid_of("hakoniwa.physics.main", tmp_path / "run")
+    else:
+        wait_for_test(tmp_path / "run")
+    os.killpg(proc.pid, signal.SIGINT)  # what the terminal does on Ctrl-C
+    _, err = proc.communicate(timeout=60)
+    one_line_error(subprocess.CompletedProcess(proc.args, proc.returncode, "", err), "interrupted")
+    assert proc.returncode == 130
+
+
 @pytest.mark.slow
-def test_ctrl_c_ends_a_campaign_with_130_and_the_resume_command(tmp_path):
+@pytest.mark.parametrize("signum, status, word", [(signal.SIGINT, 130, "interrupted"),
+                                                  (signal.SIGTERM, 143, "terminated")])
+def test_ctrl_c_or_sigterm_ends_a_campaign_with_the_resume_command(tmp_path, signum, status, word):
     out = tmp_path / "c"
     proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--trials", "20", "--repeats", "1",
                              "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
@@ -137,10 +161,13 @@ def test_ctrl_c_ends_a_campaign_with_130_and_the_resume_command(tmp_path):
     while not ((out / JOURNAL_FILE).exists() and len(read_journal(out / JOURNAL_FILE)[1]) >= 2):
         assert proc.poll() is None and time.monotonic() < deadline
         time.sleep(0.1)
-    os.killpg(proc.pid, signal.SIGINT)  # what the terminal does on Ctrl-C
+    if signum == signal.SIGINT:
+        os.killpg(proc.pid, signal.SIGINT)  # what the terminal does on Ctrl-C
+    else:
+        proc.terminate()  # what `kill PID`, a CI runner or a supervisor does
     _, err = proc.communicate(timeout=120)
-    assert proc.returncode == 130, err
-    assert f"hako run --resume {out}" in err
-    assert "Aborted" not in err and "Traceback" not in err
+    assert proc.returncode == status, err
+    assert f"{word}: every finished test is in {out / JOURNAL_FILE}; continue with: hako run --resume {out}" in err
+    assert "Aborted" not in err and "Traceback" not in err and "leaked" not in err
     records = read_journal(out / JOURNAL_FILE)[1]
     assert all(r.result.event != Event.CRASH for r in records)  # the interrupt spoiled no result

@@ -20,6 +20,7 @@ def test_smoke_campaign_writes_every_result_file(tmp_path):
     r = hako("run", "--smoke", "--out", str(out))
     assert r.returncode == 0, r.stderr
     assert "best:" in r.stdout
+    assert f"campaign {out}: sets 0/4, tests 0, benches" in r.stderr  # stderr is no terminal: plain progress
     for name in ("journal.jsonl", "results.csv", "best.json", "fig8.png", "fig9.png", "best_trajectory.png"):
         assert (out / name).stat().st_size > 0, name
     best = json.loads((out / "best.json").read_text())
@@ -32,6 +33,9 @@ def test_smoke_campaign_writes_every_result_file(tmp_path):
     ("this is = = not toml", "TOML"),
     ('[[param]]\nname = "Kp"\noffset = 540\nlow = 5.0\nhigh = 1.0\n', "low"),
     ('[[param]]\nname = "Kp"\noffset = 12\nlow = 0.0\nhigh = 1.0\n', "offset"),
+    ('[[param]]\nname = "Kp"\noffset = 540\nlow = 0.0\nhigh = 1e39\n', "float32"),
+    ('[[param]]\nname = "Kp"\noffset = 540\nlow = 0.0\nhigh = 1.0\n[[fixed]]\nname = "p"\noffset = 552\n'
+     'value = 1e39\n', "float32"),
 ])
 def test_bad_space_file_is_a_one_line_error(tmp_path, content, message):
     space = tmp_path / "space.toml"

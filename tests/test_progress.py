@@ -7,7 +7,7 @@ from campaign_doubles import result
 from hakoniwa.wire.protocol import Event
 from testctl.campaign import Progress
 from testctl.journal import TestRecord
-from testctl.progress import RECENT_TESTS, ProgressLine, format_duration
+from testctl.progress import PLAIN_EVERY_S, PLAIN_EVERY_TESTS, RECENT_TESTS, ProgressLine, format_duration
 
 
 class FakeBar:
@@ -40,3 +40,20 @@ def test_rate_and_time_left_follow_recent_tests():
 
 def test_durations_read_naturally():
     assert [format_duration(s) for s in (42, 600, 7200)] == ["42 s", "10 min", "2.0 h"]
+
+
+def test_off_a_terminal_a_plain_line_comes_every_n_tests_or_n_seconds():
+    now = [0.0]
+    lines: list[str] = []
+    line = ProgressLine(FakeBar(), clock=lambda: now[0], plain=lines.append)
+    record = TestRecord(0, "init", {}, 1, result(Event.GOAL, 33.0), "t")
+    line(Progress(0, 10, 0, None, None, 0, 1))
+    assert lines == ["sets 0/10, tests 0, benches 0/1 busy, no lap yet"]
+    for tests in range(1, 2 * PLAIN_EVERY_TESTS + 1):  # quick tests: a line every PLAIN_EVERY_TESTS
+        now[0] += 0.1
+        line(Progress(0, 10, tests, None, record, 1, 1))
+    assert len(lines) == 3 and lines[-1].startswith(f"sets 0/10, tests {2 * PLAIN_EVERY_TESTS}, ")
+    now[0] += PLAIN_EVERY_S  # one slow test: a line, although only one test finished
+    line(Progress(0, 10, 2 * PLAIN_EVERY_TESTS + 1, None, record, 1, 1))
+    assert len(lines) == 4
+

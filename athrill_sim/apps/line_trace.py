@@ -9,6 +9,7 @@ this program and `athrill_sim/apps/line_trace.c` compute bit for bit the same st
 
 from __future__ import annotations
 
+import math
 import struct
 
 from athrill_sim.ev3api import (COLOR_SENSOR, EV3_PORT_1, EV3_PORT_A, EV3_PORT_B, LARGE_MOTOR, Ev3Api, rx)
@@ -29,13 +30,23 @@ MOTOR_POWER = rx(Rx.MOTOR_POWER)
 _F32 = struct.Struct("<f")
 
 
+INT_MIN = -(2**31)
+
+
 def f32(x: float) -> float:
-    """Round a double to the nearest float32, as a C float assignment or float operation does."""
-    return _F32.unpack(_F32.pack(x))[0]
+    """Round a double to the nearest float32, as a C float assignment or float operation does: a result
+    beyond float32's range is ±inf (valid gains such as Kp = 3e38 overflow so), not an error."""
+    try:
+        return _F32.unpack(_F32.pack(x))[0]
+    except OverflowError:  # struct refuses exactly what rounds to infinity
+        return math.copysign(math.inf, x)
 
 
 def c_int(x: float) -> int:
-    """C's float-to-int conversion (truncation toward zero)."""
+    """C's float-to-int conversion (truncation toward zero), as the C tracer compiles it on x86-64
+    (cvttss2si): NaN, or a value outside int's range, gives INT_MIN."""
+    if math.isnan(x) or not INT_MIN <= x < 2**31:
+        return INT_MIN
     return int(x)
 
 

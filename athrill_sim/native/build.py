@@ -20,6 +20,7 @@ import re
 import shutil
 import subprocess
 import tempfile
+from collections.abc import Collection
 from pathlib import Path
 
 from athrill_sim.native import NativeBuildError, appcfg, headers, workspace
@@ -39,6 +40,7 @@ COMPILE_TIMEOUT_S = 300
 
 _ERROR = re.compile(r"\berror: |undefined reference to |multiple definition of ")
 _LINKER_LOCATION = re.compile(r"^.*?:\(\.\w+[^)]*\): ")
+_UNDEFINED = re.compile(r"undefined reference to [`'\u2018]([A-Za-z_]\w*)['\u2019]")
 
 
 def cache_root() -> Path:
@@ -131,10 +133,11 @@ def _build(app: AppSources, cc: Path, generated: dict[str, str], build_dir: Path
     sources = [os.path.relpath(s, app.root) for s in app.sources]
     cmd = [str(cc), *CFLAGS, *includes, *app.defines, *sources, str(build_dir / KERNEL_CFG_C),
            *(str(s) for s in sorted(RUNTIME_SRC.glob("*.c"))), "-o", str(build_dir / EXECUTABLE), *LIBS]
-    _run(cmd, app.root, build_dir, f"{app.sources[0].name} does not build")
+    entries = {t.entry for t in config.tasks} | {c.handler for c in config.cyclics if c.handler}
+    _run(cmd, app.root, build_dir, f"{app.sources[0].name} does not build", entries)
 
 
-def _run(cmd: list[str], cwd: Path, build_dir: Path, failure: str) -> str:
+def _run(cmd: list[str], cwd: Path, build_dir: Path, failure: str, entries: Collection[str] = ()) -> str:
     try:
         out = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=COMPILE_TIMEOUT_S,
                              env=_compiler_env())
@@ -143,18 +146,24 @@ def _run(cmd: list[str], cwd: Path, build_dir: Path, failure: str) -> str:
     with open(build_dir / BUILD_LOG, "a") as log:
         log.write(" ".join(cmd) + "\n" + out.stderr)
     if out.returncode != 0:
-        raise NativeBuildError(f"{failure}: {first_error(out.stderr)}")
+        raise NativeBuildError(f"{failure}: {first_error(out.stderr, entries)}")
     return out.stdout
 
 
-def first_error(output: str) -> str:
-    """The compiler's (or linker's) first error as one line; a missing function says it is not in the subset.
-    The compiler driver's closing summary ("collect2: error: ld returned 1") is never the first error."""
+def first_error(output: str, entries: Collection[str] = ()) -> str:
+    """The compiler's (or linker's) first error as one line. A missing function is either one of the program's
+    own entry points (`entries`: the task and handler functions app.cfg names, main_task without one), which
+    the program failed to define, or an API function not in the subset. The compiler driver's closing summary
+    ("collect2: error: ld returned 1") is never the first error."""
     lines = [line.strip() for line in output.splitlines() if line.strip()]
     errors = [line for line in lines if _ERROR.search(line) and not line.startswith("collect2:")]
     line = (errors or lines or ["the compiler failed"])[0]
     if "undefined reference to " in line or "multiple definition of " in line:
         line = _LINKER_LOCATION.sub("", line)
-    if "undefined reference to " in line:
+    missing = _UNDEFINED.search(line)
+    if missing and missing.group(1) in entries:
+        line = (f"the program defines no function {missing.group(1)}, a task or handler function that app.cfg "
+                "names (a program without app.cfg needs main_task)")
+    elif missing:
         line += " (not in the native mock's EV3RT subset, see docs/NATIVE.md)"
     return line

@@ -211,13 +211,24 @@ def _noise(table: object, where: str) -> NoiseLevels:
     return dataclasses.replace(DEFAULT_NOISE, **levels)
 
 
+def builtin_course(name: str | Path) -> Path | None:
+    """The folder of the built-in course called `name`, if it is one. A built-in name means the built-in course
+    even where the working directory holds a file or folder of that name (write `./oval` for that one), so
+    that `--course oval` is the same course wherever it is typed."""
+    name = str(name)
+    folder = COURSES_DIR / name
+    return folder if name and "/" not in name and folder.is_dir() else None
+
+
+def course_file(name_or_path: str | Path) -> Path:
+    """The course.toml a built-in name, a course folder or a course file names (it may not exist)."""
+    path = builtin_course(name_or_path) or Path(name_or_path)
+    return path / "course.toml" if path.is_dir() else path
+
+
 def load_course(name_or_path: str | Path) -> Course:
     """Load a built-in course by name, or a course folder (or its course.toml) by path."""
-    path = Path(name_or_path)
-    if not path.exists() and (COURSES_DIR / str(name_or_path)).is_dir():
-        path = COURSES_DIR / str(name_or_path)
-    if path.is_dir():
-        path = path / "course.toml"
+    path = course_file(name_or_path)
     if not path.is_file():
         known = ", ".join(sorted(p.name for p in COURSES_DIR.iterdir() if p.is_dir()))
         raise CourseError(f"no course at {name_or_path} (built-in courses: {known})")

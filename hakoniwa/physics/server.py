@@ -37,10 +37,11 @@ from hakoniwa.physics.scenario import Scenario
 from hakoniwa.physics.slots import Report, Slots
 from hakoniwa.physics.sync import HAKONIWA_START_US, AthrillCrash, run_hakoniwa, run_lockstep
 from hakoniwa.wire.protocol import CrashKind, Event, SyncMode, Tx
-from hakoniwa.wire.rundir import PHYSICS_LOG, SERIAL_INPUT, TRAJECTORY_FILE
+from hakoniwa.wire.rundir import PHYSICS_LOG, PROGRAM_OUTPUT_FILE, SERIAL_INPUT, TRAJECTORY_FILE
 from hakoniwa.wire.timebase import Scheduler
 
 IDLE_POLL_S = 0.0005
+PROGRAM_OUTPUT_LINES = 6  # of a crashed program's output, for the user: a traceback's last frame and its error
 
 
 class ControllerGone(Exception):
@@ -131,6 +132,7 @@ class PhysicsServer:
     def _start_test(self, seq: int) -> NoiseDraw | None:
         self.check_files()
         forget_screen(self.run_dir)
+        (self.run_dir / PROGRAM_OUTPUT_FILE).unlink(missing_ok=True)
         noise = self._read_noise()
         self.env.begin(noise)
         self._max_diff_us = 0
@@ -161,6 +163,8 @@ class PhysicsServer:
                         crash.kind if crash else CrashKind.NONE, crash.detail if crash else 0)
         outcome = TestOutcome(seq, report, time.monotonic() - wall_start)
         draw_screen(self.run_dir)  # before the report: whoever sees the event sees the screen
+        if crash is not None and crash.kind == CrashKind.PROGRAM and proc.poll() is not None:
+            self._write_program_output(self.launcher.last_lines(proc, PROGRAM_OUTPUT_LINES))
         self.slots.report(report)
         self._write_trajectory()
         self.tests_run += 1
@@ -172,6 +176,13 @@ class PhysicsServer:
                         f"max time diff {report.max_time_diff_us} us, wall {outcome.wall_s:.3f} s\n")
         self._log.flush()
         return outcome
+
+    def _write_program_output(self, lines: list[str]) -> None:
+        """Before the event is published, so that the controller finds it when it sees the crash."""
+        if lines:
+            tmp = self.run_dir / (PROGRAM_OUTPUT_FILE + ".tmp")
+            tmp.write_text("\n".join(lines) + "\n")
+            tmp.replace(self.run_dir / PROGRAM_OUTPUT_FILE)
 
     def _write_trajectory(self) -> None:
         tmp = self.run_dir / (TRAJECTORY_FILE + ".tmp")

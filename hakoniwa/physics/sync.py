@@ -21,10 +21,10 @@ from __future__ import annotations
 
 import subprocess
 import time
+from pathlib import Path
 from typing import TYPE_CHECKING, Callable
 
-from hakoniwa.wire.processes import describe_exit
-from hakoniwa.wire.processes import EXIT_BENCH_FAULT
+from hakoniwa.wire.processes import CpuUse, cpu_use, describe_exit, take_bench_fault
 from hakoniwa.wire.protocol import HEADER_SIZE, CrashKind, Tx
 from hakoniwa.wire.timebase import ALLOWED_TIME_DIFF_US, PHYSICS_STEP_US
 from hakoniwa.wire.waiting import wait_for, wait_word
@@ -33,6 +33,7 @@ if TYPE_CHECKING:
     from hakoniwa.physics.server import PhysicsServer
 
 HAKONIWA_START_US = 1  # the real Unity's clock starts at 1 us: a unity time of 0 lets Athrill run unchecked
+SPINNING_CPU_SHARE = 0.1  # a silent Athrill that had this share of a core or more was running: the program spins
 
 
 class AthrillCrash(Exception):
@@ -44,33 +45,58 @@ class AthrillCrash(Exception):
         self.detail = detail
 
 
-def exit_crash(proc: subprocess.Popen, *, started: bool) -> AthrillCrash:
-    """The crash an exited Athrill stands for. One that says the mapped files were unusable, or that exited
-    before it got going (before it opened them), is the bench's fault; one killed by a signal, or that exited
-    once running, is the program's."""
+def exit_crash(proc: subprocess.Popen, *, started: bool, run_dir: Path) -> AthrillCrash:
+    """The crash an exited Athrill stands for. One that marked a bench fault (`hakoniwa.wire.processes`), or
+    that exited before it got going (before it opened the files), is the bench's fault; one killed by a
+    signal, or that exited once running, whatever its status, is the program's."""
     code = proc.returncode
     assert code is not None
-    bench = code == EXIT_BENCH_FAULT or (code > 0 and not started)
-    kind = CrashKind.BENCH if bench else CrashKind.PROGRAM
+    reason = take_bench_fault(run_dir, proc.pid)
+    if reason is not None:
+        return AthrillCrash(CrashKind.BENCH, code, f"athrill {describe_exit(code)}: {reason}")
+    kind = CrashKind.BENCH if code > 0 and not started else CrashKind.PROGRAM
     return AthrillCrash(kind, code, f"athrill {describe_exit(code)}")
 
 
 def watchdog(proc: subprocess.Popen, timeout_s: float, progress: Callable[[], int],
-             started: Callable[[], bool]) -> Callable[[], None]:
+             started: Callable[[], bool], run_dir: Path) -> Callable[[], None]:
     """An `on_idle` check for waits on Athrill: raises when it exits, or when `progress()` (its clock or its
-    answer counter) has not moved for `timeout_s` of wall time."""
-    last = [progress(), time.monotonic()]
+    answer counter) has not moved for `timeout_s` of wall time. Whose fault the silence is, its CPU time says:
+    a program that spins without sleeping uses the CPU it gets (the program's fault); a process that was
+    stopped (SIGSTOP), or was runnable and got next to no CPU, was stalled by the machine (the bench's fault:
+    the test runs again, never scored). One that sleeps in the kernel outside the handshake hangs on its own."""
+    last_progress, since = progress(), time.monotonic()
+    use = cpu_use(proc.pid)
+    cpu_at, stopped = (use.cpu_s if use else 0.0), False
 
     def check() -> None:
+        nonlocal last_progress, since, cpu_at, stopped
         if proc.poll() is not None:
-            raise exit_crash(proc, started=started())
-        now, seen = time.monotonic(), progress()
-        if seen != last[0]:
-            last[:] = [seen, now]
-        elif now - last[1] > timeout_s:
-            raise AthrillCrash(CrashKind.SILENT, 0, f"athrill silent for {timeout_s:g} s")
+            raise exit_crash(proc, started=started(), run_dir=run_dir)
+        now, seen, use = time.monotonic(), progress(), cpu_use(proc.pid)
+        stopped = stopped or (use is not None and use.state in "Tt")
+        if seen != last_progress:
+            last_progress, since, cpu_at, stopped = seen, now, (use.cpu_s if use else 0.0), False
+        elif now - since > timeout_s:
+            raise silent_crash(now - since, use, cpu_at, stopped)
 
     return check
+
+
+def silent_crash(silent_s: float, use: CpuUse | None, cpu_at: float, stopped: bool) -> AthrillCrash:
+    if use is None:  # no /proc: the silence cannot be told apart, and is charged to the program as before
+        return AthrillCrash(CrashKind.SILENT, 0, f"athrill silent for {silent_s:.0f} s")
+    used = use.cpu_s - cpu_at
+    had = f"{used:.1f} s of CPU in {silent_s:.0f} s"
+    if stopped:
+        return AthrillCrash(CrashKind.BENCH, 0, f"athrill was stopped ({had}): a stall of the machine")
+    if used >= SPINNING_CPU_SHARE * silent_s:
+        return AthrillCrash(CrashKind.SILENT, 0, f"athrill silent for {silent_s:.0f} s while running ({had}): "
+                                                 "the program does not sleep")
+    if use.state in "RD":
+        return AthrillCrash(CrashKind.BENCH, 0, f"athrill got no CPU ({had}, state {use.state}): a stall of "
+                                                "the machine")
+    return AthrillCrash(CrashKind.SILENT, 0, f"athrill silent for {silent_s:.0f} s, blocked outside tslp_tsk")
 
 
 def run_lockstep(server: PhysicsServer, proc: subprocess.Popen) -> None:
@@ -82,7 +108,8 @@ def run_lockstep(server: PhysicsServer, proc: subprocess.Popen) -> None:
 
     def await_answer(last: int) -> int:
         """Wait for Athrill's answer to the snapshot at `server.now_us`; apply it and return its wake time."""
-        check = watchdog(proc, server.athrill_timeout_s, answer, lambda: a.read_u32(Tx.ATHRILL_PID) == proc.pid)
+        check = watchdog(proc, server.athrill_timeout_s, answer, lambda: a.read_u32(Tx.ATHRILL_PID) == proc.pid,
+                         server.run_dir)
         wait_word(answer_address, answer, lambda: answer() != last, check)
         now = server.now_us
         next_wake = a.read("q", Tx.NEXT_WAKE)
@@ -109,7 +136,8 @@ def run_lockstep(server: PhysicsServer, proc: subprocess.Popen) -> None:
 
 def run_hakoniwa(server: PhysicsServer, proc: subprocess.Popen) -> None:
     a = server.athrill
-    check = watchdog(proc, server.athrill_timeout_s, lambda: a.athrill_time_us, lambda: a.athrill_time_us > 0)
+    check = watchdog(proc, server.athrill_timeout_s, lambda: a.athrill_time_us, lambda: a.athrill_time_us > 0,
+                     server.run_dir)
     sched = server.scheduler
     while True:
         now = server.now_us

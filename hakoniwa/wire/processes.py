@@ -1,13 +1,22 @@
 """What every process of the bench needs to know about its children: that they die with it, what their
-exit statuses mean, and the statuses the bench itself uses."""
+exit statuses mean, and the statuses the bench itself uses.
+
+Whose fault an Athrill's exit is cannot be read from its status: a user's program may `exit(3)` as well as
+we can. So an Athrill (the mock and the C runtime alike) that stops for a fault of the bench first writes a
+marker file, `athrill-bench-fault.PID` in the run directory, holding its reason; an exit without one, once
+the program runs, is the program's outcome."""
 
 from __future__ import annotations
 
 import ctypes
+import os
 import signal
+from pathlib import Path
+from typing import NamedTuple
 
 _PR_SET_PDEATHSIG = 1
-EXIT_BENCH_FAULT = 3  # a mock or native Athrill that could not use the mapped files: a bench fault
+EXIT_BENCH_FAULT = 3  # what a mock or native Athrill that could not use the mapped files exits with (beside the marker)
+BENCH_FAULT_MARKER = "athrill-bench-fault."  # + the pid: the file that makes an Athrill's exit a bench fault
 INTERRUPTED = 130  # the exit status of a campaign stopped with Ctrl-C (the controller prints how to resume)
 
 
@@ -18,6 +27,25 @@ def die_with_parent() -> None:
         ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGTERM)
     except (OSError, AttributeError):  # not Linux: children merely outlive a killed parent
         pass
+
+
+def mark_bench_fault(run_dir: Path, reason: str) -> None:
+    """Before an Athrill exits for a fault of the bench: say so where the physics process looks."""
+    try:
+        (Path(run_dir) / f"{BENCH_FAULT_MARKER}{os.getpid()}").write_text(reason + "\n")
+    except OSError:  # no run directory to write in: the physics process sees an Athrill that never got going
+        pass
+
+
+def take_bench_fault(run_dir: Path, pid: int) -> str | None:
+    """The reason Athrill `pid` gave for a bench fault, if it marked one (the marker is removed)."""
+    marker = Path(run_dir) / f"{BENCH_FAULT_MARKER}{pid}"
+    try:
+        reason = marker.read_text().strip()
+        marker.unlink()
+    except OSError:
+        return None
+    return reason
 
 
 def describe_exit(code: int) -> str:
@@ -33,3 +61,19 @@ def describe_exit(code: int) -> str:
 def exit_status(code: int) -> int:
     """What a parent should exit with after a child ended with `code`: 128 + N for a death by signal N."""
     return 128 - code if code < 0 else code
+
+
+class CpuUse(NamedTuple):
+    state: str  # /proc's one-letter state: R running or runnable, S sleeping, T stopped, D waiting on I/O, ...
+    cpu_s: float  # user + system CPU time so far
+
+
+def cpu_use(pid: int) -> CpuUse | None:
+    """What a process is doing and how much CPU it has had (None where /proc cannot say): how a silent child
+    is told apart as spinning (it has CPU and uses it) or stalled (stopped, or runnable and given none)."""
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as f:
+            fields = f.read().rsplit(b")", 1)[1].split()
+        return CpuUse(fields[0].decode(), (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK"))
+    except (OSError, IndexError, ValueError):
+        return None

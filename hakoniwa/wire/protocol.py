@@ -24,7 +24,7 @@ import os
 import struct
 from pathlib import Path
 
-from hakoniwa.wire.processes import EXIT_BENCH_FAULT
+from hakoniwa.wire.processes import BENCH_FAULT_MARKER, EXIT_BENCH_FAULT
 
 FILE_SIZE = 8192
 HEADER_SIZE = 32
@@ -356,6 +356,7 @@ def c_header() -> str:
     lines += [f"#define HAKO_{k} 0x{v:X}u" for k, v in scalars.items()]
     lines.append("#define HAKO_NEVER_WAKES 0x7FFFFFFFFFFFFFFFll")
     lines += [f'#define HAKO_{name}_FILE "{f}"' for name, f in (("UNITY", UNITY_FILE), ("ATHRILL", ATHRILL_FILE))]
+    lines.append(f'#define HAKO_BENCH_FAULT_MARKER "{BENCH_FAULT_MARKER}"')
     lines += [f'#define HAKO_{name}_MAGIC "{m.decode()}"' for name, m in (("UNITY", UNITY_MAGIC),
                                                                           ("ATHRILL", ATHRILL_MAGIC))]
     for prefix, cls in (("HDR", Header), ("RX", Rx), ("TX", Tx)):

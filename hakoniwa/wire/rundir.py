@@ -17,6 +17,7 @@ LOCK_FILE = ".hako.lock"
 TRAJECTORY_FILE = "trajectory.csv"  # the last test's path, for pictures
 PHYSICS_LOG = "physics.log"  # one line per test: what the physics process saw
 ATHRILL_LOG = "athrill.log"  # what the Athrill processes printed (the program's syslog)
+PROGRAM_OUTPUT_FILE = "program_output.txt"  # the last lines a crashed program printed (its own error), per test
 # What a native EV3RT program leaves of its test (the C runtime writes them; docs/NATIVE.md).
 LCD_LOG = "lcd.txt"  # every LCD drawing call of the test, in order, stamped with the simulated time
 LCD_PNG = "lcd.png"  # the 178x128 screen at the test's end, drawn from LCD_LOG by the physics process
@@ -47,8 +48,11 @@ class RunDirBusy(RuntimeError):
 
 
 class RunDirLock:
-    def __init__(self, run_dir: Path) -> None:
+    """One live process per folder: a run directory, or a campaign folder (`what` names it in the refusal)."""
+
+    def __init__(self, run_dir: Path, what: str = "run directory") -> None:
         self.run_dir = Path(run_dir)
+        self.what = what
         self._fd: int | None = None
 
     def acquire(self) -> None:
@@ -59,7 +63,7 @@ class RunDirLock:
         except BlockingIOError:
             holder = os.read(fd, 32).decode(errors="replace").strip() or "?"
             os.close(fd)
-            raise RunDirBusy(f"run directory {self.run_dir} is in use by another run (pid {holder})") from None
+            raise RunDirBusy(f"{self.what} {self.run_dir} is in use by another run (pid {holder})") from None
         os.ftruncate(fd, 0)
         os.write(fd, f"{os.getpid()}\n".encode())
         self._fd = fd

@@ -1,8 +1,9 @@
 /*
  * The two bench files, opened and checked as hakoniwa/protocol.py's check_file does (size, magic, layout
  * version), then mapped shared. A file that cannot be used is the bench's fault, never the program's: the
- * process says why on stderr and exits with HAKO_EXIT_BENCH_FAULT, which the physics process does not
- * charge to the parameters under test.
+ * process says why on stderr, writes the bench-fault marker (HAKO_BENCH_FAULT_MARKER + its pid, in the run
+ * directory, holding the reason) and exits with HAKO_EXIT_BENCH_FAULT. The marker, not the status, is what
+ * the physics process reads, since the user's program may exit with any status of its own.
  */
 #include <errno.h>
 #include <fcntl.h>
@@ -19,6 +20,7 @@
 
 static uint8_t *rx_file;
 static uint8_t *tx_file;
+static const char *bench_run_dir; /* where the marker goes; NULL before the files are opened */
 
 void hako_bench_fault(const char *format, ...)
 {
@@ -26,6 +28,18 @@ void hako_bench_fault(const char *format, ...)
     va_start(args, format);
     hako_vline("athrill-native: bench fault: ", format, args);
     va_end(args);
+    if (bench_run_dir != NULL) {
+        char path[PATH_MAX];
+        snprintf(path, sizeof path, "%s/%s%d", bench_run_dir, HAKO_BENCH_FAULT_MARKER, (int)getpid());
+        FILE *marker = fopen(path, "w");
+        if (marker != NULL) {
+            va_start(args, format);
+            vfprintf(marker, format, args);
+            va_end(args);
+            fputc('\n', marker);
+            fclose(marker);
+        }
+    }
     exit(HAKO_EXIT_BENCH_FAULT);
 }
 
@@ -75,6 +89,7 @@ static uint8_t *open_checked(const char *run_dir, const char *name, const char *
 
 void hako_files_open(const char *run_dir)
 {
+    bench_run_dir = run_dir;
     rx_file = open_checked(run_dir, HAKO_UNITY_FILE, HAKO_UNITY_MAGIC);
     tx_file = open_checked(run_dir, HAKO_ATHRILL_FILE, HAKO_ATHRILL_MAGIC);
 }

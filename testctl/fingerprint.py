@@ -1,0 +1,68 @@
+"""What a campaign's results depend on besides its options: the files of its program and of its course (the
+course folder holds the robot's wiring too), hashed into the journal's header.
+
+A resume that runs another program gives sets measured with two programs under one name (the issue's case:
+sets 1-2 lapped at 37 s with the old app.c, sets 3-5 at 23 s with the new one), so `--resume` compares the
+hashes and refuses, naming the files that changed. Every recorded bench option that names a file or folder
+is covered, so options added later are too.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+
+from hakoniwa.physics.options import BenchOptions
+
+FILES_KEY = "files"  # where the hashes live in the journal header's "bench"
+
+
+def file_hashes(files: Iterable[Path]) -> dict[str, str]:
+    """{name relative to the files' common folder: sha256}."""
+    paths = sorted({Path(f).resolve() for f in files})
+    if not paths:
+        return {}
+    root = Path(os.path.commonpath([p.parent for p in paths]))
+    return {str(p.relative_to(root)): hashlib.sha256(p.read_bytes()).hexdigest() for p in paths}
+
+
+def folder_files(path: Path) -> list[Path]:
+    if path.is_file():
+        return [path]
+    return [f for f in sorted(path.rglob("*")) if f.is_file() and not f.name.startswith(".")]
+
+
+def fingerprint(bench: BenchOptions, fields: Iterable[str]) -> dict[str, dict[str, str]]:
+    """The hashes of what each of `fields` names: the program's files for `app`, the course folder for
+    `course`, and the file or folder any other option names."""
+    from athrill_sim.programs import resolve_program
+    from hakoniwa.physics.course import course_file
+
+    out: dict[str, dict[str, str]] = {}
+    for field in fields:
+        value = getattr(bench, field)
+        if field == "app":
+            files = list(resolve_program(value, athrill2=bench.athrill2).files)
+        elif field == "course":
+            files = folder_files(course_file(value).parent)
+        elif isinstance(value, str) and Path(value).exists():
+            files = folder_files(Path(value))
+        else:
+            continue
+        out[field] = file_hashes(files)
+    return out
+
+
+def changes(stored: Mapping[str, Mapping[str, str]], now: Mapping[str, Mapping[str, str]],
+            bench: BenchOptions) -> list[str]:
+    """What differs, per option, in words: `--app app.c: app.c changed`."""
+    out = []
+    for field in sorted(set(stored) | set(now)):
+        before, after = stored.get(field, {}), now.get(field, {})
+        what = [f"{name} {'changed' if name in before and name in after else 'added' if name in after else 'removed'}"
+                for name in sorted(set(before) | set(after)) if before.get(name) != after.get(name)]
+        if what:
+            out.append(f"--{field.replace('_', '-')} {getattr(bench, field)}: {', '.join(what)}")
+    return out
