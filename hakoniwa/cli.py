@@ -135,7 +135,8 @@ def how_many_benches(benches: int | None, scheduler: str | None) -> int:
 @campaign_options
 @click.option("--validate", type=click.IntRange(min=0), default=None,
               help=f"Test the best set on this many fresh noise draws: its success rate and lap quantiles; 0 "
-                   f"skips [{DEFAULT_DRAWS}; {SMOKE_DRAWS} with --smoke].")
+                   f"skips [{DEFAULT_DRAWS}; {SMOKE_DRAWS} with --smoke; 1 with --noise 0, where every draw "
+                   f"is the same test].")
 def run(benches: int | None, scheduler: str | None, validate: int | None, **options) -> None:
     """Search the robot program's parameters by Bayesian optimization, as in the paper: 5 random sets, then
     --trials sets proposed by GPyOpt (EI), --batch at a time; each set tested until 3 successes or 3
@@ -153,10 +154,10 @@ def run(benches: int | None, scheduler: str | None, validate: int | None, **opti
 
 def _run(benches: int | None, scheduler: str | None, validate: int | None, options: dict) -> None:
     n = how_many_benches(benches, scheduler)
-    if validate is None:
-        validate = SMOKE_DRAWS if options["smoke"] else DEFAULT_DRAWS
     given = pop_bench(options)
     p = plan(**options, penalty_s=time_limit_s(given))
+    if validate is None:
+        validate = 1 if p.config.noise == 0 else SMOKE_DRAWS if options["smoke"] else DEFAULT_DRAWS
     bench = _campaign_bench(p.bench, given)
     check_bench(bench)
     files = recorded_files(p.bench, bench)
