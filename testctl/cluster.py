@@ -33,7 +33,7 @@ from testctl.executor import Executor, TestSpec
 from testctl.result import TestResult
 
 PLUGIN_NAME = "hakoniwa-bench"
-RETRIES = 2  # a test whose bench died is run again this many times before the campaign gives up
+RETRIES = 2  # a campaign's test whose bench died is run again this many times before it gives up
 CONNECT_TIMEOUT_S = 10
 NO_WORKERS_TIMEOUT_S = 60.0  # a cluster without a worker this long is not coming back by itself
 POLL_S = 0.05  # how often a wait for results looks for one
@@ -78,9 +78,12 @@ def run_on_worker(spec: TestSpec) -> tuple[TestResult, str]:
 
 class DaskExecutor(Executor):
     """Runs tests on the benches of a LocalCluster of `benches` workers, or of the cluster whose scheduler
-    is at `scheduler`."""
+    is at `scheduler`. A test whose bench died runs again up to `retries` times: a campaign recovers, while
+    `hako test` (retries 0) reports a broken run, as CI wants of a bench that broke."""
 
-    def __init__(self, options: BenchOptions, *, benches: int | None = None, scheduler: str | None = None) -> None:
+    def __init__(self, options: BenchOptions, *, benches: int | None = None, scheduler: str | None = None,
+                 retries: int = RETRIES) -> None:
+        self._retries = retries
         self._cluster: LocalCluster | None = None
         if scheduler is not None:
             try:
@@ -99,7 +102,7 @@ class DaskExecutor(Executor):
                 # No dashboard; and the scheduler's HTTP server (which it starts even so) on a free port, not on
                 # 8787, where another campaign's or a notebook's would make every campaign warn.
                 self._cluster = LocalCluster(n_workers=benches, threads_per_worker=1, processes=True,
-                                             dashboard_address=None, silence_logs=logging.ERROR,
+                                             dashboard_address=None, silence_logs=logging.CRITICAL,
                                              scheduler_kwargs={"dashboard": False, "dashboard_address": ":0"})
             finally:
                 signal.signal(signal.SIGINT, previous)
@@ -116,7 +119,7 @@ class DaskExecutor(Executor):
         self._specs: dict[str, TestSpec] = {}
 
     def submit(self, spec: TestSpec) -> None:
-        future = self.client.submit(run_on_worker, spec, retries=RETRIES, pure=False)
+        future = self.client.submit(run_on_worker, spec, retries=self._retries, pure=False)
         self._specs[future.key] = spec
         self._done.add(future)
 

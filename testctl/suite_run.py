@@ -119,7 +119,8 @@ def bench_executor(bench: BenchOptions, run_dir: Path, benches: int, scheduler: 
         return
     from testctl.cluster import DaskExecutor
 
-    executor = DaskExecutor(bench, benches=None if scheduler else benches, scheduler=scheduler)
+    # A bench that dies is the run's failure (exit 2) on every path, as on one bench: not rerun quietly.
+    executor = DaskExecutor(bench, benches=None if scheduler else benches, scheduler=scheduler, retries=0)
     try:
         yield executor
     finally:

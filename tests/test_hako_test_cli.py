@@ -8,13 +8,14 @@ import os
 import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
 from junitparser import Failure, JUnitXml
 
-from conftest import hako, one_line_error
-from test_faults import IDLE_APP, pid_of, wait_for_test
+from conftest import hako, one_line_error, tagged_env, tagged_processes
+from test_faults import IDLE_APP
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "docs" / "examples" / "hako-tests.toml"
@@ -84,21 +85,27 @@ def test_the_example_suite_passes_and_its_junit_reads(tmp_path):
 
 
 @pytest.mark.slow
-def test_a_bench_killed_mid_run_is_exit_2_not_a_failed_case(tmp_path):
+@pytest.mark.parametrize("benches", ["1", "2"])
+def test_a_bench_killed_mid_run_is_exit_2_not_a_failed_case(tmp_path, benches):
+    """On one bench (our own) and on two (Dask workers, which would otherwise rerun the test quietly)."""
     apps = tmp_path / "apps"
     apps.mkdir()
     (apps / "idle_app.py").write_text(IDLE_APP)
     path = write(tmp_path, f'[case.idle]\napp = "idle_app:main_task"\ntime_limit_s = 3000\nseeds = 2\n{GAINS}'
                            'expect = ["not HIT_WALL"]\n')
     out = tmp_path / "out"
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(apps), os.environ.get("PYTHONPATH", "")]))
-    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "test", str(path), "--benches", "1", "--out",
+    tag = f"hako-test-kill-{benches}-{os.getpid()}-{time.monotonic_ns()}"
+    env = tagged_env(tag, dict(os.environ, PYTHONPATH=os.pathsep.join([str(apps), os.environ.get("PYTHONPATH", "")])))
+    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "test", str(path), "--benches", benches, "--out",
                              str(out), "--junit", str(tmp_path / "out.xml")], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, env=env, start_new_session=True)
     try:
-        wait_for_test(out / "run")
-        os.kill(pid_of("hakoniwa.physics.main", out / "run"), signal.SIGKILL)
-        stdout, err = proc.communicate(timeout=120)
+        deadline = time.monotonic() + 120
+        while not (victims := tagged_processes(tag, b"hakoniwa.physics.main")):
+            assert time.monotonic() < deadline and proc.poll() is None
+            time.sleep(0.05)
+        os.kill(victims[0], signal.SIGKILL)
+        stdout, err = proc.communicate(timeout=300)
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
