@@ -6,7 +6,11 @@ A node is a wall midpoint the mouse is crossing, with its heading in the seed li
 depends only on its length: A (just left a turn, at turn speed), B (a straight ended here, a turn must
 follow) and G (crossed into a goal cell: the timed run is over). Edges: straights A->B and A->G, turns
 B->A, and straights from the standing start in the start cell's centre.
-The graph of a maze size is built once; each query drops the edges that cross a blocked wall.
+The graph of a maze size is built once; each query prices its edges (infinite where a wall blocks them) and
+searches it as A*: Dijkstra on reduced prices (each edge's price plus the drop in a lower bound of the time to
+the goal, straight-line distance at top speed), with a distance limit so that scipy settles only the nodes
+that could lie on a route no slower than the fastest; the limit starts from the last query's answer, or from
+the bound, and grows until the goal is reached.
 """
 
 from __future__ import annotations
@@ -30,6 +34,9 @@ A, B, G, C = range(LAYERS)
 MIN_SECONDS = 1e-9  # zero-length straights still need an edge, and scipy drops zero weights
 MAX_CROSSINGS = 4  # the most walls a turn crosses (the 180)
 MAX_QUERY_GRAPHS = 4  # (start, goals) pairs kept per move graph: a search has one, `path` of a cell run another
+BOUND_SLACK = 1 - 1e-6  # the lower bound shrunk a little, so that rounding cannot make a reduced price negative
+LIMIT_GROWTH = 2.0  # how much the search limit grows when the goal lies beyond it
+LIMIT_TRIES = 16  # then no limit: a route that slow is unlikely, and without one the goal may be out of reach
 
 
 @dataclass(frozen=True, order=True)
@@ -122,9 +129,16 @@ def _entered(point: tuple[int, int], previous: tuple[int, int]) -> Cell:
 @dataclass
 class QueryGraph:
     """The CSR graph of one start and goal set, and per edge (in its row order) what must be open for it: for a
-    straight, `len` open walls ahead at node `key`; for a turn, its walls; for a start edge, its first wall too."""
+    straight, `len` open walls ahead at node `key`; for a turn, its walls (one row per wall crossed); for a start
+    edge, its first wall too. `graph` holds the prices, `reduced` (the same edges) the reduced prices, `shift`
+    the bound's change along each edge, `bound` the bound at the start; `hint` is the last query's reduced
+    time to the goal, where the next one's limit starts (walls change a few at a time)."""
 
     graph: csr_array
+    reduced: csr_array
+    shift: np.ndarray
+    bound: float
+    hint: float | None
     before_turns: int  # straights (rows of A) before the turns; the chain's (rows of C) after them
     st_key: np.ndarray
     st_len: np.ndarray
@@ -381,8 +395,27 @@ class MoveGraph:
         n = self.start_node + 1
         indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=n))]).astype(np.int32)
         graph = csr_array((np.zeros(len(cols)), cols, indptr), shape=(n, n))
-        return QueryGraph(graph, before, st_key, st_len, st_cost, self.tu_walls[t_order], self.tu_cost[t_order],
-                          s_key, s_len, s_wall, s_cost)
+        reduced = csr_array((np.zeros(len(cols)), cols, indptr), shape=(n, n))
+        bound = self._time_bound(start, goals)
+        return QueryGraph(graph, reduced, bound[cols] - bound[rows], float(bound[self.start_node]),
+                          None, before, st_key, st_len, st_cost, np.ascontiguousarray(self.tu_walls[t_order].T),
+                          self.tu_cost[t_order], s_key, s_len, s_wall, s_cost)
+
+    def _time_bound(self, start: Cell, goals: tuple[Cell, ...]) -> np.ndarray:
+        """Per node, a lower bound of the time left to the goal: the straight-line distance from its point to
+        the nearest goal cell at the mouse's top speed (no move is faster, nor shorter than its chord), so that
+        the reduced prices price + bound(v) - bound(u) are never negative and A* stays exact."""
+        run = self.mouse.run
+        fastest = max(run.top_speed, run.diagonal_top_speed, run.turn_speed)
+        x, y = np.append(self.px, 2 * start[0] + 1), np.append(self.py, 2 * start[1] + 1)  # points, the start
+        gap = np.full(len(x), np.inf)
+        for gx, gy in goals:  # a goal cell spans 2gx..2gx+2 in half cells
+            dx = np.maximum(np.maximum(2 * gx - x, x - 2 * gx - 2), 0)
+            dy = np.maximum(np.maximum(2 * gy - y, y - 2 * gy - 2), 0)
+            gap = np.minimum(gap, np.hypot(dx, dy))
+        seconds = gap * (self.mouse.cell / 2) / fastest * BOUND_SLACK
+        per_point, at_start = seconds[:-1], seconds[-1:]
+        return np.concatenate([np.tile(np.repeat(per_point, 8), LAYERS), at_start])
 
     def _start_edges(self, start: Cell, goals: tuple[Cell, ...]) -> tuple[np.ndarray, ...]:
         """Straights from a standing start in the start cell's centre, along each of its four headings, of every
@@ -416,31 +449,68 @@ class MoveGraph:
         return (np.array(dst, dtype=np.int64), np.array(key, dtype=np.int64), np.array(length, dtype=np.int64),
                 np.array(wall, dtype=np.int64), np.array(cost))
 
-    def _solve(self, blocked: bytes | bytearray, start: Cell, goals: tuple[Cell, ...]) -> tuple[np.ndarray,
-                                                                                                np.ndarray]:
-        q = self._query(start, goals)
+    def _price(self, q: QueryGraph, blocked: bytes | bytearray) -> None:
+        """Each edge's price, infinite where a wall it needs is blocked, and its reduced price."""
         open_ext = np.concatenate([np.frombuffer(bytes(blocked), dtype=np.uint8) == 0, [True, False]])
         run = self._runs(open_ext)
         straights = np.where(run[q.st_key] >= q.st_len, q.st_cost, np.inf)
-        q.graph.data[:] = np.concatenate([
-            straights[:q.before_turns],
-            np.where(open_ext[q.tu_walls].all(axis=1), q.tu_cost, np.inf),
-            straights[q.before_turns:],
-            np.where(open_ext[q.s_wall] & (run[q.s_key] >= q.s_len), q.s_cost, np.inf)])
-        dist, pred = dijkstra(q.graph, directed=True, indices=self.start_node, return_predecessors=True)
+        turns = np.where(open_ext[q.tu_walls].all(axis=0), q.tu_cost, np.inf)
+        starts = np.where(open_ext[q.s_wall] & (run[q.s_key] >= q.s_len), q.s_cost, np.inf)
+        np.concatenate([straights[:q.before_turns], turns, straights[q.before_turns:], starts], out=q.graph.data)
+        np.maximum(np.add(q.graph.data, q.shift, out=q.reduced.data), 0.0, out=q.reduced.data)
+
+    def _search(self, q: QueryGraph) -> tuple[np.ndarray, np.ndarray] | None:
+        """Times and predecessors of every node no slower than the goal, as a search of the whole graph gives
+        them; None if the goal cannot be reached. A* on the reduced prices finds how fast the goal can be
+        reached, then a search on the prices limited to that time settles the same nodes in the same order
+        as a search of the whole graph (so that among equally fast routes it picks the same)."""
+        fastest = self._reduced_search(q)
+        if fastest is None:
+            return None
+        end, pred = fastest
+        nodes = self._nodes(end, pred)
+        seconds = sum(self._price_of(q, u, v) for u, v in zip(nodes, nodes[1:]))
+        dist, pred = dijkstra(q.graph, directed=True, indices=self.start_node, return_predecessors=True,
+                              limit=seconds * (1 + 1e-9))
         return dist, pred
+
+    def _reduced_search(self, q: QueryGraph) -> tuple[int, np.ndarray] | None:
+        """A* up to the goal: the goal node reached first and the predecessors; None if the goal cannot be
+        reached. The limit (on reduced time) only leaves out nodes whose time plus bound exceeds it, so the
+        first limit that reaches the goal finds a fastest route."""
+        limit = max(q.hint if q.hint is not None else q.bound, self.mouse.cell / self.mouse.run.top_speed)
+        for limit in [limit * LIMIT_GROWTH ** k for k in range(LIMIT_TRIES)] + [np.inf]:
+            dist, pred = dijkstra(q.reduced, directed=True, indices=self.start_node, return_predecessors=True,
+                                  limit=limit)
+            goal = dist[G * self.layer: (G + 1) * self.layer]
+            best = int(np.argmin(goal))
+            if np.isfinite(goal[best]):
+                q.hint = float(goal[best])
+                return best + G * self.layer, pred
+        return None
+
+    def _nodes(self, end: int, pred: np.ndarray) -> list[int]:
+        nodes = [end]
+        while nodes[-1] != self.start_node:
+            nodes.append(int(pred[nodes[-1]]))
+        return nodes[::-1]
+
+    @staticmethod
+    def _price_of(q: QueryGraph, u: int, v: int) -> float:
+        row = slice(q.graph.indptr[u], q.graph.indptr[u + 1])
+        return float(q.graph.data[row][q.graph.indices[row] == v].min())
 
     def fastest(self, blocked: bytes | bytearray, start: Cell, goals: tuple[Cell, ...]) -> Route | None:
         """The fastest run through walls not blocked (1 = blocked, indexed by wall id); None if there is none."""
-        dist, pred = self._solve(blocked, start, goals)
-        g = dist[G * self.layer: (G + 1) * self.layer]
-        best = int(np.argmin(g))
-        if not np.isfinite(g[best]):
+        q = self._query(start, goals)
+        self._price(q, blocked)
+        found = self._search(q)
+        if found is None:
             return None
-        nodes = [best + G * self.layer]
-        while nodes[-1] != self.start_node:
-            nodes.append(int(pred[nodes[-1]]))
-        return self._route(nodes[::-1], dist, start)
+        dist, pred = found
+        g = dist[G * self.layer: (G + 1) * self.layer]
+        nodes = self._nodes(int(np.argmin(g)) + G * self.layer, pred)
+        return self._route(nodes, dist, start)
 
     def _point(self, node: int) -> tuple[tuple[int, int], int]:
         p, h = divmod(node % self.layer, 8)
