@@ -35,6 +35,7 @@ MIN_SECONDS = 1e-9  # zero-length straights still need an edge, and scipy drops 
 MAX_CROSSINGS = 4  # the most walls a turn crosses (the 180)
 MAX_QUERY_GRAPHS = 4  # (start, goals) pairs kept per move graph: a search has one, `path` of a cell run another
 BOUND_SLACK = 1 - 1e-6  # the lower bound shrunk a little, so that rounding cannot make a reduced price negative
+TIME_SLACK = 1e-9  # rounding in reduced prices must not leave out a node of an equally fast route
 LIMIT_GROWTH = 2.0  # how much the search limit grows when the goal lies beyond it
 LIMIT_TRIES = 16  # then no limit: a route that slow is unlikely, and without one the goal may be out of reach
 
@@ -120,6 +121,11 @@ class Route:
         return " ".join(m.token for m in self.moves)
 
 
+def _with_slack(seconds: float) -> float:
+    """A time a little over `seconds`: reduced times carry rounding of their own."""
+    return seconds + TIME_SLACK * (1 + seconds)
+
+
 def _entered(point: tuple[int, int], previous: tuple[int, int]) -> Cell:
     """The cell on the far side of the wall at `point` for a mouse coming from `previous`."""
     x, y, _ = sides_of(point, previous)[1]
@@ -130,12 +136,13 @@ def _entered(point: tuple[int, int], previous: tuple[int, int]) -> Cell:
 class QueryGraph:
     """The CSR graph of one start and goal set, and per edge (in its row order) what must be open for it: for a
     straight, `len` open walls ahead at node `key`; for a turn, its walls (one row per wall crossed); for a start
-    edge, its first wall too. `graph` holds the prices, `reduced` (the same edges) the reduced prices, `shift`
-    the bound's change along each edge, `bound` the bound at the start; `hint` is the last query's reduced
-    time to the goal, where the next one's limit starts (walls change a few at a time)."""
+    edge, its first wall too. `graph` holds the prices; `work` has the same edges, with the reduced prices for
+    A*, then the prices of the edges A* left in; `shift` is the bound's change along each edge and `bound` the
+    bound at the start; `hint` is the last query's reduced time to the goal, where the next one's limit starts
+    (walls change a few at a time)."""
 
     graph: csr_array
-    reduced: csr_array
+    work: csr_array
     shift: np.ndarray
     bound: float
     hint: float | None
@@ -395,9 +402,9 @@ class MoveGraph:
         n = self.start_node + 1
         indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=n))]).astype(np.int32)
         graph = csr_array((np.zeros(len(cols)), cols, indptr), shape=(n, n))
-        reduced = csr_array((np.zeros(len(cols)), cols, indptr), shape=(n, n))
+        work = csr_array((np.zeros(len(cols)), cols, indptr), shape=(n, n))
         bound = self._time_bound(start, goals)
-        return QueryGraph(graph, reduced, bound[cols] - bound[rows], float(bound[self.start_node]),
+        return QueryGraph(graph, work, bound[cols] - bound[rows], float(bound[self.start_node]),
                           None, before, st_key, st_len, st_cost, np.ascontiguousarray(self.tu_walls[t_order].T),
                           self.tu_cost[t_order], s_key, s_len, s_wall, s_cost)
 
@@ -450,55 +457,52 @@ class MoveGraph:
                 np.array(wall, dtype=np.int64), np.array(cost))
 
     def _price(self, q: QueryGraph, blocked: bytes | bytearray) -> None:
-        """Each edge's price, infinite where a wall it needs is blocked, and its reduced price."""
+        """Each edge's price, infinite where a wall it needs is blocked, and its reduced price for A*."""
         open_ext = np.concatenate([np.frombuffer(bytes(blocked), dtype=np.uint8) == 0, [True, False]])
         run = self._runs(open_ext)
         straights = np.where(run[q.st_key] >= q.st_len, q.st_cost, np.inf)
         turns = np.where(open_ext[q.tu_walls].all(axis=0), q.tu_cost, np.inf)
         starts = np.where(open_ext[q.s_wall] & (run[q.s_key] >= q.s_len), q.s_cost, np.inf)
         np.concatenate([straights[:q.before_turns], turns, straights[q.before_turns:], starts], out=q.graph.data)
-        np.maximum(np.add(q.graph.data, q.shift, out=q.reduced.data), 0.0, out=q.reduced.data)
+        np.maximum(np.add(q.graph.data, q.shift, out=q.work.data), 0.0, out=q.work.data)
 
     def _search(self, q: QueryGraph) -> tuple[np.ndarray, np.ndarray] | None:
-        """Times and predecessors of every node no slower than the goal, as a search of the whole graph gives
-        them; None if the goal cannot be reached. A* on the reduced prices finds how fast the goal can be
-        reached, then a search on the prices limited to that time settles the same nodes in the same order
-        as a search of the whole graph (so that among equally fast routes it picks the same)."""
-        fastest = self._reduced_search(q)
-        if fastest is None:
+        """Times and predecessors of the nodes a search of the whole graph would settle before the goal, as it
+        would set them; None if the goal cannot be reached. A* on the reduced prices finds how fast the goal
+        can be reached and which nodes could lie on so fast a route; a search on their prices, limited to that
+        time, then settles them in the same order as a search of the whole graph (so that among equally fast
+        routes it picks the same one)."""
+        reduced = self._reduced_search(q)
+        if reduced is None:
             return None
-        end, pred = fastest
-        nodes = self._nodes(end, pred)
-        seconds = sum(self._price_of(q, u, v) for u, v in zip(nodes, nodes[1:]))
-        dist, pred = dijkstra(q.graph, directed=True, indices=self.start_node, return_predecessors=True,
-                              limit=seconds * (1 + 1e-9))
-        return dist, pred
+        fastest = float(reduced[self._goal_node(reduced)])
+        kept = reduced <= _with_slack(fastest)
+        np.copyto(q.work.data, np.where(kept[q.work.indices], q.graph.data, np.inf))
+        return dijkstra(q.work, directed=True, indices=self.start_node, return_predecessors=True,
+                        limit=_with_slack(fastest + q.bound))
 
-    def _reduced_search(self, q: QueryGraph) -> tuple[int, np.ndarray] | None:
-        """A* up to the goal: the goal node reached first and the predecessors; None if the goal cannot be
-        reached. The limit (on reduced time) only leaves out nodes whose time plus bound exceeds it, so the
-        first limit that reaches the goal finds a fastest route."""
+    def _reduced_search(self, q: QueryGraph) -> np.ndarray | None:
+        """A* up to the goal: the reduced times; None if the goal cannot be reached. The limit
+        (on reduced time) only leaves out nodes whose time plus bound exceeds it, so the first limit that
+        reaches the goal finds a fastest route."""
         limit = max(q.hint if q.hint is not None else q.bound, self.mouse.cell / self.mouse.run.top_speed)
         for limit in [limit * LIMIT_GROWTH ** k for k in range(LIMIT_TRIES)] + [np.inf]:
-            dist, pred = dijkstra(q.reduced, directed=True, indices=self.start_node, return_predecessors=True,
-                                  limit=limit)
-            goal = dist[G * self.layer: (G + 1) * self.layer]
-            best = int(np.argmin(goal))
-            if np.isfinite(goal[best]):
-                q.hint = float(goal[best])
-                return best + G * self.layer, pred
+            dist = dijkstra(q.work, directed=True, indices=self.start_node, limit=limit)
+            best = self._goal_node(dist)
+            if np.isfinite(dist[best]):
+                q.hint = float(dist[best])
+                return dist
         return None
+
+    def _goal_node(self, dist: np.ndarray) -> int:
+        """The node of the goal layer reached first (the lowest-numbered of equals)."""
+        return int(np.argmin(dist[G * self.layer: (G + 1) * self.layer])) + G * self.layer
 
     def _nodes(self, end: int, pred: np.ndarray) -> list[int]:
         nodes = [end]
         while nodes[-1] != self.start_node:
             nodes.append(int(pred[nodes[-1]]))
         return nodes[::-1]
-
-    @staticmethod
-    def _price_of(q: QueryGraph, u: int, v: int) -> float:
-        row = slice(q.graph.indptr[u], q.graph.indptr[u + 1])
-        return float(q.graph.data[row][q.graph.indices[row] == v].min())
 
     def fastest(self, blocked: bytes | bytearray, start: Cell, goals: tuple[Cell, ...]) -> Route | None:
         """The fastest run through walls not blocked (1 = blocked, indexed by wall id); None if there is none."""
@@ -508,9 +512,7 @@ class MoveGraph:
         if found is None:
             return None
         dist, pred = found
-        g = dist[G * self.layer: (G + 1) * self.layer]
-        nodes = self._nodes(int(np.argmin(g)) + G * self.layer, pred)
-        return self._route(nodes, dist, start)
+        return self._route(self._nodes(self._goal_node(dist), pred), dist, start)
 
     def _point(self, node: int) -> tuple[tuple[int, int], int]:
         p, h = divmod(node % self.layer, 8)
