@@ -19,6 +19,7 @@ class BusError(ProtocolError):
 
 class MemoryBus:
     def __init__(self, run_dir: Path) -> None:
+        self.run_dir = Path(run_dir)  # where the program's other files go: lcd.txt, serial logs, the SD card
         self.unity = open_unity(run_dir)
         self.athrill = open_athrill(run_dir)
         self._files: dict[str, MappedFile] = {UNITY_FILE: self.unity, ATHRILL_FILE: self.athrill}

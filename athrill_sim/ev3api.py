@@ -15,37 +15,27 @@ import sys
 
 from athrill_sim.bus import MemoryBus
 from athrill_sim.kernel import Kernel
-from hakoniwa.wire.protocol import MOTOR_PORTS, RESET_ANGLE_PORTS, RX_GUEST_BASE, TX_GUEST_BASE, Rx, Tx
+from hakoniwa.wire.protocol import MOTOR_PORTS, RX_GUEST_BASE, TX_GUEST_BASE, Rx, Tx
 
-# TOPPERS error codes.
-E_OK = 0
-E_TMOUT = -50
-TMO_FEVR = -1
-E_PAR = -17
-E_ID = -18
-E_OBJ = -41
-
-EV3_PORT_A, EV3_PORT_B, EV3_PORT_C, EV3_PORT_D = range(4)
-EV3_PORT_1, EV3_PORT_2, EV3_PORT_3, EV3_PORT_4 = range(4)
-SENSOR_PORTS = 4
-
-# sensor_type_t and motor_type_t
-NONE_SENSOR, ULTRASONIC_SENSOR, GYRO_SENSOR, TOUCH_SENSOR, COLOR_SENSOR = range(5)
-NONE_MOTOR, MEDIUM_MOTOR, LARGE_MOTOR, UNREGULATED_MOTOR = range(4)
-
-# ledcolor_t: bits of the TX LED word
-LED_OFF, LED_RED, LED_GREEN, LED_ORANGE = 0, 1, 2, 3
-
-# button_t: bits of the RX buttons word
-LEFT_BUTTON, RIGHT_BUTTON, UP_BUTTON, DOWN_BUTTON, ENTER_BUTTON, BACK_BUTTON = range(6)
-
-TOUCH_THRESHOLD = 2048  # ADC_RES / 2
+from athrill_sim.ev3brick import BrickApi
+from athrill_sim.ev3fs import FsApi
+from athrill_sim.ev3lcd import LcdApi
+from athrill_sim.ev3serial import SerialApi
+from athrill_sim.ev3types import (COLOR_SENSOR, E_ID, E_OBJ, E_OK, E_PAR, E_TMOUT, GYRO_SENSOR, LED_GREEN, LED_RED,
+                                  NONE_MOTOR, NONE_SENSOR, SENSOR_PORTS, TMO_FEVR, TOUCH_SENSOR, TOUCH_THRESHOLD,
+                                  ULTRASONIC_SENSOR, UNREGULATED_MOTOR, LEFT_BUTTON, BACK_BUTTON, RgbRaw)
+from athrill_sim.ev3types import *  # noqa: F401,F403  programs take EV3RT's names from here, as from ev3api.h
 
 
 def c_div(a: int, b: int) -> int:
     """C's integer division, which truncates toward zero (Python's // floors)."""
     q = abs(a) // abs(b)
     return q if (a >= 0) == (b > 0) else -q
+
+
+def c_char(value: int) -> int:
+    """C's (signed) char of an int, as EV3RT's motor commands carry their arguments."""
+    return (value + 128) % 256 - 128
 
 
 def rx(offset: int) -> int:
@@ -56,12 +46,21 @@ def tx(offset: int) -> int:
     return TX_GUEST_BASE + offset
 
 
-class Ev3Api:
+class Ev3Api(LcdApi, SerialApi, FsApi, BrickApi):
+    """One robot program's EV3RT: the sensors, motors, LED and buttons here, the other devices in their
+    modules (ev3lcd, ev3serial, ev3fs, ev3brick), each as EV3RT's own source does it."""
+
     def __init__(self, bus: MemoryBus, kernel: Kernel) -> None:
         self.bus = bus
         self.kernel = kernel
         self._sensors = [NONE_SENSOR] * SENSOR_PORTS
         self._motors = [NONE_MOTOR] * MOTOR_PORTS
+        self._powers = [0] * MOTOR_PORTS
+        self.run_dir = bus.run_dir
+        BrickApi.__init__(self)
+        SerialApi.__init__(self)
+        FsApi.__init__(self)
+        LcdApi.__init__(self)
 
     def syslog(self, message: str) -> None:
         """EV3RT's syslog: a line in the run's athrill.log, stamped with the simulation time."""
@@ -100,58 +99,80 @@ class Ev3Api:
         if not NONE_MOTOR <= motor_type <= UNREGULATED_MOTOR:
             return E_PAR
         self._motors[port] = motor_type
-        self.bus.write("i", tx(Tx.MOTOR_BRAKE + 4 * port), 0)  # configured idle, as EV3RT does
+        self._brake(port, 0)  # opOUTPUT_STOP, brake 0: configured idle, as EV3RT does
         return E_OK
 
     def ev3_motor_get_type(self, port: int) -> int:
         return self._motors[port] if 0 <= port < MOTOR_PORTS else E_ID
 
     # -- sensors -------------------------------------------------------------------------------------
-    def _sensor(self, port: int, kind: int, fmt: str, offset: int, name: str) -> int:
-        if not 0 <= port < SENSOR_PORTS:
-            self.syslog(f"{name}(): ercd {E_ID}")
+    def _sensor_error(self, port: int, kind: int, name: str) -> int:
+        """EV3RT's CHECK_PORT and CHECK_COND(type == kind, E_OBJ) (ev3api_sensor.c), which log the error."""
+        err = E_ID if not 0 <= port < SENSOR_PORTS else E_OBJ if self._sensors[port] != kind else E_OK
+        if err:
+            self.syslog(f"{name}(): ercd {err}")
+        return err
+
+    def _index(self, port: int, kind: int) -> int:
+        """get_sensor_index (ev3api_sensor.c): how many earlier ports have a sensor of the same kind."""
+        return sum(t == kind for t in self._sensors[:port])
+
+    def _color_slot(self, port: int, slot0: int) -> int:
+        """EV3_SENSOR_ADDR_* (ev3_vdev.h): the second colour sensor (index 1) reads the COLOR1 slots, any other
+        the COLOR0 ones."""
+        return slot0 + (Rx.COLOR1_AMBIENT - Rx.COLOR0_AMBIENT if self._index(port, COLOR_SENSOR) == 1 else 0)
+
+    def _color(self, port: int, slot0: int, name: str) -> int:
+        if self._sensor_error(port, COLOR_SENSOR, name):
             return 0
-        if self._sensors[port] != kind:
-            self.syslog(f"{name}(): ercd {E_OBJ}")
-            return 0
-        return int(self.bus.read(fmt, rx(offset)))
+        return int(self.bus.read("B", rx(self._color_slot(port, slot0))))
 
     def ev3_color_sensor_get_reflect(self, port: int) -> int:
-        return self._sensor(port, COLOR_SENSOR, "B", Rx.COLOR0_REFLECT, "ev3_color_sensor_get_reflect")
+        return self._color(port, Rx.COLOR0_REFLECT, "ev3_color_sensor_get_reflect")
 
     def ev3_color_sensor_get_ambient(self, port: int) -> int:
-        return self._sensor(port, COLOR_SENSOR, "B", Rx.COLOR0_AMBIENT, "ev3_color_sensor_get_ambient")
+        return self._color(port, Rx.COLOR0_AMBIENT, "ev3_color_sensor_get_ambient")
 
     def ev3_color_sensor_get_color(self, port: int) -> int:
-        return self._sensor(port, COLOR_SENSOR, "B", Rx.COLOR0_COLOR, "ev3_color_sensor_get_color")
+        return self._color(port, Rx.COLOR0_COLOR, "ev3_color_sensor_get_color")
 
-    def ev3_color_sensor_get_rgb_raw(self, port: int) -> tuple[int, int, int]:
-        name = "ev3_color_sensor_get_rgb_raw"
-        return tuple(self._sensor(port, COLOR_SENSOR, "H", Rx.COLOR0_RGB + 4 * i, name) for i in range(3))
+    def ev3_color_sensor_get_rgb_raw(self, port: int, val: RgbRaw) -> None:
+        """Fills `val` as EV3RT fills its rgb_raw_t (16 bits of each slot); on an error `val` is left alone."""
+        if self._sensor_error(port, COLOR_SENSOR, "ev3_color_sensor_get_rgb_raw"):
+            return
+        base = self._color_slot(port, Rx.COLOR0_RGB)
+        val.r, val.g, val.b = (int(self.bus.read("H", rx(base + 4 * i))) for i in range(3))
+
+    def _gyro(self, port: int, slot: int, name: str) -> int:
+        return 0 if self._sensor_error(port, GYRO_SENSOR, name) else int(self.bus.read("h", rx(slot)))
 
     def ev3_gyro_sensor_get_angle(self, port: int) -> int:
-        return self._sensor(port, GYRO_SENSOR, "h", Rx.GYRO_ANGLE, "ev3_gyro_sensor_get_angle")
+        return self._gyro(port, Rx.GYRO_ANGLE, "ev3_gyro_sensor_get_angle")
 
     def ev3_gyro_sensor_get_rate(self, port: int) -> int:
-        return self._sensor(port, GYRO_SENSOR, "h", Rx.GYRO_RATE, "ev3_gyro_sensor_get_rate")
+        return self._gyro(port, Rx.GYRO_RATE, "ev3_gyro_sensor_get_rate")
 
     def ev3_gyro_sensor_reset(self, port: int) -> int:
-        if not 0 <= port < SENSOR_PORTS:
-            return E_ID
-        if self._sensors[port] != GYRO_SENSOR:
-            return E_OBJ
+        """uart_dri_get_data_gyro's GYRO_CAL: the TX reset flag (the physics process clears it once it has
+        zeroed its angle), and the RX angle and rate zeroed at once, so a read before the next snapshot is 0."""
+        if err := self._sensor_error(port, GYRO_SENSOR, "ev3_gyro_sensor_reset"):
+            return err
         self.bus.write("i", tx(Tx.GYRO_RESET), 1)
+        self.bus.write("i", rx(Rx.GYRO_ANGLE), 0)
+        self.bus.write("i", rx(Rx.GYRO_RATE), 0)
         return E_OK
 
     def ev3_ultrasonic_sensor_get_distance(self, port: int) -> int:
-        mm = self._sensor(port, ULTRASONIC_SENSOR, "h", Rx.ULTRASONIC_MM, "ev3_ultrasonic_sensor_get_distance")
-        return c_div(mm, 10)
+        if self._sensor_error(port, ULTRASONIC_SENSOR, "ev3_ultrasonic_sensor_get_distance"):
+            return 0
+        return c_div(int(self.bus.read("h", rx(Rx.ULTRASONIC_MM))), 10)
 
     def ev3_touch_sensor_is_pressed(self, port: int) -> bool:
-        """EV3RT numbers touch sensors in port order: the first configured one reads slot 0, the next slot 1."""
-        earlier = sum(t == TOUCH_SENSOR for t in self._sensors[:max(port, 0)])
-        slot = Rx.TOUCH0 if earlier == 0 else Rx.TOUCH1
-        return self._sensor(port, TOUCH_SENSOR, "h", slot, "ev3_touch_sensor_is_pressed") > TOUCH_THRESHOLD
+        """The first touch sensor in port order reads slot 0, any later one slot 1 (uart_dri_get_data_touch)."""
+        if self._sensor_error(port, TOUCH_SENSOR, "ev3_touch_sensor_is_pressed"):
+            return False
+        slot = Rx.TOUCH0 if self._index(port, TOUCH_SENSOR) == 0 else Rx.TOUCH1
+        return int(self.bus.read("h", rx(slot))) > TOUCH_THRESHOLD
 
     def ev3_button_is_pressed(self, button: int) -> bool:
         if not LEFT_BUTTON <= button <= BACK_BUTTON:
@@ -171,10 +192,10 @@ class Ev3Api:
         return int(self.bus.read("i", rx(Rx.MOTOR_ANGLE + 4 * port)))
 
     def ev3_motor_reset_counts(self, port: int) -> int:
+        """motor_clr_angle (motor_dri.c): the TX reset flag of the port, port D's included."""
         if err := self._motor_error(port):
             return err
-        if port < RESET_ANGLE_PORTS:
-            self.bus.write("i", tx(Tx.MOTOR_RESET_ANGLE + 4 * port), 1)
+        self.bus.write("i", tx(Tx.MOTOR_RESET_ANGLE + 4 * port), 1)
         return E_OK
 
     def ev3_motor_set_power(self, port: int, power: int) -> int:
@@ -186,19 +207,27 @@ class Ev3Api:
             self.syslog(f"ev3_motor_set_power(): power {power} is out-of-range, {used} is used instead.")
             power = used
         self.bus.write("i", tx(Tx.MOTOR_POWER + 4 * port), power)
+        self._powers[port] = power
         return E_OK
 
     def ev3_motor_get_power(self, port: int) -> int:
+        """EV3RT answers the power last set (ev3api_motor.c's motor_power[]), not the TX slot, which
+        ev3_motor_config zeroes behind its back."""
         if err := self._motor_error(port):
             self.syslog(f"ev3_motor_get_power(): Failed to get motor power, ercd: {err}")
             return 0
-        return int(self.bus.read("i", tx(Tx.MOTOR_POWER + 4 * port)))
+        return self._powers[port]
+
+    def _brake(self, port: int, brake: int) -> None:
+        """motor_brake (motor_dri.c) of opOUTPUT_STOP: power slot 0, and the brake as the command's char."""
+        self.bus.write("i", tx(Tx.MOTOR_POWER + 4 * port), 0)
+        self.bus.write("i", tx(Tx.MOTOR_BRAKE + 4 * port), c_char(int(brake)))
 
     def ev3_motor_stop(self, port: int, brake: bool) -> int:
         if err := self._motor_error(port):
             return err
-        self.bus.write("i", tx(Tx.MOTOR_POWER + 4 * port), 0)
-        self.bus.write("i", tx(Tx.MOTOR_BRAKE + 4 * port), int(bool(brake)))
+        self.ev3_motor_set_power(port, 0)
+        self._brake(port, brake)
         return E_OK
 
     def ev3_motor_steer(self, left_motor: int, right_motor: int, power: int, turn_ratio: int) -> int:
@@ -222,7 +251,10 @@ class Ev3Api:
 
     # -- LED -----------------------------------------------------------------------------------------
     def ev3_led_set_color(self, color: int) -> int:
-        if color not in (LED_OFF, LED_RED, LED_GREEN, LED_ORANGE):
-            return E_PAR
-        self.bus.write("i", tx(Tx.LED), color)
+        """ev3_led_set_color (ev3api_brick.c) keeps only the RED and GREEN bits of `color`, so it never fails;
+        gpio_set_value (gpio_dri.c) sets or clears each in the LED byte and leaves its other bits alone."""
+        led = int(self.bus.read("B", tx(Tx.LED)))
+        for bit in (LED_RED, LED_GREEN):
+            led = led | bit if color & bit else led & ~bit
+        self.bus.write("B", tx(Tx.LED), led)
         return E_OK

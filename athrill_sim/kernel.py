@@ -11,6 +11,7 @@ happens to run. See `hakoniwa/physics/sync.py` for the physics side.
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from typing import NoReturn
 
 from hakoniwa.wire.protocol import HEADER_SIZE, NEVER_WAKES, Header, MappedFile, Rx, Tx
@@ -43,6 +44,8 @@ class Kernel:
         self._snapshot_address = unity.address(Header.UNITY_TIME)  # the physics side rings here
         self._answer_address = athrill.address(HEADER_SIZE + Tx.ANSWER_SEQ)
         athrill.write_u32(Tx.ATHRILL_PID, os.getpid())
+        # Run at every new snapshot before the task goes on, as the C runtime's kernel polls the buttons.
+        self.on_snapshot: list[Callable[[], None]] = []
 
     def sleep(self, duration_us: int) -> None:
         """tslp_tsk: sleep at least `duration_us`, rounded up to whole physics steps."""
@@ -55,6 +58,8 @@ class Kernel:
         wait_word(self._snapshot_address, lambda: unity.unity_time_us & 0xFFFFFFFF,
                   lambda: unity.unity_time_us >= wake, self._check_physics)
         self.now_us = wake
+        for hook in self.on_snapshot:
+            hook()
 
     def finish(self) -> None:
         """The task returned: outputs stay as they are and no wake-up will ever be due."""

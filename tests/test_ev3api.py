@@ -113,7 +113,9 @@ def test_stop_sets_the_brake_flag(api):
 def test_led_and_buttons(api):
     assert api.ev3_led_set_color(LED_ORANGE) == E_OK
     assert api.bus.athrill.read_i32(Tx.LED) == 0b11  # RED | GREEN bits
-    assert api.ev3_led_set_color(9) == E_PAR
+    # ev3api_brick.c looks only at the RED and GREEN bits: 9 = 0b1001 is red, and E_OK (never E_PAR).
+    assert api.ev3_led_set_color(9) == E_OK
+    assert api.bus.athrill.read_i32(Tx.LED) == 0b01
     assert not api.ev3_button_is_pressed(ENTER_BUTTON)
     api.bus.unity.write_i32(Rx.BUTTONS, 1 << ENTER_BUTTON)
     assert api.ev3_button_is_pressed(ENTER_BUTTON)
@@ -128,3 +130,28 @@ def test_touch_sensors_are_numbered_in_port_order(api):
     api.bus.unity.write_i32(Rx.TOUCH1, 4095)
     assert not api.ev3_touch_sensor_is_pressed(EV3_PORT_3)
     assert api.ev3_touch_sensor_is_pressed(EV3_PORT_4)
+
+
+def test_gyro_reset_zeroes_the_rx_slots_at_once(api, capsys):
+    """uart_dri_get_data_gyro, mode GYRO_CAL (4): TX reset flag 1, then RX angle and rate 0."""
+    api.bus.unity.write_i32(Rx.GYRO_ANGLE, 45)
+    api.bus.unity.write_i32(Rx.GYRO_RATE, -3)
+    api.ev3_sensor_config(EV3_PORT_2, GYRO_SENSOR)
+    assert api.ev3_gyro_sensor_reset(EV3_PORT_2) == E_OK
+    assert api.bus.athrill.read_i32(Tx.GYRO_RESET) == 1
+    assert (api.ev3_gyro_sensor_get_angle(EV3_PORT_2), api.ev3_gyro_sensor_get_rate(EV3_PORT_2)) == (0, 0)
+    assert api.ev3_gyro_sensor_reset(EV3_PORT_1) == E_OBJ
+    assert "ev3_gyro_sensor_reset(): ercd -41" in capsys.readouterr().err  # ev3api_sensor.c logs it too
+
+
+def test_a_click_is_a_release(api):
+    """brick_dri.c's brick_button_cyc: clicked when the button was down and is up now."""
+    clicks = []
+    assert api.ev3_button_set_on_clicked(ENTER_BUTTON, clicks.append, 7) == E_OK
+    for buttons in (1 << ENTER_BUTTON, 1 << ENTER_BUTTON, 0, 0):
+        api.bus.unity.write_i32(Rx.BUTTONS, buttons)
+        for hook in api.kernel.on_snapshot:
+            hook()
+        if buttons:
+            assert clicks == []
+    assert clicks == [7]

@@ -24,7 +24,7 @@ def protocol_values() -> dict[str, int | str]:
     values: dict[str, int | str] = {
         name: getattr(p, name) for name in ("FILE_SIZE", "HEADER_SIZE", "PACKET_SIZE", "WINDOW_SIZE",
                                             "LAYOUT_VERSION", "EXT_OFF", "EXT_SIZE", "RX_GUEST_BASE", "TX_GUEST_BASE",
-                                            "MOTOR_PORTS", "RESET_ANGLE_PORTS", "TOUCH_PRESSED", "EXIT_BENCH_FAULT",
+                                            "MOTOR_PORTS", "TOUCH_PRESSED", "EXIT_BENCH_FAULT",
                                             "NEVER_WAKES")}
     values |= {"UNITY_FILE": p.UNITY_FILE, "ATHRILL_FILE": p.ATHRILL_FILE, "UNITY_MAGIC": p.UNITY_MAGIC.decode(),
                "ATHRILL_MAGIC": p.ATHRILL_MAGIC.decode()}

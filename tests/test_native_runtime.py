@@ -8,12 +8,15 @@ import time
 import pytest
 
 from athrill_sim.bus import MemoryBus
-from athrill_sim.ev3api import (COLOR_SENSOR, ENTER_BUTTON, EV3_PORT_1, EV3_PORT_2, EV3_PORT_3, EV3_PORT_4,
-                                EV3_PORT_A, EV3_PORT_B, EV3_PORT_C, EV3_PORT_D, GYRO_SENSOR, LARGE_MOTOR,
-                                LED_ORANGE, LEFT_BUTTON, TOUCH_SENSOR, ULTRASONIC_SENSOR, Ev3Api)
+from athrill_sim.ev3api import (COLOR_SENSOR, ENTER_BUTTON, EV3_FONT_MEDIUM, EV3_FONT_SMALL, EV3_LCD_BLACK,
+                                EV3_LCD_WHITE, EV3_PORT_1, EV3_PORT_2, EV3_PORT_3, EV3_PORT_4, EV3_PORT_A,
+                                EV3_PORT_B, EV3_PORT_C, EV3_PORT_D, EV3_SERIAL_BT, GYRO_SENSOR, LARGE_MOTOR,
+                                LED_ORANGE, LEFT_BUTTON, MEDIUM_MOTOR, TOUCH_SENSOR, ULTRASONIC_SENSOR, Ev3Api,
+                                FileInfo, MemFile, RgbRaw)
 from athrill_sim.kernel import Kernel
 from hakoniwa.wire.processes import EXIT_BENCH_FAULT
 from hakoniwa.wire.protocol import NEVER_WAKES, Rx, Tx
+from hakoniwa.wire.rundir import LCD_LOG, SDCARD_DIR, SERIAL_INPUT, SERIAL_LOG
 from native_fixtures import FakePhysics, build, finish
 
 # (C expression, the same call on the Python mock): run in this order by both, every result logged.
@@ -24,10 +27,11 @@ API_CALLS = [
     ("ev3_color_sensor_get_reflect(EV3_PORT_1)", lambda a: a.ev3_color_sensor_get_reflect(EV3_PORT_1)),
     ("ev3_color_sensor_get_ambient(EV3_PORT_1)", lambda a: a.ev3_color_sensor_get_ambient(EV3_PORT_1)),
     ("ev3_color_sensor_get_color(EV3_PORT_1)", lambda a: a.ev3_color_sensor_get_color(EV3_PORT_1)),
-    ("({ rgb_raw_t v; ev3_color_sensor_get_rgb_raw(EV3_PORT_1, &v); v.r; })",
-     lambda a: a.ev3_color_sensor_get_rgb_raw(EV3_PORT_1)[0]),
-    ("({ rgb_raw_t v; ev3_color_sensor_get_rgb_raw(EV3_PORT_1, &v); v.g; })",
-     lambda a: a.ev3_color_sensor_get_rgb_raw(EV3_PORT_1)[1]),
+    ("({ rgb_raw_t v; ev3_color_sensor_get_rgb_raw(EV3_PORT_1, &v); v.r; })", lambda a: rgb(a, EV3_PORT_1).r),
+    ("({ rgb_raw_t v; ev3_color_sensor_get_rgb_raw(EV3_PORT_1, &v); v.g; })", lambda a: rgb(a, EV3_PORT_1).g),
+    # Left alone on an error (ev3api_sensor.c returns before uart_sensor_fetch_data).
+    ("({ rgb_raw_t v = {7, 8, 9}; ev3_color_sensor_get_rgb_raw(EV3_PORT_2, &v); v.r * 100 + v.b; })",
+     lambda a: (v := rgb(a, EV3_PORT_2, RgbRaw(7, 8, 9))).r * 100 + v.b),
     ("ev3_ultrasonic_sensor_get_distance(EV3_PORT_2)", lambda a: a.ev3_ultrasonic_sensor_get_distance(EV3_PORT_2)),
     ("ev3_sensor_config(EV3_PORT_2, ULTRASONIC_SENSOR)", lambda a: a.ev3_sensor_config(EV3_PORT_2, ULTRASONIC_SENSOR)),
     ("ev3_ultrasonic_sensor_get_distance(EV3_PORT_2)", lambda a: a.ev3_ultrasonic_sensor_get_distance(EV3_PORT_2)),
@@ -35,7 +39,16 @@ API_CALLS = [
     ("ev3_gyro_sensor_get_angle(EV3_PORT_3)", lambda a: a.ev3_gyro_sensor_get_angle(EV3_PORT_3)),
     ("ev3_gyro_sensor_get_rate(EV3_PORT_3)", lambda a: a.ev3_gyro_sensor_get_rate(EV3_PORT_3)),
     ("ev3_gyro_sensor_reset(EV3_PORT_3)", lambda a: a.ev3_gyro_sensor_reset(EV3_PORT_3)),
+    ("ev3_gyro_sensor_get_angle(EV3_PORT_3)", lambda a: a.ev3_gyro_sensor_get_angle(EV3_PORT_3)),
     ("ev3_gyro_sensor_reset(EV3_PORT_2)", lambda a: a.ev3_gyro_sensor_reset(EV3_PORT_2)),
+    # A second colour sensor reads slot 1, a third slot 0 again (ev3_vdev.h's switch on the index).
+    ("ev3_sensor_config(EV3_PORT_2, COLOR_SENSOR)", lambda a: a.ev3_sensor_config(EV3_PORT_2, COLOR_SENSOR)),
+    ("ev3_color_sensor_get_reflect(EV3_PORT_2)", lambda a: a.ev3_color_sensor_get_reflect(EV3_PORT_2)),
+    ("({ rgb_raw_t v; ev3_color_sensor_get_rgb_raw(EV3_PORT_2, &v); v.b; })", lambda a: rgb(a, EV3_PORT_2).b),
+    ("ev3_sensor_config(EV3_PORT_3, COLOR_SENSOR)", lambda a: a.ev3_sensor_config(EV3_PORT_3, COLOR_SENSOR)),
+    ("ev3_color_sensor_get_reflect(EV3_PORT_3)", lambda a: a.ev3_color_sensor_get_reflect(EV3_PORT_3)),
+    ("ev3_sensor_config(EV3_PORT_2, ULTRASONIC_SENSOR)", lambda a: a.ev3_sensor_config(EV3_PORT_2, ULTRASONIC_SENSOR)),
+    ("ev3_sensor_config(EV3_PORT_3, GYRO_SENSOR)", lambda a: a.ev3_sensor_config(EV3_PORT_3, GYRO_SENSOR)),
     ("ev3_sensor_config(EV3_PORT_4, TOUCH_SENSOR)", lambda a: a.ev3_sensor_config(EV3_PORT_4, TOUCH_SENSOR)),
     ("ev3_touch_sensor_is_pressed(EV3_PORT_4)", lambda a: a.ev3_touch_sensor_is_pressed(EV3_PORT_4)),
     ("ev3_touch_sensor_is_pressed(EV3_PORT_3)", lambda a: a.ev3_touch_sensor_is_pressed(EV3_PORT_3)),
@@ -65,15 +78,80 @@ API_CALLS = [
     ("ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 15, 0)", lambda a: a.ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 15, 0)),
     ("ev3_motor_steer(EV3_PORT_A, EV3_PORT_D, 20, 0)", lambda a: a.ev3_motor_steer(EV3_PORT_A, EV3_PORT_D, 20, 0)),
     ("ev3_motor_stop(EV3_PORT_B, true)", lambda a: a.ev3_motor_stop(EV3_PORT_B, True)),
+    ("ev3_motor_reset_counts(EV3_PORT_D)", lambda a: a.ev3_motor_reset_counts(EV3_PORT_D)),
+    ("ev3_motor_config(EV3_PORT_D, MEDIUM_MOTOR)", lambda a: a.ev3_motor_config(EV3_PORT_D, MEDIUM_MOTOR)),
+    ("ev3_motor_reset_counts(EV3_PORT_D)", lambda a: a.ev3_motor_reset_counts(EV3_PORT_D)),
+    ("ev3_motor_set_power(EV3_PORT_D, 55)", lambda a: a.ev3_motor_set_power(EV3_PORT_D, 55)),
+    ("ev3_motor_config(EV3_PORT_D, MEDIUM_MOTOR)", lambda a: a.ev3_motor_config(EV3_PORT_D, MEDIUM_MOTOR)),
+    ("ev3_motor_get_power(EV3_PORT_D)", lambda a: a.ev3_motor_get_power(EV3_PORT_D)),
+    ("ev3_motor_stop(EV3_PORT_A, 258)", lambda a: a.ev3_motor_stop(EV3_PORT_A, 258)),
     ("ev3_led_set_color(LED_ORANGE)", lambda a: a.ev3_led_set_color(LED_ORANGE)),
     ("ev3_led_set_color(9)", lambda a: a.ev3_led_set_color(9)),
+    ("ev3_battery_voltage_mV()", lambda a: a.ev3_battery_voltage_mV()),
+    ("ev3_battery_current_mA()", lambda a: a.ev3_battery_current_mA()),
+    ("ev3_speaker_set_volume(300)", lambda a: a.ev3_speaker_set_volume(300)),
+    ("ev3_speaker_play_tone(NOTE_C4, 250)", lambda a: a.ev3_speaker_play_tone(261.63, 250)),
+    ("ev3_speaker_play_file(NULL, 10)", lambda a: a.ev3_speaker_play_file(None, 10)),
+    ("ev3_speaker_stop()", lambda a: a.ev3_speaker_stop()),
+    ("ev3_button_set_on_clicked(9, NULL, 0)", lambda a: a.ev3_button_set_on_clicked(9, None, 0)),
+    ("ev3_lcd_set_font(EV3_FONT_MEDIUM)", lambda a: a.ev3_lcd_set_font(EV3_FONT_MEDIUM)),
+    ("ev3_lcd_set_font(5)", lambda a: a.ev3_lcd_set_font(5)),
+    ("({ int32_t w = 0, h = 0; ev3_font_get_size(EV3_FONT_SMALL, &w, &h); w * 100 + h; })",
+     lambda a: (s := a.ev3_font_get_size(EV3_FONT_SMALL))[1] * 100 + s[2]),
+    ("ev3_font_get_size(3, NULL, NULL)", lambda a: a.ev3_font_get_size(3)[0]),
+    ('ev3_lcd_draw_string("Kp\\nready", 4, 20)', lambda a: a.ev3_lcd_draw_string("Kp\nready", 4, 20)),
+    ("ev3_lcd_draw_line(0, 127, 177, 0)", lambda a: a.ev3_lcd_draw_line(0, 127, 177, 0)),
+    ("ev3_lcd_fill_rect(1, 2, 30, 40, EV3_LCD_BLACK)", lambda a: a.ev3_lcd_fill_rect(1, 2, 30, 40, EV3_LCD_BLACK)),
+    ("ev3_lcd_fill_rect(1, 2, 3, 4, EV3_LCD_WHITE)", lambda a: a.ev3_lcd_fill_rect(1, 2, 3, 4, EV3_LCD_WHITE)),
+    ("({ memfile_t m; ER e = ev3_memfile_load(\"data.bin\", &m); e * 1000 + (int)m.filesz; })",
+     lambda a: (e := a.ev3_memfile_load("data.bin", m := MemFile())) * 1000 + m.filesz),
+    ('({ memfile_t m; ev3_memfile_load("missing.bin", &m); })', lambda a: a.ev3_memfile_load("missing.bin", MemFile())),
+    ("ev3_memfile_load(NULL, NULL)", lambda a: a.ev3_memfile_load(None, None)),
+    ("ev3_memfile_free(NULL)", lambda a: a.ev3_memfile_free(None)),
+    ('({ memfile_t m; ev3_memfile_load("data.bin", &m); ev3_memfile_free(&m); ev3_memfile_free(&m); })',
+     lambda a: (a.ev3_memfile_load("data.bin", m := MemFile()), a.ev3_memfile_free(m), a.ev3_memfile_free(m))[2]),
+    ('ev3_sdcard_opendir("logs")', lambda a: a.ev3_sdcard_opendir("logs")),
+    ('({ fileinfo_t f; ev3_sdcard_readdir(1, &f); f.size * 10 + f.is_dir; })',
+     lambda a: (a.ev3_sdcard_readdir(1, f := FileInfo()), f.size * 10 + f.is_dir)[1]),
+    ("({ fileinfo_t f; ev3_sdcard_readdir(1, &f); })", lambda a: a.ev3_sdcard_readdir(1, FileInfo())),
+    ("ev3_sdcard_closedir(1)", lambda a: a.ev3_sdcard_closedir(1)),
+    ("ev3_sdcard_closedir(1)", lambda a: a.ev3_sdcard_closedir(1)),
+    ('ev3_sdcard_opendir("nowhere")', lambda a: a.ev3_sdcard_opendir("nowhere")),
+    ("ev3_serial_open_file(5) == NULL", lambda a: a.ev3_serial_open_file(5) is None),
+    ('({ fputs("hello bt\\n", ev3_serial_open_file(EV3_SERIAL_BT)); 9; })',
+     lambda a: a.ev3_serial_open_file(EV3_SERIAL_BT).write("hello bt\n")),
+    ("fgetc(ev3_serial_open_file(EV3_SERIAL_BT))", lambda a: a.ev3_serial_open_file(EV3_SERIAL_BT).read(1)[0]),
+    ("fgetc(ev3_serial_open_file(EV3_SERIAL_BT))", lambda a: a.ev3_serial_open_file(EV3_SERIAL_BT).read(1)[0]),
+    ("ev3_bluetooth_is_connected()", lambda a: a.ev3_bluetooth_is_connected()),
 ]
 
-SENSORS = {Rx.COLOR0_REFLECT: 0x1234_0049, Rx.COLOR0_AMBIENT: 0x0105, Rx.COLOR0_COLOR: 6,
+
+def rgb(api: Ev3Api, port: int, val: RgbRaw | None = None) -> RgbRaw:
+    val = val or RgbRaw()
+    api.ev3_color_sensor_get_rgb_raw(port, val)
+    return val
+
+
+
+SENSORS = {Rx.COLOR1_REFLECT: 0x0111, Rx.COLOR1_RGB + 8: 0x0002_0304, Rx.BATTERY_VOLTAGE: 7900,
+           Rx.BATTERY_CURRENT: 140, Rx.COLOR0_REFLECT: 0x1234_0049, Rx.COLOR0_AMBIENT: 0x0105, Rx.COLOR0_COLOR: 6,
            Rx.COLOR0_RGB: 0x0001_0203, Rx.COLOR0_RGB + 4: 0x0001_FFFF, Rx.GYRO_ANGLE: -90, Rx.GYRO_RATE: 0x0001_FFFF,
            Rx.ULTRASONIC_MM: 427, Rx.TOUCH0: 4095, Rx.BUTTONS: 1 << ENTER_BUTTON,
            Rx.MOTOR_ANGLE + 4 * EV3_PORT_B: 530}
 ACTUATORS = (0, Tx.GYRO_RESET + 4)
+LED_OTHER_BITS = 0b1100_0100  # YELLOW and bits above: EV3RT's read-modify-write of RED and GREEN keeps them
+SERIAL_INPUT_LINES = "0 bt 6f6b\n0 uart 7a\n"  # as Scenario.serial_lines writes it: "ok" on bt, "z" on the UART
+
+
+def prepare(side: FakePhysics) -> None:
+    """The same snapshot, LED byte, SD card and serial input for both runtimes."""
+    for offset, value in SENSORS.items():
+        side.unity.write_i32(offset, value)
+    side.athrill.write("B", Tx.LED, LED_OTHER_BITS)
+    (side.run_dir / SDCARD_DIR / "logs").mkdir(parents=True)
+    (side.run_dir / SDCARD_DIR / "data.bin").write_bytes(bytes(range(37)))
+    (side.run_dir / SDCARD_DIR / "logs" / "run1.txt").write_text("12345")
+    (side.run_dir / SERIAL_INPUT).write_text(SERIAL_INPUT_LINES)
 
 
 def api_probe_source() -> str:
@@ -85,8 +163,7 @@ def test_the_api_answers_and_writes_exactly_as_the_python_mock(tmp_path, capsys)
     exe = build(tmp_path / "probe", api_probe_source())
     native, mock = FakePhysics(tmp_path / "native"), FakePhysics(tmp_path / "mock")
     for side in (native, mock):
-        for offset, value in SENSORS.items():
-            side.unity.write_i32(offset, value)
+        prepare(side)
     proc = native.start(exe)
     assert native.next_wake(proc) == 1000
     native_log = finish(proc)
@@ -97,8 +174,24 @@ def test_the_api_answers_and_writes_exactly_as_the_python_mock(tmp_path, capsys)
         api.syslog(f"= {int(call(api))}")
     assert native_log.splitlines() == capsys.readouterr().err.splitlines()
     assert native.athrill.read_i32s(*ACTUATORS) == mock.athrill.read_i32s(*ACTUATORS)
-    assert native.athrill.read_i32(Tx.LED) == 0b11 and native.athrill.read_i32(Tx.MOTOR_BRAKE + 4) == 1
+    for name in (LCD_LOG, SERIAL_LOG.format(port="bt")):
+        assert (native.run_dir / name).read_bytes() == (mock.run_dir / name).read_bytes(), name
     bus.close()
+    # Values from EV3RT's source, not from either runtime:
+    a = native.athrill
+    assert a.read("B", Tx.LED) == LED_OTHER_BITS | 0b01  # 9 = 0b1001: RED set, GREEN cleared (gpio_set_value)
+    assert a.read_i32(Tx.MOTOR_BRAKE + 4 * EV3_PORT_B) == 1
+    assert a.read_i32(Tx.MOTOR_BRAKE + 4 * EV3_PORT_A) == 2  # (char)258: opOUTPUT_STOP's buf[2] = brake
+    assert a.read_i32(Tx.MOTOR_RESET_ANGLE + 4 * EV3_PORT_D) == 1  # TX 48, motor_clr_angle's port + 8
+    assert a.read_i32(Tx.MOTOR_POWER + 4 * EV3_PORT_D) == 0  # motor_config's opOUTPUT_STOP zeroes it
+    results = [int(line.rsplit("= ", 1)[1]) for line in native_log.splitlines() if "] = " in line]
+    said = dict(zip((c for c, _ in API_CALLS), results))  # the last result of each expression
+    assert said["ev3_motor_get_power(EV3_PORT_D)"] == 55  # motor_power[], which config leaves alone
+    assert said["ev3_led_set_color(9)"] == 0  # never E_PAR: only the RED and GREEN bits are looked at
+    assert said["ev3_color_sensor_get_reflect(EV3_PORT_2)"] == 0x11  # colour slot 1 (RX 136), low byte
+    assert said["ev3_color_sensor_get_reflect(EV3_PORT_3)"] == 0x49  # a third one: slot 0 again
+    assert said["ev3_battery_voltage_mV()"] == 7900  # RX 120, EV3_BATTERY_INX_VOLTAGE
+    assert "API ev3_memfile_load() warning: Path 'missing.bin' is invalid." in native_log  # API_WARN
 
 
 WINDOWS_APP = r'''
@@ -276,3 +369,27 @@ def test_tasks_and_cyclic_handlers_run_in_priority_and_time_order(tmp_path):
         ("0.050", "wup_tsk(LOW_TASK) -41"),  # E_OBJ: it has ended
         ("0.050", "slp_tsk after a wup_tsk of itself 0"),
     ]
+
+
+CLICK_APP = r'''
+#include "ev3api.h"
+static void clicked(intptr_t exinf) { syslog(LOG_NOTICE, "clicked %d", (int)exinf); }
+void main_task(intptr_t unused)
+{
+    ev3_button_set_on_clicked(ENTER_BUTTON, clicked, 5);
+    for (;;) tslp_tsk(1000);
+}
+'''
+
+
+def test_a_click_handler_runs_when_the_button_comes_up(tmp_path):
+    """brick_dri.c's brick_button_cyc calls it on a release (down before, up now), never on the press."""
+    exe = build(tmp_path / "app", CLICK_APP)
+    bench = FakePhysics(tmp_path / "run")
+    proc = bench.start(exe)
+    for wake, buttons in ((1000, 1 << ENTER_BUTTON), (2000, 1 << ENTER_BUTTON), (3000, 0), (4000, 0)):
+        assert bench.next_wake(proc) == wake
+        bench.unity.write_i32(Rx.BUTTONS, buttons)
+        bench.unity.unity_time_us = wake
+    bench.next_wake(proc)
+    assert [line.split("] ")[1] for line in finish(proc).splitlines()] == ["clicked 5"]

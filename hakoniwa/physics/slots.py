@@ -14,12 +14,16 @@ from pathlib import Path
 
 from hakoniwa.physics.course import CourseInfo
 from hakoniwa.physics.sensors import Sensors
-from hakoniwa.wire.protocol import (ETROBOC_EXT, MOTOR_PORTS, RESET_ANGLE_PORTS, TOUCH_PRESSED, CrashKind, Event, Header,
+from hakoniwa.wire.protocol import (ETROBOC_EXT, MOTOR_PORTS, TOUCH_PRESSED, CrashKind, Event, Header,
                                     MappedFile, Rx, SyncMode, Tx, goal_time_words, open_athrill, open_unity)
 from hakoniwa.wire.waiting import futex_wake
 
 ACTUATORS_END = Tx.GYRO_RESET + 4  # TX body bytes a test starts with cleared
 OUR_EXT = (Rx.TEST_SEQ, Rx.CRASH_DETAIL + 4)  # RX bytes of our extension the physics side writes
+# EV3RT reads the battery from RX (uart_dri_get_data_battery); Unity leaves those slots 0, which no program
+# expects of a running brick, so the physics side writes a charged EV3 pack idling there.
+BATTERY_MV = 8000  # six AA cells, charged
+BATTERY_MA = 150  # the brick idling, motors still
 
 
 @dataclass(frozen=True)
@@ -71,6 +75,8 @@ class Slots:
         self.unity.clear(*OUR_EXT)
         self.unity.write_u32(Rx.PHYSICS_PID, os.getpid())
         self.unity.write_u32(Rx.SYNC_MODE, int(sync))
+        self.unity.write_i32(Rx.BATTERY_CURRENT, BATTERY_MA)
+        self.unity.write_i32(Rx.BATTERY_VOLTAGE, BATTERY_MV)
         self.unity.write_u32(Rx.COURSE_CARD_NUMBER, info.card_number)
         self.unity.write_u32(Rx.COURSE_BLOCK_NUMBER, info.block_number)
         for i, position in enumerate(info.block_positions):
@@ -98,7 +104,7 @@ class Slots:
     def take_commands(self) -> Commands:
         """Motor powers, and the reset requests, which are cleared once taken (EV3RT never clears them)."""
         a = self.athrill
-        resets = [port for port in range(RESET_ANGLE_PORTS) if a.read_i32(Tx.MOTOR_RESET_ANGLE + 4 * port)]
+        resets = [port for port in range(MOTOR_PORTS) if a.read_i32(Tx.MOTOR_RESET_ANGLE + 4 * port)]
         for port in resets:
             a.write_i32(Tx.MOTOR_RESET_ANGLE + 4 * port, 0)
         gyro = bool(a.read_i32(Tx.GYRO_RESET))

@@ -71,6 +71,8 @@ class Rx:
     GYRO_RATE = 32  # degrees/s; 16 bits read
     ULTRASONIC_MM = 88  # distance ahead in mm (EV3RT returns it / 10, in cm); 16 bits read
     TOUCH0 = 112  # 0 released / 4095 pressed (EV3RT: pressed when > 2048)
+    BATTERY_CURRENT = 116  # mA, i32 (ev3_vdev_common.h EV3_BATTERY_INX_CURRENT 28); Unity leaves it 0
+    BATTERY_VOLTAGE = 120  # mV, i32 (EV3_BATTERY_INX_VOLTAGE 29)
     TOUCH1 = 124
     COLOR1_AMBIENT = 128  # a second colour sensor: ambient, colour id, reflect, then r, g, b at 140..148
     COLOR1_COLOR = 132
@@ -110,7 +112,8 @@ class Tx:
     LED = 0  # bits: RED 0, GREEN 1 (ORANGE = both), YELLOW 2, BLUE 3
     MOTOR_POWER = 4  # + 4 p: power of motor port p, -100..100, i32
     MOTOR_BRAKE = 20  # + 4 p: 1 = brake when the power is 0, 0 = float
-    MOTOR_RESET_ANGLE = 36  # + 4 p (p = A..C): 1 = reset the encoder; the physics side clears it again
+    MOTOR_RESET_ANGLE = 36  # + 4 p (A..D: motor_dri.c's motor_clr_angle writes 36 + 4 p, D at 48): 1 = reset the
+    # encoder; the physics side clears it again
     GYRO_RESET = 52  # 1 = reset the gyro angle; the physics side clears it again
     # Our extension (unused by the real layout): lockstep.
     NEXT_WAKE = 448  # i64: the simulation time [us] the robot program sleeps until (NEVER_WAKES: it ended)
@@ -126,7 +129,6 @@ class Tx:
 ETROBOC_EXT = (480, 512)  # body bytes of both files that ET Robocon's extension owns
 COURSE_BLOCK_POSITIONS = 10  # BLACK1, BLACK2, RED1, RED2, YELLOW1, YELLOW2, BLUE1, BLUE2, GREEN1, GREEN2
 MOTOR_PORTS = 4
-RESET_ANGLE_PORTS = 3  # the flag of port D would collide with GYRO_RESET
 PARAM_END = PACKET_SIZE
 NEVER_WAKES = (1 << 63) - 1
 TOUCH_PRESSED = 4095
@@ -350,8 +352,7 @@ def c_header() -> str:
     scalars = {"FILE_SIZE": FILE_SIZE, "HEADER_SIZE": HEADER_SIZE, "PACKET_SIZE": PACKET_SIZE,
                "WINDOW_SIZE": WINDOW_SIZE, "LAYOUT_VERSION": LAYOUT_VERSION, "EXT_OFF": EXT_OFF,
                "EXT_SIZE": EXT_SIZE, "RX_GUEST_BASE": RX_GUEST_BASE, "TX_GUEST_BASE": TX_GUEST_BASE,
-               "MOTOR_PORTS": MOTOR_PORTS, "RESET_ANGLE_PORTS": RESET_ANGLE_PORTS,
-               "TOUCH_PRESSED": TOUCH_PRESSED, "EXIT_BENCH_FAULT": EXIT_BENCH_FAULT,
+               "MOTOR_PORTS": MOTOR_PORTS, "TOUCH_PRESSED": TOUCH_PRESSED, "EXIT_BENCH_FAULT": EXIT_BENCH_FAULT,
                "COURSE_BLOCK_POSITIONS": COURSE_BLOCK_POSITIONS}
     lines += [f"#define HAKO_{k} 0x{v:X}u" for k, v in scalars.items()]
     lines.append("#define HAKO_NEVER_WAKES 0x7FFFFFFFFFFFFFFFll")

@@ -1,15 +1,12 @@
 /*
  * The brick's other devices: button click handlers, the speaker (each call a line in the log; there is no
- * sound) and the battery (fixed, plausible readings of a charged EV3 pack), and Athrill's stopwatch. A click
- * handler runs, like a cyclic handler, before any task, at the first snapshot in which its button is down
- * after being up (a press), as EV3RT calls it from the brick's button event.
+ * sound) and the battery (its RX slots, as uart_dri_get_data_battery reads them), and Athrill's stopwatch. A
+ * click is EV3RT's (brick_dri.c, brick_button_cyc): a button that was down and is now up; its handler runs,
+ * like a cyclic handler, before any task, at the first snapshot that shows the button up again.
  */
 #include "athrill_syscall.h"
 #include "ev3api.h"
 #include "runtime.h"
-
-#define BATTERY_MV 8000 /* six AA cells, charged */
-#define BATTERY_MA 150 /* the brick idling, motors still */
 
 static ISR click_handlers[TNUM_BUTTON];
 static intptr_t click_exinfs[TNUM_BUTTON];
@@ -27,10 +24,10 @@ ER ev3_button_set_on_clicked(button_t button, ISR handler, intptr_t exinf)
 void hako_buttons_poll(void)
 {
     uint32_t now = *(volatile const uint32_t *)((uintptr_t)HAKO_RX_GUEST_BASE + HAKO_RX_BUTTONS);
-    uint32_t pressed = now & ~buttons_before;
+    uint32_t released = buttons_before & ~now;
     buttons_before = now;
     for (int b = LEFT_BUTTON; b <= BACK_BUTTON; b++)
-        if ((pressed >> b & 1) && click_handlers[b] != NULL)
+        if ((released >> b & 1) && click_handlers[b] != NULL)
             click_handlers[b](click_exinfs[b]);
 }
 
@@ -60,9 +57,9 @@ ER ev3_speaker_stop(void)
     return E_OK;
 }
 
-int ev3_battery_current_mA(void) { return BATTERY_MA; }
+int ev3_battery_current_mA(void) { return *(volatile const int32_t *)((uintptr_t)HAKO_RX_GUEST_BASE + HAKO_RX_BATTERY_CURRENT); }
 
-int ev3_battery_voltage_mV(void) { return BATTERY_MV; }
+int ev3_battery_voltage_mV(void) { return *(volatile const int32_t *)((uintptr_t)HAKO_RX_GUEST_BASE + HAKO_RX_BATTERY_VOLTAGE); }
 
 static int64_t stopwatch_us;
 

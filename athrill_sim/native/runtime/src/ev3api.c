@@ -13,6 +13,7 @@
 
 static sensor_type_t sensors[TNUM_SENSOR_PORT];
 static motor_type_t motors[TNUM_MOTOR_PORT];
+static int motor_power[TNUM_MOTOR_PORT]; /* ev3api_motor.c's: the power last set, which get_power answers */
 
 static uint8_t read_u8(uintptr_t addr) { return *(volatile const uint8_t *)addr; }
 static uint16_t read_u16(uintptr_t addr) { return *(volatile const uint16_t *)addr; }
@@ -20,6 +21,13 @@ static int16_t read_i16(uintptr_t addr) { return *(volatile const int16_t *)addr
 static int32_t read_i32(uintptr_t addr) { return *(volatile const int32_t *)addr; }
 static uint32_t read_u32(uintptr_t addr) { return *(volatile const uint32_t *)addr; }
 static void write_i32(uintptr_t addr, int32_t value) { *(volatile int32_t *)addr = value; }
+
+/* motor_brake (motor_dri.c) of opOUTPUT_STOP: the power slot 0, and the brake as the command's char carries it. */
+static void motor_brake(motor_port_t port, char brake)
+{
+    write_i32(TX(HAKO_TX_MOTOR_POWER + 4 * port), 0);
+    write_i32(TX(HAKO_TX_MOTOR_BRAKE + 4 * port), brake);
+}
 
 static bool sensor_port_ok(sensor_port_t port) { return (int)port >= 0 && (int)port < TNUM_SENSOR_PORT; }
 static bool motor_port_ok(motor_port_t port) { return (int)port >= 0 && (int)port < TNUM_MOTOR_PORT; }
@@ -43,7 +51,7 @@ ER ev3_motor_config(motor_port_t port, motor_type_t type)
     if ((int)type < NONE_MOTOR || (int)type > UNREGULATED_MOTOR)
         return E_PAR;
     motors[port] = type;
-    write_i32(TX(HAKO_TX_MOTOR_BRAKE + 4 * port), 0); /* configured idle, as EV3RT does */
+    motor_brake(port, 0); /* opOUTPUT_STOP, brake 0: configured idle, as EV3RT does */
     return E_OK;
 }
 
@@ -51,36 +59,60 @@ ER_UINT ev3_motor_get_type(motor_port_t port) { return motor_port_ok(port) ? (ER
 
 /* -- sensors ------------------------------------------------------------------------------------------ */
 
-/* Whether `port` has a sensor of `kind`; if not, EV3RT's warning in the log (and the caller reads 0). */
-static bool sensor_ready(sensor_port_t port, sensor_type_t kind, const char *name)
+/* Whether `port` has a sensor of `kind` (EV3RT's CHECK_PORT and CHECK_COND(type == kind, E_OBJ)); if not,
+ * EV3RT's warning in the log. */
+static ER sensor_error(sensor_port_t port, sensor_type_t kind, const char *name)
 {
     ER ercd = !sensor_port_ok(port) ? E_ID : sensors[port] != kind ? E_OBJ : E_OK;
     if (ercd != E_OK)
         hako_log("%s(): ercd %d", name, ercd);
-    return ercd == E_OK;
+    return ercd;
+}
+
+static bool sensor_ready(sensor_port_t port, sensor_type_t kind, const char *name)
+{
+    return sensor_error(port, kind, name) == E_OK;
+}
+
+/* get_sensor_index (ev3api_sensor.c): how many earlier ports have a sensor of the same kind. */
+static int sensor_index(sensor_port_t port, sensor_type_t kind)
+{
+    int index = 0;
+    for (int p = 0; p < port; p++)
+        index += sensors[p] == kind;
+    return index;
+}
+
+/* EV3_SENSOR_ADDR_* (ev3_vdev.h): the second colour sensor (index 1) reads the COLOR1 slots, any other COLOR0's. */
+static uintptr_t color_slot(sensor_port_t port, uint32_t slot0)
+{
+    return RX(slot0 + (sensor_index(port, COLOR_SENSOR) == 1 ? HAKO_RX_COLOR1_AMBIENT - HAKO_RX_COLOR0_AMBIENT : 0));
 }
 
 uint8_t ev3_color_sensor_get_reflect(sensor_port_t port)
 {
-    return sensor_ready(port, COLOR_SENSOR, __func__) ? read_u8(RX(HAKO_RX_COLOR0_REFLECT)) : 0;
+    return sensor_ready(port, COLOR_SENSOR, __func__) ? read_u8(color_slot(port, HAKO_RX_COLOR0_REFLECT)) : 0;
 }
 
 uint8_t ev3_color_sensor_get_ambient(sensor_port_t port)
 {
-    return sensor_ready(port, COLOR_SENSOR, __func__) ? read_u8(RX(HAKO_RX_COLOR0_AMBIENT)) : 0;
+    return sensor_ready(port, COLOR_SENSOR, __func__) ? read_u8(color_slot(port, HAKO_RX_COLOR0_AMBIENT)) : 0;
 }
 
 colorid_t ev3_color_sensor_get_color(sensor_port_t port)
 {
-    return sensor_ready(port, COLOR_SENSOR, __func__) ? (colorid_t)read_u8(RX(HAKO_RX_COLOR0_COLOR)) : COLOR_NONE;
+    return sensor_ready(port, COLOR_SENSOR, __func__) ? (colorid_t)read_u8(color_slot(port, HAKO_RX_COLOR0_COLOR))
+                                                      : COLOR_NONE;
 }
 
+/* On an error *val is left alone, as EV3RT leaves it. */
 void ev3_color_sensor_get_rgb_raw(sensor_port_t port, rgb_raw_t *val)
 {
-    bool ready = sensor_ready(port, COLOR_SENSOR, __func__);
-    val->r = ready ? read_u16(RX(HAKO_RX_COLOR0_RGB + 0)) : 0;
-    val->g = ready ? read_u16(RX(HAKO_RX_COLOR0_RGB + 4)) : 0;
-    val->b = ready ? read_u16(RX(HAKO_RX_COLOR0_RGB + 8)) : 0;
+    if (!sensor_ready(port, COLOR_SENSOR, __func__))
+        return;
+    val->r = read_u16(color_slot(port, HAKO_RX_COLOR0_RGB + 0));
+    val->g = read_u16(color_slot(port, HAKO_RX_COLOR0_RGB + 4));
+    val->b = read_u16(color_slot(port, HAKO_RX_COLOR0_RGB + 8));
 }
 
 int16_t ev3_gyro_sensor_get_angle(sensor_port_t port)
@@ -93,13 +125,16 @@ int16_t ev3_gyro_sensor_get_rate(sensor_port_t port)
     return sensor_ready(port, GYRO_SENSOR, __func__) ? read_i16(RX(HAKO_RX_GYRO_RATE)) : 0;
 }
 
+/* uart_dri_get_data_gyro's GYRO_CAL: the TX flag (the physics process clears it once it has zeroed its angle),
+ * and the RX angle and rate zeroed at once, so that a read before the next snapshot is 0. */
 ER ev3_gyro_sensor_reset(sensor_port_t port)
 {
-    if (!sensor_port_ok(port))
-        return E_ID;
-    if (sensors[port] != GYRO_SENSOR)
-        return E_OBJ;
-    write_i32(TX(HAKO_TX_GYRO_RESET), 1); /* the physics process clears it once it has zeroed the angle */
+    ER ercd = sensor_error(port, GYRO_SENSOR, __func__);
+    if (ercd != E_OK)
+        return ercd;
+    write_i32(TX(HAKO_TX_GYRO_RESET), 1);
+    write_i32(RX(HAKO_RX_GYRO_ANGLE), 0);
+    write_i32(RX(HAKO_RX_GYRO_RATE), 0);
     return E_OK;
 }
 
@@ -108,18 +143,10 @@ int16_t ev3_ultrasonic_sensor_get_distance(sensor_port_t port)
     return sensor_ready(port, ULTRASONIC_SENSOR, __func__) ? (int16_t)(read_i16(RX(HAKO_RX_ULTRASONIC_MM)) / 10) : 0;
 }
 
-/* EV3RT numbers touch sensors in port order: the first configured one reads slot 0, the next slot 1. */
-static uint32_t touch_slot(sensor_port_t port)
-{
-    int earlier = 0;
-    for (int p = 0; p < port; p++)
-        earlier += sensors[p] == TOUCH_SENSOR;
-    return earlier == 0 ? HAKO_RX_TOUCH0 : HAKO_RX_TOUCH1;
-}
-
 bool_t ev3_touch_sensor_is_pressed(sensor_port_t port)
 {
-    return sensor_ready(port, TOUCH_SENSOR, __func__) && read_i16(RX(touch_slot(port))) > ADC_RES / 2;
+    return sensor_ready(port, TOUCH_SENSOR, __func__) &&
+           read_i16(RX(sensor_index(port, TOUCH_SENSOR) == 0 ? HAKO_RX_TOUCH0 : HAKO_RX_TOUCH1)) > ADC_RES / 2;
 }
 
 bool_t ev3_button_is_pressed(button_t button)
@@ -152,8 +179,7 @@ ER ev3_motor_reset_counts(motor_port_t port)
     ER ercd = motor_error(port);
     if (ercd != E_OK)
         return ercd;
-    if (port < HAKO_RESET_ANGLE_PORTS)
-        write_i32(TX(HAKO_TX_MOTOR_RESET_ANGLE + 4 * port), 1); /* the physics process clears it */
+    write_i32(TX(HAKO_TX_MOTOR_RESET_ANGLE + 4 * port), 1); /* motor_clr_angle, port D's too; physics clears it */
     return E_OK;
 }
 
@@ -168,6 +194,7 @@ ER ev3_motor_set_power(motor_port_t port, int power)
         power = used;
     }
     write_i32(TX(HAKO_TX_MOTOR_POWER + 4 * port), power);
+    motor_power[port] = power;
     return E_OK;
 }
 
@@ -175,7 +202,7 @@ int ev3_motor_get_power(motor_port_t port)
 {
     ER ercd = motor_error(port);
     if (ercd == E_OK)
-        return read_i32(TX(HAKO_TX_MOTOR_POWER + 4 * port));
+        return motor_power[port];
     hako_log("%s(): Failed to get motor power, ercd: %d", __func__, ercd);
     return 0;
 }
@@ -192,8 +219,8 @@ ER ev3_motor_stop(motor_port_t port, bool_t brake)
     ER ercd = motor_error(port);
     if (ercd != E_OK)
         return ercd;
-    write_i32(TX(HAKO_TX_MOTOR_POWER + 4 * port), 0);
-    write_i32(TX(HAKO_TX_MOTOR_BRAKE + 4 * port), brake ? 1 : 0);
+    ev3_motor_set_power(port, 0);
+    motor_brake(port, (char)brake);
     return E_OK;
 }
 
@@ -225,10 +252,14 @@ ER ev3_motor_steer(motor_port_t left_motor, motor_port_t right_motor, int power,
 
 /* -- LED ---------------------------------------------------------------------------------------------- */
 
+/* EV3RT keeps only the RED and GREEN bits of `color` (ev3api_brick.c), so it never fails; gpio_set_value
+ * (gpio_dri.c) sets or clears each in the LED byte and leaves its other bits alone. */
 ER ev3_led_set_color(ledcolor_t color)
 {
-    if (color != LED_OFF && color != LED_RED && color != LED_GREEN && color != LED_ORANGE)
-        return E_PAR;
-    write_i32(TX(HAKO_TX_LED), (int32_t)color);
+    volatile uint8_t *led = (volatile uint8_t *)TX(HAKO_TX_LED);
+    uint8_t value = *led;
+    value = color & LED_RED ? value | LED_RED : value & ~LED_RED;
+    value = color & LED_GREEN ? value | LED_GREEN : value & ~LED_GREEN;
+    *led = value;
     return E_OK;
 }

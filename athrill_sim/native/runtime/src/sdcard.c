@@ -27,7 +27,7 @@ ER ev3_memfile_load(const char *path, memfile_t *p_memfile)
     p_memfile->buffer = NULL;
     FILE *f = fopen(path, "rb");
     if (f == NULL) {
-        hako_log("%s(): Path '%s' is invalid.", __func__, path);
+        hako_log("API %s() warning: Path '%s' is invalid.", __func__, path); /* API_WARN */
         return E_PAR;
     }
     long size = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;

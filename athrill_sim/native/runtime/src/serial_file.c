@@ -98,7 +98,7 @@ static ssize_t port_write(void *cookie, const char *buf, size_t size)
 FILE *ev3_serial_open_file(serial_port_t port)
 {
     if ((int)port < 0 || (int)port >= SERIAL_PORTS) {
-        hako_log("%s(): Invalid port id %d.", __func__, (int)port);
+        hako_log("API %s() error: Invalid port id %d.", __func__, (int)port); /* API_ERROR */
         return NULL;
     }
     struct port *p = &ports[port];
