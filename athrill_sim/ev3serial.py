@@ -13,8 +13,7 @@ from pathlib import Path
 from typing import IO
 
 from athrill_sim.kernel import Kernel
-from hakoniwa.physics.scenario import SERIAL_PORTS
-from hakoniwa.wire.rundir import SERIAL_INPUT, SERIAL_LOG
+from hakoniwa.wire.rundir import SERIAL_INPUT, SERIAL_LOG, SERIAL_PORTS
 
 
 @dataclass(frozen=True)

@@ -7,6 +7,7 @@ exception, whose traceback's last lines the physics process shows the user.
 
 from __future__ import annotations
 
+import os
 import sys
 from pathlib import Path
 
@@ -51,7 +52,9 @@ def main(run_dir: Path | None, app: str, test_seq: int | None, check: bool) -> N
         if test_seq is not None:
             wait_for_test(bus.unity, test_seq)
         kernel = Kernel(bus.unity, bus.athrill)
-        task(Ev3Api(bus, kernel))
+        api = Ev3Api(bus, kernel)
+        os.chdir(api.sdcard)  # the program's working directory is the SD card, as in the C runtime
+        task(api)
         kernel.finish()
     except KernelExit as e:
         click.echo(f"athrill-sim: {e}", err=True)

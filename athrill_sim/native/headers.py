@@ -26,6 +26,8 @@ def timing_header() -> str:
              "#ifndef HAKO_TIMING_H", "#define HAKO_TIMING_H"]
     lines += [f"#define HAKO_{name} {value!r}" for name, value in values.items()]
     lines += [f'#define HAKO_{name} "{value}"' for name, value in files.items()]
+    # serial_port_t order: EV3_SERIAL_DEFAULT, _UART, _BT, as the scenario names them
+    lines.append("#define HAKO_SERIAL_PORT_NAMES " + ", ".join(f'"{port}"' for port in rundir.SERIAL_PORTS))
     lines.append("#endif")
     return "\n".join(lines) + "\n"
 

@@ -11,10 +11,10 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
+from hakoniwa.wire.rundir import SERIAL_PORTS
 from hakoniwa.wire.timebase import US_PER_S
 
 BUTTONS = ("LEFT", "RIGHT", "UP", "DOWN", "ENTER", "BACK")  # button_t order: the bit in RX BUTTONS
-SERIAL_PORTS = ("default", "uart", "bt")
 SENSOR_PORTS = 4
 
 

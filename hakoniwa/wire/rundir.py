@@ -22,6 +22,7 @@ PROGRAM_OUTPUT_FILE = "program_output.txt"  # the last lines a crashed program p
 LCD_LOG = "lcd.txt"  # every LCD drawing call of the test, in order, stamped with the simulated time
 LCD_PNG = "lcd.png"  # the 178x128 screen at the test's end, drawn from LCD_LOG by the physics process
 SERIAL_LOG = "serial-{port}.log"  # what the program wrote to ev3_serial_open_file(port)
+SERIAL_PORTS = ("default", "uart", "bt")  # serial_port_t order (EV3_SERIAL_DEFAULT, _UART, _BT): SERIAL_LOG's names
 SERIAL_INPUT = "serial-input.txt"  # the scenario's [[serial]] input: "<at_us> <port> <hex bytes>" per line
 SDCARD_DIR = "sdcard"  # the folder standing in for the SD card: the program's working directory
 

@@ -13,7 +13,6 @@
 #include "ev3api.h"
 #include "runtime.h"
 
-#define SERIAL_PORTS 3
 
 struct input {
     int64_t at_us;
@@ -28,8 +27,9 @@ struct port {
     size_t count, next, offset; /* the input being read, and how much of it is taken */
 };
 
+static const char *const port_names[] = {HAKO_SERIAL_PORT_NAMES};
+#define SERIAL_PORTS ((int)(sizeof port_names / sizeof port_names[0]))
 static struct port ports[SERIAL_PORTS];
-static const char *const port_names[SERIAL_PORTS] = {"default", "uart", "bt"};
 
 static int hex_digit(int c) { return c >= '0' && c <= '9' ? c - '0' : c >= 'a' && c <= 'f' ? c - 'a' + 10 : -1; }
 
