@@ -5,11 +5,13 @@ Three kinds of robot program run against the same physics:
 - a Python program (a built-in name or `module:function`) on the mock Athrill, `athrill-sim`;
 - a v850 ELF image (an EV3RT application built for the real emulator) under the real TOPPERS `athrill2`,
   with the memory and device configuration written into the run directory;
-- (see `athrill_sim.native`) a user's EV3RT C program compiled for this machine.
+- (see `athrill_sim.native`) a user's EV3RT C program compiled for this machine, or, with
+  `--emulator athrill2`, the same program built into a v850 image (`athrill_sim.v850`) and run as one.
 
-The kind decides how time is kept (`SyncMode`): our own programs run in the deterministic lockstep, the real
-emulator speaks the real Hakoniwa protocol. Everything here is checked before the first test, so a bad
-`--app` is one clear error instead of a campaign of crashed tests.
+The kind decides how time is kept (`SyncMode`): our own programs run in the deterministic lockstep; the real
+emulator runs in the repeatable mode (athrill2 built with scripts/athrill-patches waits at each sync point)
+unless `--sync hakoniwa` asks for the unmodified protocol. Everything here is checked before the first test,
+so a bad `--app` is one clear error instead of a campaign of crashed tests.
 """
 
 from __future__ import annotations
@@ -24,12 +26,17 @@ from pathlib import Path
 from hakoniwa.wire.processes import die_with_parent
 from hakoniwa.wire.protocol import ATHRILL_FILE, UNITY_FILE, SyncMode
 
+PROJECT = Path(__file__).resolve().parents[1]
 BUILD_ATHRILL_HINT = ("build it from TOPPERS' sources (github.com/toppers/athrill-target-v850e2m @ d7123b6 with "
                       "github.com/toppers/athrill @ 8bf811e as its athrill/ folder: ATHRILL_SRC=that/folder "
                       "scripts/build_athrill2.sh build/athrill; docs/REAL-ATHRILL.md), then pass --athrill2 "
                       "build/athrill/athrill2")
-ELF_MAGIC = b"\x7fELF"
-V850_MACHINES = (36, 87, 0x9080)  # e_machine of v850 images: EM_V800 (what the TOPPERS toolchain writes), EM_V850, old GNU
+REPEATABLE_DIR = "build/athrill-repeatable"  # where scripts/build_athrill2.sh --repeatable is documented to build
+BUILD_REPEATABLE_HINT = (f"build one with scripts/build_athrill2.sh --repeatable {REPEATABLE_DIR} (or pass "
+                         "--sync hakoniwa: the unmodified protocol, whose results depend on the machine's load)")
+EMULATORS = ("native", "athrill2")  # what a C program runs on: compiled for this machine, or the real emulator
+REAL_SYNCS = {"repeatable": SyncMode.REPEATABLE, "hakoniwa": SyncMode.HAKONIWA}
+SYNC_WAIT_KEY = "DEBUG_FUNC_VDEV_MMAP_SYNC_WAIT"  # read by scripts/athrill-patches/01-*.patch
 
 # Athrill's memory map and device configuration for an EV3RT image in MMAP mode: the layout the TOPPERS
 # ev3rt-athrill-v850e2m images are linked for, with the two mapped files at the VDEV addresses below. Athrill
@@ -139,57 +146,110 @@ def native_program(source: Path) -> Program:
                    (str(exe), "--run-dir", "{run_dir}", "--test", "{test}"), files=files)
 
 
-def elf_program(image: Path, athrill2: str | None) -> Program:
-    exe = find_athrill2(athrill2)
-    memory = "".join(f"{kind}, 0x{addr:08X}, {arg}\n" for kind, addr, arg in ATHRILL_MEMORY)
-    device = "".join(f"{key}\t{value}\n" for key, value in ATHRILL_DEVICE)
-    return Program(f"v850 image {image} on {exe}", SyncMode.HAKONIWA, False,
-                   (exe, "-c1", "-t", "-1", "-m", MEMORY_CONFIG, "-d", DEVICE_CONFIG, str(image.resolve())),
-                   in_run_dir=True, config_files={MEMORY_CONFIG: memory, DEVICE_CONFIG: device},
-                   files=(image.resolve(),))
+def athrill_config(sync: SyncMode) -> dict[str, str]:
+    """athrill2's memory map and device configuration for a run in `sync` mode, by file name."""
+    device = [*ATHRILL_DEVICE, *([(SYNC_WAIT_KEY, "1")] if sync == SyncMode.REPEATABLE else [])]
+    return {MEMORY_CONFIG: "".join(f"{kind}, 0x{addr:08X}, {arg}\n" for kind, addr, arg in ATHRILL_MEMORY),
+            DEVICE_CONFIG: "".join(f"{key}\t{value}\n" for key, value in device)}
 
 
-def find_athrill2(given: str | None) -> str:
+def athrill_argv(exe: str, image: Path) -> tuple[str, ...]:
+    return exe, "-c1", "-t", "-1", "-m", MEMORY_CONFIG, "-d", DEVICE_CONFIG, str(image.resolve())
+
+
+def elf_program(image: Path, athrill2: str | None, sync: SyncMode = SyncMode.REPEATABLE) -> Program:
+    """A v850 image under the real athrill2; checked (by a short run of its own) before the first test."""
+    from athrill_sim.v850 import ImageError
+    from athrill_sim.v850.elf import check_image
+
+    try:
+        check_image(image)
+    except ImageError as e:
+        raise ProgramError(f"--app {e}") from None
+    exe = find_athrill2(athrill2, sync)
+    return Program(f"v850 image {image} on {exe}", sync, False, athrill_argv(exe, image), in_run_dir=True,
+                   config_files=athrill_config(sync), files=(image.resolve(),),
+                   check_argv=(sys.executable, "-m", "athrill_sim.v850.check", exe, str(image.resolve()),
+                               sync.name.lower()))
+
+
+def find_athrill2(given: str | None, sync: SyncMode) -> str:
+    """--athrill2, else athrill2 on PATH; the repeatable mode needs one built with the sync patch, and takes
+    the one the build script leaves in this project's build/ when PATH has none."""
+    repeatable = sync == SyncMode.REPEATABLE
     if given is not None:
         path = Path(given)
         if not (path.is_file() and os.access(path, os.X_OK)):
             raise ProgramError(f"--athrill2 {given}: not an executable file; {BUILD_ATHRILL_HINT}")
+        if repeatable and not has_sync_patch(path):
+            raise ProgramError(f"--athrill2 {given} lacks the repeatable-sync patch; {BUILD_REPEATABLE_HINT}")
         return str(path.resolve())
-    found = shutil.which("athrill2")
-    if found is None:
-        raise ProgramError(f"athrill2 (the TOPPERS emulator) is not on PATH; {BUILD_ATHRILL_HINT}")
-    return found
+    on_path = shutil.which("athrill2")
+    if not repeatable:
+        if on_path is None:
+            raise ProgramError(f"athrill2 (the TOPPERS emulator) is not on PATH; {BUILD_ATHRILL_HINT}")
+        return on_path
+    ours = PROJECT / REPEATABLE_DIR / "athrill2"
+    for found in (on_path, str(ours) if ours.is_file() else None):
+        if found and has_sync_patch(Path(found)):
+            return found
+    raise ProgramError(f"no athrill2 with the repeatable-sync patch on PATH or in {REPEATABLE_DIR}; "
+                       f"{BUILD_REPEATABLE_HINT}")
 
 
-def is_v850_elf(path: Path) -> bool:
+def has_sync_patch(exe: Path) -> bool:
+    """Whether `exe` reads the patch's device-config key (an unpatched athrill2 ignores the key, and would
+    run ahead of the physics while the bench waited for it to stop)."""
     try:
-        with open(path, "rb") as f:
-            head = f.read(20)
+        return SYNC_WAIT_KEY.encode() in exe.read_bytes()
     except OSError:
         return False
-    return head[:4] == ELF_MAGIC and int.from_bytes(head[18:20], "little") in V850_MACHINES
 
 
-def resolve_program(spec: str, *, athrill2: str | None = None) -> Program:
+def resolve_program(spec: str, *, athrill2: str | None = None, emulator: str | None = None,
+                    sync: str | None = None) -> Program:
     """The program `--app SPEC` names: a built-in or `module:function` Python program, an EV3RT C program
-    (a .c file, a workspace folder or a built-in C name), or a v850 ELF."""
+    (a .c file, a workspace folder or a built-in C name), or a v850 ELF. `emulator` athrill2 builds a C
+    program into a v850 image; `sync` (repeatable, hakoniwa) is how a real emulator keeps time."""
     from athrill_sim.apps import BUILTIN, C_BUILTIN
+    from athrill_sim.v850.elf import is_elf
 
     path = Path(spec)
     builtins = ", ".join([*BUILTIN, *C_BUILTIN])
-    if spec in BUILTIN:
+    c_source = C_BUILTIN.get(spec) or (path if path.is_dir() or (path.is_file() and path.suffix == ".c") else None)
+    real = emulator == "athrill2" or (c_source is None and path.is_file() and is_elf(path))
+    if sync is not None and not real:
+        raise ProgramError(f"--sync {sync} is for the real emulator (a v850 image, or --emulator athrill2); "
+                           f"{spec} runs in the lockstep")
+    real_sync = REAL_SYNCS[sync or "repeatable"]
+    if spec in BUILTIN and emulator != "athrill2":
         return python_program(spec)
-    if spec in C_BUILTIN:
-        return native_program(C_BUILTIN[spec])
-    if path.is_dir() or (path.is_file() and path.suffix == ".c"):
-        return native_program(path)
+    if c_source is not None:
+        return image_program(c_source, athrill2, real_sync) if real else native_program(c_source)
     if path.is_file():
-        if is_v850_elf(path):
-            return elf_program(path, athrill2)
+        if real:
+            if emulator == "native":
+                raise ProgramError(f"--app {spec}: a v850 image runs only in the real emulator (--emulator athrill2)")
+            return elf_program(path, athrill2, real_sync)
         raise ProgramError(f"--app {spec}: not a v850 ELF image, a C file (.c), a built-in app ({builtins}) "
                            "or module:function")
+    if emulator == "athrill2":
+        raise ProgramError(f"--app {spec}: --emulator athrill2 runs EV3RT C programs (app.c, a workspace folder, "
+                           "line_trace_c) and v850 images, not Python programs")
     module, _, func = spec.partition(":")
     if not (module and func):
         raise ProgramError(f"--app {spec}: no such file or folder, and not a built-in app ({builtins}) "
                            "or module:function")
     return python_program(spec)
+
+
+def image_program(source: Path, athrill2: str | None, sync: SyncMode) -> Program:
+    """A user's EV3RT C program, built now into a v850 image (cached) and run in the real emulator."""
+    from athrill_sim.v850 import ImageError
+    from athrill_sim.v850.build import build_image
+
+    try:
+        image = build_image(source)
+    except ImageError as e:
+        raise ProgramError(str(e)) from None
+    return elf_program(image, athrill2, sync)

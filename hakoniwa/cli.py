@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import os
+import sys
 import tempfile
 from pathlib import Path
 
@@ -140,7 +141,8 @@ def how_many_benches(benches: int | None, scheduler: str | None) -> int:
 def run(benches: int | None, scheduler: str | None, validate: int | None, **options) -> None:
     """Search the robot program's parameters by Bayesian optimization, as in the paper: 5 random sets, then
     --trials sets proposed by GPyOpt (EI), --batch at a time; each set tested until 3 successes or 3
-    failures; the objective is the mean lap time (the time limit for a failure). Tests run on --benches
+    failures (one test with --noise 0 on the real emulator's repeatable mode, where every test of a set is
+    the same); the objective is the mean lap time (the time limit for a failure). Tests run on --benches
     benches at once; then the best set is tested on --validate fresh noise draws.
     Every test is journaled; kill and --resume at any time."""
     from testctl.interrupts import sigterm_interrupts, stopped_by
@@ -155,6 +157,8 @@ def run(benches: int | None, scheduler: str | None, validate: int | None, **opti
 def _run(benches: int | None, scheduler: str | None, validate: int | None, options: dict) -> None:
     n = how_many_benches(benches, scheduler)
     given = pop_bench(options)
+    if options["repeats"] is None and options["noise"] == 0 and options["resume"] is None and repeatable_bench(given):
+        options["repeats"] = 1  # every repetition of a set would be the very same test
     p = plan(**options, penalty_s=time_limit_s(given))
     if validate is None:
         validate = 1 if p.config.noise == 0 else SMOKE_DRAWS if options["smoke"] else DEFAULT_DRAWS
@@ -219,6 +223,29 @@ def test_command(test_file: Path, benches: int | None, scheduler: str | None, ou
     run_suite(test_file, cases, out_dir, benches=n, scheduler=scheduler, junit_file=junit_file, json_file=json_file)
 
 
+@main.command(context_settings=HELP)
+@click.argument("app", type=click.Path(exists=True, path_type=Path))
+@click.option("--sdk", type=click.Path(file_okay=False, path_type=Path), default=None,
+              help="The EV3RT SDK (ev3rt-athrill-v850e2m, or a folder holding it) [default: $EV3RT_SDK, else "
+                   "../shared/third_party/ev3rt beside the project].")
+@click.option("--toolchain", type=click.Path(file_okay=False, path_type=Path), default=None,
+              help="A folder with v850-elf-gcc (or its bin/) [default: on PATH, else the SDK's toolchain tarball, "
+                   "unpacked once into the cache].")
+def build(app: Path, sdk: Path | None, toolchain: Path | None) -> None:
+    """Build APP (an EV3RT app.c or workspace folder) into a v850 image for the real athrill2 and print its
+    path. Images are cached by their sources, the SDK and the compiler; `hako trial --app APP --emulator
+    athrill2` builds and runs in one go."""
+    from athrill_sim.v850 import ImageError
+    from athrill_sim.v850.build import build_image
+
+    try:
+        announce = (lambda what: click.echo(what + " ...", err=True)) if sys.stderr.isatty() else None
+        image = build_image(app, sdk=sdk, toolchain=toolchain, announce=announce)
+    except ImageError as e:
+        raise click.ClickException(str(e)) from None
+    click.echo(str(image))
+
+
 def time_limit_s(bench: BenchOptions) -> float:
     """The bench's time limit: what a failed test scores in a campaign."""
     from hakoniwa.physics.course import CourseError, load_course
@@ -241,9 +268,22 @@ def check_bench(bench: BenchOptions) -> None:
 
     try:
         load_bench(bench)
-        program = resolve_program(bench.app, athrill2=bench.athrill2)
+        program = resolve_program(bench.app, athrill2=bench.athrill2, emulator=bench.emulator, sync=bench.sync)
         program.finish_check(program.start_check())
     except (CourseError, RobotError, ScenarioError, ProgramError) as e:
+        raise click.ClickException(str(e)) from None
+
+
+def repeatable_bench(bench: BenchOptions) -> bool:
+    """Whether the bench runs the real emulator in the repeatable mode, where a set's tests without noise
+    all give the same result."""
+    from athrill_sim.programs import ProgramError, resolve_program
+    from hakoniwa.wire.protocol import SyncMode
+
+    try:
+        return resolve_program(bench.app, athrill2=bench.athrill2, emulator=bench.emulator,
+                               sync=bench.sync).sync == SyncMode.REPEATABLE
+    except ProgramError as e:
         raise click.ClickException(str(e)) from None
 
 
@@ -252,7 +292,7 @@ def default_benches() -> int:
 
 
 # What the journal records of the bench: what decides results (not where athrill2 lives).
-RECORDED_BENCH = ("course", "app", "time_limit_s", "robot", "scenario")
+RECORDED_BENCH = ("course", "app", "emulator", "sync", "time_limit_s", "robot", "scenario")
 
 
 def bench_info(bench: BenchOptions) -> dict:

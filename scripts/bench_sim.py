@@ -146,11 +146,11 @@ def main(sim_seconds: float, tests: int, starts: int, real_tests: int, athrill2:
             ("(a) raw MuJoCo, batched mj_step(nstep=100)", f"{a_batched:8.1f} x real time")]
     kinds = {"Python mock (line_trace)": BenchOptions(app="line_trace"),
              "native C (line_trace_c)": BenchOptions(app="line_trace_c"),
-             "real athrill2 (ble_sample asp)": BenchOptions(app=str(ASP_IMAGE), athrill2=athrill2)}
+             "real athrill2 (ble_sample asp)": BenchOptions(app=str(ASP_IMAGE), athrill2=athrill2, sync="hakoniwa")}
     programs: dict[str, Program | str] = {}
     for label, bench in kinds.items():
         try:
-            programs[label] = resolve_program(bench.app, athrill2=bench.athrill2)
+            programs[label] = resolve_program(bench.app, athrill2=bench.athrill2, sync=bench.sync)
         except ProgramError as e:
             programs[label] = f"skipped: {e}"
 

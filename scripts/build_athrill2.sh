@@ -1,7 +1,12 @@
 #!/bin/bash
 # Builds the real TOPPERS Athrill emulator (athrill2, v850e2m target, VDEV/MMAP enabled).
 #
-# Usage: scripts/build_athrill2.sh OUT_DIR        (e.g. build/athrill; prints OUT_DIR/athrill2)
+# Usage: scripts/build_athrill2.sh [--repeatable] OUT_DIR    (e.g. build/athrill; prints OUT_DIR/athrill2)
+#
+# --repeatable applies scripts/athrill-patches/*.patch in order (see docs/REAL-ATHRILL.md): the VDEV MMAP sync
+# wait that `--sync repeatable` needs, off unless the device config turns it on (only hakoniwa-py's repeatable
+# mode does), and the fix of a store into the RX body (EV3RT's gyro reset), which kills an unpatched athrill2.
+# Without the flag nothing is patched.
 #
 # Sources: $ATHRILL_SRC, default <repo>/../shared/third_party/athrill/src/athrill-target-v850e2m (read-only is
 # fine: they are copied into a scratch dir). That copy lacks the Athrill core's build rules
@@ -17,7 +22,12 @@ die() { echo "build_athrill2: $*" >&2; exit 1; }
 
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 src=${ATHRILL_SRC:-$repo/../shared/third_party/athrill/src/athrill-target-v850e2m}
-[ $# -eq 1 ] || die "usage: build_athrill2.sh OUT_DIR"
+patches=()
+if [ "${1:-}" = "--repeatable" ]; then
+  shift
+  patches=("$repo"/scripts/athrill-patches/*.patch)
+fi
+[ $# -eq 1 ] || die "usage: build_athrill2.sh [--repeatable] OUT_DIR"
 [ -f "$src/build_linux/Makefile" ] && [ -d "$src/athrill/src" ] \
   || die "no Athrill v850e2m sources at $src (set ATHRILL_SRC)"
 src=$(cd "$src" && pwd)
@@ -25,9 +35,10 @@ out=$(mkdir -p "$1" && cd "$1" && pwd)
 log=$out/build-athrill2.log
 jobs=${ATHRILL_JOBS:-2}
 
-# Stamp: every file of the source tree (path + content) and this script.
+# Stamp: every file of the source tree (path + content), this script and the patches applied.
 stamp=$( { (cd "$src" && find . -type f -print0 | LC_ALL=C sort -z | xargs -0 sha256sum)
-           sha256sum < "${BASH_SOURCE[0]}"; } | sha256sum | cut -d' ' -f1)
+           sha256sum < "${BASH_SOURCE[0]}"
+           for p in "${patches[@]}"; do sha256sum < "$p"; done; } | sha256sum | cut -d' ' -f1)
 cached() { [ -x "$out/athrill2" ] && [ "$(cat "$out/athrill2.stamp" 2>/dev/null)" = "$stamp" ]; }
 if cached; then echo "$out/athrill2"; exit 0; fi
 
@@ -42,6 +53,9 @@ else trap 'rm -rf "$work"' EXIT; fi
 cp -r "$src" "$work/athrill-target-v850e2m"
 chmod -R u+w "$work"
 tgt=$work/athrill-target-v850e2m
+for p in "${patches[@]}"; do
+  patch -s -p1 -d "$tgt" < "$p" || die "patch $p does not apply to $src"
+done
 core_mk=$tgt/athrill/build/core/linux
 mkdir -p "$core_mk" "$tgt/athrill/bin/linux"
 
@@ -176,6 +190,7 @@ t0=$(date +%s)
 {
   echo "# build_athrill2.sh: sources $src"
   echo "# core build rules supplied by this script: ${supplied[*]:-none}"
+  echo "# patches applied: ${patches[*]:-none}"
 } > "$log"
 cd "$tgt/build_linux"
 if ! make -j"$jobs" timer32=true serial_fifo_enable=true skip_clock_bugfix=true supress_detect_error=true \

@@ -18,8 +18,8 @@ def hako_trial(*args: str) -> tuple[subprocess.CompletedProcess, dict | None]:
 
 @pytest.mark.slow
 def test_the_real_emulator_follows_the_line_on_our_physics(athrill2, tmp_path):
-    out, result = hako_trial("--app", str(ASP_IMAGE), "--athrill2", str(athrill2), "--json", "--run-dir",
-                             str(tmp_path))
+    out, result = hako_trial("--app", str(ASP_IMAGE), "--athrill2", str(athrill2), "--sync", "hakoniwa", "--json",
+                             "--run-dir", str(tmp_path))
     assert out.returncode == 0, out.stderr
     assert result["sync"] == "hakoniwa"
     assert result["event"] not in ("HIT_WALL", "CRASH"), result
@@ -32,7 +32,7 @@ def test_an_elf_without_athrill2_is_a_one_line_error(tmp_path, monkeypatch):
     if not ASP_IMAGE.is_file():
         pytest.skip(f"needs the real EV3RT image at {ASP_IMAGE} (../shared)")
     monkeypatch.setenv("PATH", str(tmp_path))  # no athrill2 anywhere on it
-    out, _ = hako_trial("--app", str(ASP_IMAGE), "--json")
+    out, _ = hako_trial("--app", str(ASP_IMAGE), "--sync", "hakoniwa", "--json")
     assert out.returncode != 0
     assert "athrill2" in out.stderr and "build_athrill2.sh" in out.stderr
     assert "Traceback" not in out.stderr and len(out.stderr.strip().splitlines()) == 1

@@ -19,10 +19,10 @@ import os
 import re
 import shutil
 import subprocess
-import tempfile
 from collections.abc import Collection
 from pathlib import Path
 
+from athrill_sim.build_cache import cached_build
 from athrill_sim.native import NativeBuildError, appcfg, headers, workspace
 from athrill_sim.native.appcfg import KERNEL_CFG_C, KERNEL_CFG_H, kernel_config
 from athrill_sim.native.workspace import AppSources, find_app
@@ -61,22 +61,8 @@ def build_app(path: Path) -> Path:
     app = find_app(path)
     cc = find_compiler()
     generated = headers.generated_headers()
-    entry = cache_root() / cache_key(app, cc, generated)
-    exe = entry / EXECUTABLE
-    if exe.is_file():
-        return exe
-    entry.parent.mkdir(parents=True, exist_ok=True)
-    scratch = Path(tempfile.mkdtemp(prefix=entry.name + ".tmp-", dir=entry.parent))
-    try:
-        _build(app, cc, generated, scratch)
-        try:
-            scratch.rename(entry)
-        except OSError:  # another build of the same program finished first; it is the same binary
-            if not exe.is_file():
-                raise
-    finally:
-        shutil.rmtree(scratch, ignore_errors=True)
-    return exe
+    return cached_build(cache_root() / cache_key(app, cc, generated), EXECUTABLE,
+                        lambda scratch: _build(app, cc, generated, scratch))
 
 
 def cache_key(app: AppSources, cc: Path, generated: dict[str, str]) -> str:

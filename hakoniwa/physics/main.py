@@ -34,7 +34,8 @@ def main(run_dir: Path, controller: tuple[str, ...], **bench) -> None:
     $HAKO_TIME_LIMIT_S."""
     options = BenchOptions(**bench)
     try:
-        program = resolve_program(options.app, athrill2=options.athrill2)
+        program = resolve_program(options.app, athrill2=options.athrill2, emulator=options.emulator,
+                                  sync=options.sync)
         check = program.start_check()
         world_course, robot, scenario = load_bench(options)
         lock = RunDirLock(run_dir)

@@ -15,6 +15,7 @@ from typing import Callable
 
 import click
 
+from athrill_sim.programs import EMULATORS, REAL_SYNCS, REPEATABLE_DIR
 from hakoniwa.clickutil import SECONDS, option_group
 from hakoniwa.wire.timebase import US_PER_S
 
@@ -29,6 +30,8 @@ class BenchOptions:
     course: str = DEFAULT_COURSE
     app: str = DEFAULT_APP
     athrill2: str | None = None
+    emulator: str | None = None  # None: by the kind of --app (a C program natively, a v850 image in athrill2)
+    sync: str | None = None  # None: repeatable for the real emulator
     athrill_timeout_s: float = 10.0
     time_limit_s: float | None = None  # None: the course's own limit
     robot: str | None = None  # None: the default robot, with the course's wheel ports
@@ -66,7 +69,15 @@ _OPTIONS = [
     _Option("app", "--app", "Robot program: a built-in name (line_trace, line_trace_c), a Python "
             "module:function, an EV3RT C program (app.c or its workspace folder), or a v850 ELF image (run in "
             "the real athrill2)."),
-    _Option("athrill2", "--athrill2", "The TOPPERS athrill2 emulator for an ELF --app [default: on PATH]."),
+    _Option("emulator", "--emulator", "What an EV3RT C program runs on: native (compiled for this machine) or "
+            "athrill2 (built into a v850 image with the EV3RT SDK and run in the real TOPPERS emulator) "
+            "[default: native; a v850 image always runs in athrill2].", click.Choice(EMULATORS)),
+    _Option("athrill2", "--athrill2", "The TOPPERS athrill2 emulator for the real emulator [default: on PATH, "
+            f"else {REPEATABLE_DIR}/athrill2]."),
+    _Option("sync", "--sync", "How the real emulator keeps time with physics: repeatable (athrill2 built with "
+            "scripts/build_athrill2.sh --repeatable waits at each sync point: the same result on every run) or "
+            "hakoniwa (TOPPERS' unmodified protocol: results depend on the machine's load) [default: "
+            "repeatable].", click.Choice(tuple(REAL_SYNCS))),
     _Option("athrill_timeout_s", "--athrill-timeout",
             "Wall seconds a silent Athrill is waited for before the test counts as a crash.", SECONDS),
     _Option("robot", "--robot", "The robot's wiring: a built-in name (default, hackev) or a robot TOML file "

@@ -35,8 +35,8 @@ from hakoniwa.physics.noise import NoiseDraw
 from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
 from hakoniwa.physics.scenario import Scenario
 from hakoniwa.physics.slots import Report, Slots
-from hakoniwa.physics.sync import HAKONIWA_START_US, AthrillCrash, run_hakoniwa, run_lockstep
-from hakoniwa.wire.protocol import CrashKind, Event, SyncMode, Tx
+from hakoniwa.physics.sync import SYNC_LOOPS, AthrillCrash, unity_time_us
+from hakoniwa.wire.protocol import CrashKind, Event, Tx
 from hakoniwa.wire.rundir import PHYSICS_LOG, PROGRAM_OUTPUT_FILE, SERIAL_INPUT, TRAJECTORY_FILE
 from hakoniwa.wire.timebase import Scheduler
 
@@ -98,8 +98,7 @@ class PhysicsServer:
         self._max_diff_us = max(self._max_diff_us, abs(diff_us))
 
     def publish_sensors(self) -> None:
-        floor = HAKONIWA_START_US if self.program.sync == SyncMode.HAKONIWA else 0
-        self.slots.publish(self.env.read_sensors(), max(self.env.now_us, floor))
+        self.slots.publish(self.env.read_sensors(), unity_time_us(self.program.sync, self.env.now_us))
 
     def apply_actuators(self) -> None:
         commands = self.slots.take_commands()
@@ -151,9 +150,8 @@ class PhysicsServer:
         except OSError as e:
             crash = AthrillCrash(CrashKind.BENCH, 0, f"cannot start athrill: {e}")
         else:
-            run = run_lockstep if self.program.sync == SyncMode.LOCKSTEP else run_hakoniwa
             try:
-                run(self, proc)
+                SYNC_LOOPS[self.program.sync](self, proc)
             except AthrillCrash as e:
                 crash = e
         env = self.env

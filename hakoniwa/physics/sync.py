@@ -13,6 +13,16 @@ time. Physics steps while `athrill_time - world_time > -ALLOWED_TIME_DIFF_US`, i
 never take it more than the allowed 20 ms ahead, and then publishes its time; results depend on how fast
 the emulator runs, as with the real Unity.
 
+`repeatable` (the real TOPPERS Athrill built with scripts/athrill-patches, its wait turned on by the device
+config): at every device clock that reaches the unity time, Athrill publishes its clock and sleeps until the
+unity time passes it. Physics publishes each snapshot with a unity time one step ahead (the horizon), waits
+until Athrill's clock reaches it, applies the actuators Athrill wrote before that instant if they changed
+(so that a command draws its motor noise once, as a lockstep answer does, not once a step), steps to the
+horizon and publishes the next snapshot. Athrill's clock is a count of emulated cycles and it stops at the first cycle at or past the
+horizon, so which cycle reads which snapshot depends on nothing but the image and its inputs: the same
+image, parameters and noise draw give the same result to the microsecond under any load. The time
+difference is at most one step plus the cycles of one instruction.
+
 Both loops leave the test when the physics server raises an event, and raise `AthrillCrash` when Athrill
 dies, goes silent or breaks the protocol.
 """
@@ -25,13 +35,14 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Callable
 
 from hakoniwa.wire.processes import CpuUse, cpu_use, describe_exit, take_bench_fault
-from hakoniwa.wire.protocol import HEADER_SIZE, CrashKind, Tx
+from hakoniwa.wire.protocol import HEADER_SIZE, CrashKind, Header, SyncMode, Tx
 from hakoniwa.wire.timebase import ALLOWED_TIME_DIFF_US, PHYSICS_STEP_US
 from hakoniwa.wire.waiting import wait_for, wait_word
 
 if TYPE_CHECKING:
     from hakoniwa.physics.server import PhysicsServer
 
+TX_COMMANDS = (Tx.MOTOR_POWER, (Tx.GYRO_RESET + 4 - Tx.MOTOR_POWER) // 4)  # TX words of powers, brakes, resets
 HAKONIWA_START_US = 1  # the real Unity's clock starts at 1 us: a unity time of 0 lets Athrill run unchecked
 SPINNING_CPU_SHARE = 0.1  # a silent Athrill that had this share of a core or more was running: the program spins
 
@@ -153,3 +164,32 @@ def run_hakoniwa(server: PhysicsServer, proc: subprocess.Popen) -> None:
         server.publish_sensors()
         server.note_time_diff(a.athrill_time_us - server.now_us)
         check()
+
+
+def run_repeatable(server: PhysicsServer, proc: subprocess.Popen) -> None:
+    a = server.athrill
+    clock_address = a.address(Header.ATHRILL_TIME)  # the patched Athrill rings here when it stops
+    check = watchdog(proc, server.athrill_timeout_s, lambda: a.athrill_time_us, lambda: a.athrill_time_us > 0)
+    applied = None  # the TX commands last applied: a command is applied (and draws its noise) once, when new
+    while True:
+        horizon = unity_time_us(SyncMode.REPEATABLE, server.now_us)  # published with the last snapshot
+        wait_word(clock_address, lambda: a.athrill_time_us & 0xFFFFFFFF, lambda: a.athrill_time_us >= horizon, check)
+        server.note_time_diff(a.athrill_time_us - server.now_us)
+        if a.read_i32s(*TX_COMMANDS) != applied:
+            server.apply_actuators()
+            applied = a.read_i32s(*TX_COMMANDS)  # after the reset requests it took were cleared
+        if server.advance_to(horizon):
+            return
+        server.publish_sensors()
+
+
+def unity_time_us(sync: SyncMode, now_us: int) -> int:
+    """The unity time published with the snapshot for `now_us`: how far Athrill may run on it. The real
+    Unity's clock starts at 1 us (a unity time of 0 lets an unpatched Athrill run unchecked); the repeatable
+    mode lets Athrill run one step on the snapshot, to the next instant physics steps to."""
+    if sync == SyncMode.REPEATABLE:
+        return now_us + PHYSICS_STEP_US
+    return max(now_us, HAKONIWA_START_US) if sync == SyncMode.HAKONIWA else now_us
+
+
+SYNC_LOOPS = {SyncMode.LOCKSTEP: run_lockstep, SyncMode.HAKONIWA: run_hakoniwa, SyncMode.REPEATABLE: run_repeatable}

@@ -162,6 +162,7 @@ class SyncMode(enum.IntEnum):
 
     LOCKSTEP = 0  # ours: the program's wake-ups drive physics; deterministic to the microsecond
     HAKONIWA = 1  # the real protocol: physics runs at most ALLOWED_TIME_DIFF ahead of Athrill's clock
+    REPEATABLE = 2  # the real emulator, patched to wait at each sync point: deterministic to the microsecond
 
 
 class ColorId(enum.IntEnum):

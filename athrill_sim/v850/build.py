@@ -1,0 +1,167 @@
+"""`hako build`: a user's EV3RT program into a v850 image, by the SDK's own make, cached.
+
+The SDK's build writes into its own tree (the workspace, `OBJ/`, the cfg pass's output), so it runs in a
+scratch copy of the SDK beside the cache entry, with the program copied in as the workspace folder `hako_app`
+and `../../../athrill` linked to Athrill's sources (EV3RT's Makefile.img takes the guest half of Athrill's
+devices from there). No source tree is written. The image is cached as the native build's binary is (`athrill_sim.build_cache`).
+
+The cache key mirrors the native build's (`athrill_sim.native.build`): the program's files by their paths
+relative to its folder, every file of the SDK and of Athrill's guest library, this module, the make command
+and the compiler's identity (its path and `--version`). Only the program's source files are copied in
+(`SOURCE_SUFFIXES`, `Makefile.inc`), so what the key covers is exactly what the build can read of it.
+
+A folder or `.c` file without `app.cfg` is a program whose `main_task` is its one task, as for the native
+build: `app.cfg`, `app.h` (unless it has one) and an empty `Makefile.inc` are written for it.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import re
+import shutil
+import subprocess
+from pathlib import Path
+from typing import Callable
+
+from athrill_sim.build_cache import cached_build
+from athrill_sim.v850 import ImageError
+from athrill_sim.v850.toolchain import Tools, cache_root, check_build_tools, find_tools
+
+APP_NAME = "hako_app"  # the workspace folder the program is built as (no SDK sample has this name)
+IMAGE = "asp"
+BUILD_LOG = "build.log"
+MAKE = ("make", f"img={APP_NAME}")
+BUILD_TIMEOUT_S = 600
+SOURCE_SUFFIXES = (".c", ".h", ".cfg", ".inc", ".cdl", ".S", ".s", ".cpp", ".hpp")
+LONE_APP_CFG = """INCLUDE("app_common.cfg");
+INCLUDE("tecsgen.cfg");
+
+#include "app.h"
+#include "ev3.h"
+
+CRE_TSK(MAIN_TASK, { TA_ACT, 0, main_task, TMIN_APP_TPRI + 1, STACK_SIZE, NULL });
+"""
+LONE_APP_H = """#include "target_test.h"
+#ifndef STACK_SIZE
+#define STACK_SIZE 4096
+#endif
+#ifndef TOPPERS_MACRO_ONLY
+extern void main_task(intptr_t exinf);
+#endif
+"""
+
+_ERROR = re.compile(r"\berror: |undefined reference to |multiple definition of |No rule to make|\b[A-Z]\w*Error\b")
+_MAKE_SUMMARY = re.compile(r"^make(\[\d+\])?: \*\*\* .*Error \d+")
+
+
+def build_image(app: Path, *, sdk: Path | None = None, toolchain: Path | None = None,
+                announce: Callable[[str], None] | None = None) -> Path:
+    """The v850 image of the program at `app` (an app.c or a workspace folder), built now unless cached;
+    `announce` hears what is being built before a build starts (it takes seconds)."""
+    tools = find_tools(sdk, toolchain)
+    root, files, lone = app_files(Path(app))
+    entry = cache_root() / "v850" / cache_key(root, files, lone, tools)
+    if (entry / IMAGE).is_file():
+        return entry / IMAGE
+    check_build_tools()
+    if announce is not None:
+        announce(f"building {root} with the EV3RT SDK at {tools.sdk} and {tools.gcc}")
+    return cached_build(entry, IMAGE, lambda scratch: _build(root, files, lone, tools, scratch))
+
+
+def app_files(app: Path) -> tuple[Path, list[Path], bool]:
+    """The program's folder, its source files, and whether it is a lone .c file (the first of the files,
+    built as app.c beside the headers of its folder)."""
+    app = app.resolve()
+    if app.is_file() and app.suffix != ".c":
+        raise ImageError(f"{app}: not a C source file (.c) or an EV3RT workspace folder")
+    root = app.parent if app.is_file() else app
+    if not (root / "app.cfg").is_file():
+        source = app if app.is_file() else root / "app.c"
+        if not source.is_file():
+            raise ImageError(f"{root}: no app.c; an EV3RT workspace folder holds app.c, app.h, app.cfg and "
+                             "Makefile.inc")
+        return root, [source, *sorted(root.glob("*.h"))], True
+    if not (root / "app.c").is_file():
+        raise ImageError(f"{root}: no app.c; an EV3RT workspace folder holds app.c, app.h, app.cfg and Makefile.inc")
+    files = sorted(f for f in root.rglob("*")
+                   if f.is_file() and (f.suffix in SOURCE_SUFFIXES or f.name == "Makefile.inc"))
+    return root, files, False
+
+
+def cache_key(root: Path, files: list[Path], lone: bool, tools: Tools) -> str:
+    h = hashlib.sha256()
+
+    def add(label: str, data: bytes) -> None:
+        h.update(f"{label}\0{len(data)}\0".encode())
+        h.update(data)
+
+    add("compiler", f"{tools.gcc}\n{_run([str(tools.gcc), '--version'], root, 'cannot run ' + str(tools.gcc))}".encode())
+    add("make", "\0".join(MAKE).encode())
+    add("builder", Path(__file__).read_bytes())
+    add("lone", b"1" if lone else b"0")
+    for tree, label in ((tools.sdk, "sdk"), (tools.athrill / "apl", "apl")):
+        for f in sorted(p for p in tree.rglob("*") if p.is_file()):
+            add(f"{label}/{f.relative_to(tree)}", f.read_bytes())
+    for f in files:
+        add(f"app/{f.relative_to(root)}", f.read_bytes())
+    return h.hexdigest()[:32]
+
+
+def _build(root: Path, files: list[Path], lone: bool, tools: Tools, scratch: Path) -> None:
+    sdk = scratch / tools.sdk.name
+    shutil.copytree(tools.sdk, sdk, symlinks=True)
+    for d, _, names in os.walk(sdk):  # a read-only source tree copies read-only
+        os.chmod(d, 0o755)
+        for n in names:
+            p = Path(d) / n
+            if not p.is_symlink():
+                os.chmod(p, 0o644 | (p.stat().st_mode & 0o111))
+    (scratch / "athrill").symlink_to(tools.athrill)
+    workspace = sdk / "sdk" / "workspace"
+    staged = workspace / APP_NAME
+    shutil.rmtree(staged, ignore_errors=True)
+    if lone:
+        staged.mkdir()
+        shutil.copyfile(files[0], staged / "app.c")
+        for h in files[1:]:
+            shutil.copyfile(h, staged / h.name)
+        (staged / "app.cfg").write_text(LONE_APP_CFG)
+        if not (staged / "app.h").exists():
+            (staged / "app.h").write_text(LONE_APP_H)
+        (staged / "Makefile.inc").write_text("")
+    else:
+        for f in files:
+            target = staged / f.relative_to(root)
+            target.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(f, target)
+    env = {**os.environ, "LC_ALL": "C.UTF-8", "PWD": str(workspace),  # Ruby reads the SDK's UTF-8; make $(PWD)
+           "PATH": f"{tools.gcc.parent}{os.pathsep}{os.environ.get('PATH', '')}"}
+    try:
+        out = subprocess.run(MAKE, cwd=workspace, capture_output=True, text=True, timeout=BUILD_TIMEOUT_S, env=env)
+    except (OSError, subprocess.TimeoutExpired) as e:
+        raise ImageError(f"{root}: make failed to run: {e}") from None
+    (scratch / BUILD_LOG).write_text(out.stdout + out.stderr)
+    if out.returncode != 0 or not (workspace / IMAGE).is_file():
+        message = first_error(out.stdout + "\n" + out.stderr).replace(f"{APP_NAME}/", "")
+        raise ImageError(f"{root} does not build: {message}")
+    (workspace / IMAGE).rename(scratch / IMAGE)
+    shutil.rmtree(sdk)
+    (scratch / "athrill").unlink()
+
+
+def first_error(output: str) -> str:
+    """The build's first error as one line; make's own closing lines ("*** [...] Error 1") are never it."""
+    lines = [line.strip() for line in output.splitlines() if line.strip()]
+    errors = [line for line in lines if _ERROR.search(line) and not _MAKE_SUMMARY.match(line)
+              and not line.startswith("collect2:")]
+    return (errors or [line for line in lines if not _MAKE_SUMMARY.match(line)] or ["the build failed"])[0]
+
+
+def _run(cmd: list[str], cwd: Path, failure: str) -> str:
+    try:
+        return subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=60,
+                              env={**os.environ, "LC_ALL": "C"}).stdout
+    except (OSError, subprocess.TimeoutExpired) as e:
+        raise ImageError(f"{failure}: {e}") from None

@@ -1,0 +1,127 @@
+"""Where the EV3RT SDK, the v850-elf toolchain, Ruby and Athrill's guest library come from.
+
+Each is looked for in the order a user would expect: what the command line says, then the environment, then
+the copy in `../shared/third_party` beside the project's checkout (how this project's machines are laid out).
+The toolchain tarball that comes with the SDK is relocatable; it is unpacked once into the cache and reused.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+import tarfile
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+from athrill_sim.v850 import ImageError
+
+PROJECT = Path(__file__).resolve().parents[2]
+SHARED = PROJECT.parent / "shared" / "third_party"
+SDK_ENV = "EV3RT_SDK"
+SDK_DIR = "ev3rt-athrill-v850e2m"  # the SDK's own folder name, under a folder that may also hold toolchain/
+GCC = "v850-elf-gcc"
+TOOLCHAIN_TARBALLS = "toolchain/*.tar.gz"
+ATHRILL_ENV = "ATHRILL_SRC"  # the same variable scripts/build_athrill2.sh reads
+ATHRILL_TARGET = "athrill/src/athrill-target-v850e2m"
+INSTALL_RUBY = "Ruby is not installed (EV3RT's cfg and tecsgen generators are Ruby): apt-get install ruby"
+
+
+def cache_root() -> Path:
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "hakoniwa-py"
+
+
+@dataclass(frozen=True)
+class Tools:
+    """What a build needs, found and checked."""
+
+    sdk: Path  # the ev3rt-athrill-v850e2m folder (holds sdk/workspace)
+    gcc: Path  # v850-elf-gcc
+    athrill: Path  # Athrill's core sources (their apl/ is the guest side of its devices)
+
+
+def find_sdk(given: Path | None) -> Path:
+    """The ev3rt-athrill-v850e2m folder: --sdk, $EV3RT_SDK, or ../shared/third_party/ev3rt. Either the SDK
+    folder itself or a folder holding it (and its toolchain) may be named."""
+    env = os.environ.get(SDK_ENV)
+    if given is not None:
+        folder, origin = given, "--sdk"
+    elif env:
+        folder, origin = Path(env), f"${SDK_ENV}"
+    else:
+        folder, origin = SHARED / "ev3rt", "the default, ../shared/third_party/ev3rt"
+    for sdk in (folder, folder / SDK_DIR):
+        if (sdk / "sdk" / "workspace").is_dir() and (sdk / "sdk" / "common").is_dir():
+            return sdk.resolve()
+    raise ImageError(f"no EV3RT SDK at {folder} ({origin}); get toppers/ev3rt-athrill-v850e2m and pass "
+                     f"--sdk DIR or set ${SDK_ENV}")
+
+
+def find_toolchain(given: Path | None, sdk: Path) -> Path:
+    """v850-elf-gcc: in --toolchain DIR (or DIR/bin), else on PATH, else from the tarball beside the SDK,
+    unpacked once into the cache."""
+    if given is not None:
+        for d in (given, given / "bin"):
+            if (d / GCC).is_file() and os.access(d / GCC, os.X_OK):
+                return (d / GCC).resolve()
+        raise ImageError(f"--toolchain {given}: no {GCC} in it or in its bin/")
+    if found := shutil.which(GCC):
+        return Path(found)
+    tarballs = sorted(sdk.parent.glob(TOOLCHAIN_TARBALLS))
+    if not tarballs:
+        raise ImageError(f"no v850 cross compiler: put {GCC} on PATH, pass --toolchain DIR, or place the "
+                         f"toolchain tarball in {sdk.parent / 'toolchain'}")
+    return unpack_toolchain(tarballs[-1])
+
+
+def unpack_toolchain(tarball: Path) -> Path:
+    """The tarball's v850-elf-gcc, unpacked into the cache under the tarball's hash (once; a concurrent
+    unpack of the same tarball leaves the same tree)."""
+    digest = hashlib.sha256(tarball.read_bytes()).hexdigest()[:16]
+    entry = cache_root() / "toolchain" / digest
+    found = sorted(entry.glob(f"*/bin/{GCC}"))
+    if found:
+        return found[0]
+    entry.parent.mkdir(parents=True, exist_ok=True)
+    scratch = Path(tempfile.mkdtemp(prefix=digest + ".tmp-", dir=entry.parent))
+    try:
+        with tarfile.open(tarball) as tar:
+            tar.extractall(scratch, filter="tar")
+        try:
+            scratch.rename(entry)
+        except OSError:  # another process unpacked it first
+            pass
+    except (OSError, tarfile.TarError) as e:
+        raise ImageError(f"cannot unpack the toolchain {tarball}: {e}") from None
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
+    found = sorted(entry.glob(f"*/bin/{GCC}"))
+    if not found:
+        raise ImageError(f"the toolchain tarball {tarball} holds no bin/{GCC}")
+    return found[0]
+
+
+def find_athrill() -> Path:
+    """Athrill's core sources (`athrill/apl` is compiled into every image): $ATHRILL_SRC's, else
+    ../shared/third_party/athrill's."""
+    target = Path(os.environ.get(ATHRILL_ENV) or SHARED / ATHRILL_TARGET)
+    core = target / "athrill"
+    if not (core / "apl" / "include").is_dir():
+        raise ImageError(f"no Athrill sources at {target} (their athrill/apl is linked into every image); "
+                         f"get toppers/athrill-target-v850e2m and set ${ATHRILL_ENV}")
+    return core.resolve()
+
+
+def find_tools(sdk: Path | None = None, toolchain: Path | None = None) -> Tools:
+    found = find_sdk(sdk)
+    return Tools(found, find_toolchain(toolchain, found), find_athrill())
+
+
+def check_build_tools() -> None:
+    """What only a build needs (a cached image needs neither)."""
+    if shutil.which("ruby") is None:
+        raise ImageError(INSTALL_RUBY)
+    if shutil.which("make") is None:
+        raise ImageError("make is not installed (EV3RT's SDK builds with GNU make): apt-get install make")

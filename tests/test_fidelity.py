@@ -1,0 +1,21 @@
+"""Native runs mean what the real emulator means: a small subset of scripts/bench_fidelity.py (the built-in C
+tracer at two of its random gain sets, and the SDK's base_practice_1), natively and in the real athrill2's
+repeatable mode, must give the same event and laps and distances within 2%."""
+
+import subprocess
+import sys
+
+import pytest
+
+from athrill_fixtures import REPO
+from realemu_fixtures import base_practice_image, repeatable_athrill2  # noqa: F401 (fixtures)
+
+
+@pytest.mark.slow
+def test_native_and_real_runs_agree_on_a_subset(base_practice_image, repeatable_athrill2):
+    out = subprocess.run([sys.executable, str(REPO / "scripts" / "bench_fidelity.py"), "--sets", "2",
+                          "--time-limit", "40", "--only", "line_trace_c", "--only", "base_practice_1",
+                          "--athrill2", str(repeatable_athrill2)], capture_output=True, text=True, timeout=1200)
+    assert "skipped" not in out.stdout, out.stdout
+    assert out.stdout.count(" yes\n") == 3, out.stdout
+    assert out.returncode == 0 and out.stdout.rstrip().endswith(": none"), out.stdout + out.stderr

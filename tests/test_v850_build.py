@@ -1,0 +1,132 @@
+"""`hako build`: v850 EV3RT images from app.c or a workspace folder, their cache, and the one-line errors for
+what is missing or broken; and the checks on an image before any test is charged to it."""
+
+import os
+import shutil
+import sys
+from pathlib import Path
+
+import pytest
+
+from athrill_sim.v850 import ImageError
+from athrill_sim.v850.build import app_files, cache_key, first_error
+from athrill_sim.v850.elf import check_image
+from athrill_sim.v850.toolchain import Tools
+from athrill_fixtures import ASP_IMAGE
+from conftest import hako, one_line_error
+from realemu_fixtures import BASE_PRACTICE, need_v850_tools
+
+
+def fake_tools(tmp_path: Path) -> Tools:
+    sdk = tmp_path / "sdk"
+    (sdk / "sdk" / "workspace").mkdir(parents=True)
+    (sdk / "sdk" / "common" / "x.c").parent.mkdir(parents=True)
+    (sdk / "sdk" / "common" / "x.c").write_text("int x;\n")
+    apl = tmp_path / "athrill" / "apl"
+    apl.mkdir(parents=True)
+    return Tools(sdk, Path(shutil.which("true")), tmp_path / "athrill")
+
+
+def workspace(folder: Path, source: str = "void main_task(intptr_t x) {}\n") -> Path:
+    folder.mkdir(parents=True)
+    for name, text in (("app.c", source), ("app.h", ""), ("app.cfg", ""), ("Makefile.inc", ""), ("log.txt", "x")):
+        (folder / name).write_text(text)
+    return folder
+
+
+def key(folder: Path, tools: Tools) -> str:
+    return cache_key(*app_files(folder), tools)
+
+
+def test_the_cache_key_follows_the_sources_not_where_they_are_nor_other_files(tmp_path):
+    tools = fake_tools(tmp_path)
+    a, b = workspace(tmp_path / "a"), workspace(tmp_path / "elsewhere" / "b")
+    assert key(a, tools) == key(b, tools)
+    (b / "log.txt").write_text("a run's log is not a source")
+    assert key(a, tools) == key(b, tools)
+    (b / "app.c").write_text("void main_task(intptr_t x) { for (;;); }\n")
+    assert key(a, tools) != key(b, tools)
+    before = key(a, tools)
+    (tools.sdk / "sdk" / "common" / "x.c").write_text("int y;\n")
+    assert key(a, tools) != before
+
+
+def test_a_lone_c_file_takes_the_headers_beside_it(tmp_path):
+    (tmp_path / "tracer.c").write_text("#include \"gains.h\"\n")
+    (tmp_path / "gains.h").write_text("")
+    root, files, lone = app_files(tmp_path / "tracer.c")
+    assert lone and root == tmp_path and [f.name for f in files] == ["tracer.c", "gains.h"]
+
+
+def test_the_first_error_is_the_compilers_not_makes():
+    out = ("  CC      app.c\napp.c:3:5: error: 'foo' undeclared (first use in this function)\n"
+           "app.c:4:1: error: expected ';' before '}' token\n"
+           "make[1]: *** [Makefile:420: app.o] Error 1\nmake: *** [Makefile:12: img] Error 2\n")
+    assert first_error(out) == "app.c:3:5: error: 'foo' undeclared (first use in this function)"
+
+
+def test_an_elf_for_another_cpu_is_named(tmp_path):
+    with pytest.raises(ImageError, match="ELF for .+, not a v850 image"):
+        check_image(Path(sys.executable).resolve())
+
+
+def test_a_truncated_image_is_refused_before_athrill2_sees_it(tmp_path):
+    if not ASP_IMAGE.is_file():
+        pytest.skip(f"needs the real EV3RT image at {ASP_IMAGE} (../shared)")
+    check_image(ASP_IMAGE)
+    cut = tmp_path / "asp"
+    cut.write_bytes(ASP_IMAGE.read_bytes()[:100_000])
+    with pytest.raises(ImageError, match="truncated"):
+        check_image(cut)
+    r = hako("trial", "--app", str(cut), "--json", timeout=120)
+    one_line_error(r, "truncated")
+
+
+def test_another_cpus_elf_as_app_is_one_line():
+    one_line_error(hako("trial", "--app", "/bin/ls", "--json", timeout=120), "ELF for", "not a v850 image")
+
+
+def test_no_sdk_is_one_line_naming_it(tmp_path):
+    workspace(tmp_path / "app")
+    one_line_error(hako("build", str(tmp_path / "app"), "--sdk", str(tmp_path)), "no EV3RT SDK", "--sdk")
+
+
+def test_no_toolchain_is_one_line_naming_it(tmp_path):
+    need_v850_tools()
+    workspace(tmp_path / "app")
+    one_line_error(hako("build", str(tmp_path / "app"), "--toolchain", str(tmp_path)), "v850-elf-gcc")
+
+
+def test_no_ruby_is_one_line_naming_it(tmp_path):
+    need_v850_tools()
+    workspace(tmp_path / "app", "/* not built before: no cached image */\n")
+    bin_dir = tmp_path / "bin"  # make and the toolchain, no ruby
+    bin_dir.mkdir()
+    (bin_dir / "make").symlink_to(shutil.which("make"))
+    r = hako("build", str(tmp_path / "app"), env={"PATH": str(bin_dir), "HOME": str(Path.home())})
+    one_line_error(r, "Ruby", "apt-get install ruby")
+
+
+@pytest.mark.slow
+def test_a_compile_error_is_one_line_with_the_compilers_message(tmp_path):
+    need_v850_tools()
+    (tmp_path / "broken").mkdir()  # app.c alone: app.cfg and app.h are written for it
+    (tmp_path / "broken" / "app.c").write_text('#include "ev3api.h"\nvoid main_task(intptr_t x) { undeclared_thing = 1; }\n')
+    r = hako("build", str(tmp_path / "broken"), timeout=900)
+    one_line_error(r, "does not build", "app.c", "error:", "undeclared_thing")
+
+
+@pytest.mark.slow
+def test_base_practice_builds_into_a_v850_image_cached_and_leaves_the_sdk_alone(tmp_path):
+    need_v850_tools()
+    sdk_files = sorted(p.relative_to(BASE_PRACTICE.parents[2]) for p in BASE_PRACTICE.parents[2].rglob("*"))
+    env = {"XDG_CACHE_HOME": str(tmp_path / "cache")}  # a fresh cache: a real build, as on a fresh clone
+
+    first = hako("build", str(BASE_PRACTICE), timeout=900, env={**os.environ, **env})
+    assert first.returncode == 0, first.stderr
+    image = Path(first.stdout.strip())
+    check_image(image)
+    built = image.stat().st_mtime_ns
+    again = hako("build", str(BASE_PRACTICE), timeout=900, env={**os.environ, **env})
+    assert again.returncode == 0 and again.stdout == first.stdout and image.stat().st_mtime_ns == built
+    assert sorted(p.relative_to(BASE_PRACTICE.parents[2]) for p in BASE_PRACTICE.parents[2].rglob("*")) == sdk_files
