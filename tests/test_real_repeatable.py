@@ -14,7 +14,7 @@ from athrill_sim.programs import SYNC_WAIT_KEY
 from hakoniwa.wire.timebase import ALLOWED_TIME_DIFF_US
 from testctl.journal import JOURNAL_FILE, read_journal
 from conftest import hako, one_line_error
-from realemu_fixtures import BASE_PRACTICE, base_practice_image, repeatable_athrill2  # noqa: F401 (fixtures)
+from realemu_fixtures import BASE_PRACTICE, base_practice_image, need_v850_tools, repeatable_athrill2  # noqa: F401
 
 BUSY = "while True: pass"
 TRIAL = ("--kp", "2.5", "--ki", "0.5", "--kd", "3", "--seed", "11", "--noise", "1", "--time-limit", "6", "--json")
@@ -45,12 +45,12 @@ def test_the_same_image_and_noise_draw_repeat_exactly_under_load(base_practice_i
 
 
 @pytest.mark.slow
-def test_a_campaign_without_noise_tests_each_set_once_on_several_emulators(base_practice_image, repeatable_athrill2,
-                                                                          tmp_path):
+def test_a_campaign_without_noise_tests_each_set_once_on_several_emulators(repeatable_athrill2, tmp_path):
+    need_v850_tools()
     out = tmp_path / "campaign"
-    r = hako("run", "--app", str(base_practice_image), "--athrill2", str(repeatable_athrill2), "--noise", "0",
-             "--optimizer", "random", "--init-points", "2", "--trials", "2", "--benches", "2", "--time-limit", "3",
-             "--out", str(out), timeout=900)
+    r = hako("run", "--app", "line_trace_c", "--emulator", "athrill2", "--athrill2", str(repeatable_athrill2),
+             "--noise", "0", "--optimizer", "random", "--init-points", "2", "--trials", "2", "--benches", "2",
+             "--time-limit", "45", "--validate", "0", "--out", str(out), timeout=900)
     assert r.returncode == 0, r.stderr
     header, records = read_journal(out / JOURNAL_FILE)
     assert header["options"]["repeats"] == 1 and header["bench"]["sync"] is None
@@ -80,7 +80,6 @@ def test_an_unpatched_athrill2_is_refused_for_the_repeatable_mode(tmp_path):
 
 @pytest.mark.slow
 def test_an_image_that_never_touches_the_mapped_files_is_one_line(repeatable_athrill2, tmp_path):
-    from realemu_fixtures import need_v850_tools
     from athrill_sim.v850.toolchain import find_tools
 
     need_v850_tools()
@@ -95,16 +94,18 @@ def test_an_image_that_never_touches_the_mapped_files_is_one_line(repeatable_ath
 @pytest.mark.slow
 def test_a_gyro_reset_does_not_kill_the_patched_athrill2(repeatable_athrill2, tmp_path):
     """EV3RT's ev3_gyro_sensor_reset stores into the RX body; athrill2 without patch 02 dies of SIGSEGV."""
-    from realemu_fixtures import need_v850_tools
-
     need_v850_tools()
     (tmp_path / "app.c").write_text(
         '#include "ev3api.h"\n'
         "void main_task(intptr_t unused) {\n"
         "    ev3_motor_config(EV3_PORT_A, LARGE_MOTOR); ev3_motor_config(EV3_PORT_B, LARGE_MOTOR);\n"
         "    ev3_sensor_config(EV3_PORT_4, GYRO_SENSOR);\n"
-        "    while (1) { ev3_gyro_sensor_reset(EV3_PORT_4); ev3_motor_set_power(EV3_PORT_A, 10);\n"
-        "                ev3_motor_set_power(EV3_PORT_B, 10 + ev3_gyro_sensor_get_angle(EV3_PORT_4)); tslp_tsk(10000); }\n"
+        "    while (1) {\n"
+        "        ev3_gyro_sensor_reset(EV3_PORT_4);\n"
+        "        ev3_motor_set_power(EV3_PORT_A, 10);\n"
+        "        ev3_motor_set_power(EV3_PORT_B, 10 + ev3_gyro_sensor_get_angle(EV3_PORT_4));\n"
+        "        tslp_tsk(10000);\n"
+        "    }\n"
         "}\n")
     out = hako("trial", "--app", str(tmp_path), "--emulator", "athrill2", "--athrill2", str(repeatable_athrill2),
                "--time-limit", "2", "--noise", "0", "--json", timeout=900)

@@ -169,7 +169,8 @@ def run_hakoniwa(server: PhysicsServer, proc: subprocess.Popen) -> None:
 def run_repeatable(server: PhysicsServer, proc: subprocess.Popen) -> None:
     a = server.athrill
     clock_address = a.address(Header.ATHRILL_TIME)  # the patched Athrill rings here when it stops
-    check = watchdog(proc, server.athrill_timeout_s, lambda: a.athrill_time_us, lambda: a.athrill_time_us > 0)
+    check = watchdog(proc, server.athrill_timeout_s, lambda: a.athrill_time_us, lambda: a.athrill_time_us > 0,
+                     server.run_dir)
     applied = None  # the TX commands last applied: a command is applied (and draws its noise) once, when new
     while True:
         horizon = unity_time_us(SyncMode.REPEATABLE, server.now_us)  # published with the last snapshot
