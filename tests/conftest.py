@@ -5,9 +5,17 @@ The test modules import these helpers (`from conftest import hako`): pytest puts
 from __future__ import annotations
 
 import os
+import signal
 import subprocess
 import sys
 from pathlib import Path
+
+
+def interruptible() -> None:
+    """preexec_fn for a child a test sends SIGINT (Ctrl-C): with the default action restored, so that
+    Python installs its KeyboardInterrupt handler even when the tests run where SIGINT is ignored (a
+    background job, as `nohup` or some CI runners start them), which the child would otherwise inherit."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 def run_module(module: str, *args: str, timeout: float = 600, **kwargs) -> subprocess.CompletedProcess:

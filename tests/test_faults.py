@@ -18,7 +18,7 @@ from hakoniwa.wire.protocol import ATHRILL_FILE, HEADER_SIZE, UNITY_FILE, CrashK
 from hakoniwa.wire.rundir import PHYSICS_LOG
 from hakoniwa.physics.sync import exit_crash
 from testctl.journal import JOURNAL_FILE, read_journal
-from conftest import one_line_error
+from conftest import interruptible, one_line_error
 
 IDLE_APP = '''
 def main_task(api):
@@ -71,7 +71,7 @@ def start_trial(tmp_path: Path, *extra: str) -> subprocess.Popen:
     return subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "trial", "--app", "idle_app:main_task",
                              "--time-limit", "3000", "--run-dir", str(tmp_path / "run"), *extra],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
-                            start_new_session=True)
+                            start_new_session=True, preexec_fn=interruptible)
 
 
 def pid_of(module: str, run_dir: Path, timeout_s: float = 60) -> int:
@@ -156,7 +156,7 @@ def test_ctrl_c_or_sigterm_ends_a_campaign_with_the_resume_command(tmp_path, sig
     out = tmp_path / "c"
     proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--trials", "20", "--repeats", "1",
                              "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            start_new_session=True)
+                            start_new_session=True, preexec_fn=interruptible)
     deadline = time.monotonic() + 300
     while not ((out / JOURNAL_FILE).exists() and len(read_journal(out / JOURNAL_FILE)[1]) >= 2):
         assert proc.poll() is None and time.monotonic() < deadline

@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
+from conftest import interruptible
 from maze.builtin import builtin_path
 from maze.cli import main
 from maze.mazefile import parse_maze
@@ -177,7 +178,7 @@ def test_ctrl_c_keeps_the_logs_and_exits_130(tmp_path: Path) -> None:
     assert exe is not None
     proc = subprocess.Popen([exe, "explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'silent.py'}",
                              "--timeout", "30", "--log", str(log)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            text=True)
+                            text=True, preexec_fn=interruptible)
     deadline = time.monotonic() + 20
     while not (tmp_path / "int.stderr.txt").exists() and time.monotonic() < deadline:
         time.sleep(0.05)
