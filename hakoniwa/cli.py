@@ -209,12 +209,12 @@ def test_command(test_file: Path, benches: int | None, scheduler: str | None, ou
     base = pop_bench(bench)
     try:
         cases = load_suite(test_file, dataclasses.replace(base, course=_absolute(base.course), app=_absolute(base.app)))
+        out_dir = out or Path("runs") / f"test-{dt.datetime.now():%Y%m%d-%H%M%S}"
         for path, option in ((junit_file, "--junit"), (json_file, "--json")):
-            if path is not None:
+            if path is not None and path.parent.resolve() != out_dir.resolve():  # the output folder: made below
                 _writable_file(path, option)
         for options in dict.fromkeys(c.bench for c in cases):
             check_bench(options)
-        out_dir = out or Path("runs") / f"test-{dt.datetime.now():%Y%m%d-%H%M%S}"
         make_out_dir(out_dir)
     except SuiteError as e:
         raise RunBroken(str(e)) from None

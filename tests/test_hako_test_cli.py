@@ -76,7 +76,8 @@ def test_an_impossible_bound_fails_the_case_naming_bound_and_lap(tmp_path):
 
 @pytest.mark.slow
 def test_the_example_suite_passes_and_its_junit_reads(tmp_path):
-    xml = tmp_path / "out.xml"
+    """As docs/CI.md and .ci/run run it: the JUnit file inside the output folder the run creates."""
+    xml = tmp_path / "out" / "junit.xml"
     r = hako("test", str(EXAMPLE), "--out", str(tmp_path / "out"), "--junit", str(xml))
     assert r.returncode == 0, r.stdout + r.stderr
     suite = next(iter(JUnitXml.fromfile(str(xml))))
