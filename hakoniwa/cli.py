@@ -220,7 +220,11 @@ def test_command(test_file: Path, benches: int | None, scheduler: str | None, ou
         raise RunBroken(str(e)) from None
     except click.ClickException as e:
         raise RunBroken(e.message) from None
-    run_suite(test_file, cases, out_dir, benches=n, scheduler=scheduler, junit_file=junit_file, json_file=json_file)
+    from testctl.interrupts import sigterm_interrupts
+
+    with sigterm_interrupts():
+        run_suite(test_file, cases, out_dir, benches=n, scheduler=scheduler, junit_file=junit_file,
+                  json_file=json_file)
 
 
 @main.command(context_settings=HELP)

@@ -11,13 +11,12 @@ from pathlib import Path
 import click
 
 from hakoniwa.wire.protocol import ProtocolError
+from testctl.interrupts import stopped_by
 from testctl.junit import write_junit
 from testctl.runner import PhysicsGone
 from testctl.suite import Case
 from testctl.suite_report import format_table, keep_case_files, results_dict
 from testctl.suite_run import BenchFault, bench_executor, rerun_worst, run_cases
-
-INTERRUPTED = 130
 
 
 class RunBroken(click.ClickException):
@@ -50,9 +49,8 @@ def run_suite(test_file: Path, cases: Sequence[Case], out_dir: Path, *, benches:
         raise RunBroken(f"the test run broke, nothing is judged: {e}") from None
     except OSError as e:
         raise RunBroken(f"cannot write {e.filename or 'the results'}: {e.strerror or e}") from None
-    except KeyboardInterrupt:
-        click.echo("\ninterrupted: nothing is judged", err=True)
-        sys.exit(INTERRUPTED)
+    except KeyboardInterrupt as e:  # Ctrl-C, or SIGTERM (a CI runner cancelling the job)
+        stopped_by(e, "nothing is judged")
     click.echo("wrote " + ", ".join(str(f) for f in written))
     if not all(r.passed for r in runs):
         sys.exit(1)

@@ -113,3 +113,30 @@ def test_a_bench_killed_mid_run_is_exit_2_not_a_failed_case(tmp_path, benches):
     assert proc.returncode == 2, stdout + err
     assert "the test run broke" in err and "Traceback" not in err
     assert not (tmp_path / "out.xml").exists()
+
+
+@pytest.mark.slow
+def test_sigterm_ends_hako_test_with_one_line_and_143(tmp_path):
+    """A CI runner cancelling the job sends SIGTERM: it ends the run as Ctrl-C does, judging nothing."""
+    apps = tmp_path / "apps"
+    apps.mkdir()
+    (apps / "idle_app.py").write_text(IDLE_APP)
+    path = write(tmp_path, f'[case.idle]\napp = "idle_app:main_task"\ntime_limit_s = 3000\nseeds = 1\n{GAINS}'
+                           'expect = ["not HIT_WALL"]\n')
+    tag = f"hako-test-term-{os.getpid()}-{time.monotonic_ns()}"
+    env = tagged_env(tag, dict(os.environ, PYTHONPATH=os.pathsep.join([str(apps), os.environ.get("PYTHONPATH", "")])))
+    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "test", str(path), "--benches", "1", "--out",
+                             str(tmp_path / "out")], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env=env, start_new_session=True)
+    try:
+        deadline = time.monotonic() + 120
+        while not tagged_processes(tag, b"hakoniwa.physics.main"):
+            assert time.monotonic() < deadline and proc.poll() is None
+            time.sleep(0.05)
+        proc.terminate()
+        _, err = proc.communicate(timeout=120)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    assert proc.returncode == 143, err
+    assert "terminated: nothing is judged" in err and "Traceback" not in err
