@@ -371,6 +371,41 @@ def test_tasks_and_cyclic_handlers_run_in_priority_and_time_order(tmp_path):
     ]
 
 
+
+# Each loop computes for a small fraction of the spin slice (about 0.1 ms here), then sleeps 100 ms.
+COMPUTING_APP = r"""
+#include "ev3api.h"
+void main_task(intptr_t unused)
+{
+    for (;;) {
+        volatile unsigned x = 0;
+        for (unsigned i = 0; i < 100000; i++)
+            x += i;
+        tslp_tsk(100000);
+    }
+}
+"""
+SPINNING_APP = '#include "ev3api.h"\nvoid main_task(intptr_t unused) { tslp_tsk(100000); for (;;) {} }\n'
+
+
+def test_a_task_that_computes_less_than_a_slice_before_it_sleeps_is_never_preempted(tmp_path):
+    """The slice counts from each dispatch: a CPU timer that ran on through the kernel's own work and the
+    waits once fired inside such a loop now and then, moving the task's outputs 10 ms late by chance (how
+    often depended on the machine's speed)."""
+    exe = build(tmp_path / "app", COMPUTING_APP)
+    bench = FakePhysics(tmp_path / "run")
+    proc = bench.start(exe)
+    assert bench.wakes(proc, 30_000_000) == [100_000 * k for k in range(1, 302)]
+    finish(proc)
+
+
+def test_a_task_that_spins_is_preempted_and_simulated_time_goes_on(tmp_path):
+    exe = build(tmp_path / "app", SPINNING_APP)
+    bench = FakePhysics(tmp_path / "run")
+    proc = bench.start(exe)
+    assert bench.wakes(proc, 150_000) == [100_000, 110_000, 120_000, 130_000, 140_000, 150_000, 160_000]
+    finish(proc)
+
 CLICK_APP = r'''
 #include "ev3api.h"
 static void clicked(intptr_t exinf) { syslog(LOG_NOTICE, "clicked %d", (int)exinf); }

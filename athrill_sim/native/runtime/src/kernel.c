@@ -16,11 +16,14 @@
  *
  * A task that computes without end (EV3RT programs end in `while (1) {}`, or poll a sensor without sleeping)
  * would stop simulated time, where on the real emulator its instructions take time and interrupts still
- * come. So a task that has run for HAKO_SPIN_SLICE_US of CPU time in its own code is preempted: it stays
- * ready at the head of its priority, and simulated time may pass by up to HAKO_SPIN_TIME_US (less if a time
- * event falls due sooner), as if the spin had taken that long; a task that blocks in time never comes near the slice. A spin never interrupts a kernel
- * service or the C library (the signal only preempts the program's own code), and how many iterations
- * a spin makes per step depends on the machine, as on the real emulator.
+ * come. So a task that has run for HAKO_SPIN_SLICE_US of CPU time since it was dispatched is preempted (in
+ * its own code): it stays ready at the head of its priority, and simulated time may pass by up to
+ * HAKO_SPIN_TIME_US (less if a time event falls due sooner), as if the spin had taken that long. The slice
+ * is counted from each dispatch, never from the process's start: a task that computes for less than a slice
+ * before it blocks is never preempted, whatever the machine and its load, so its results do not depend on
+ * where a periodic CPU timer happened to fire. A spin never interrupts a kernel service or the C library
+ * (the signal only preempts the program's own code), and how many iterations a spin makes per step depends
+ * on the machine, as on the real emulator.
  */
 #define _GNU_SOURCE
 #include <signal.h>
@@ -36,7 +39,7 @@
 #include "runtime.h"
 
 #define HAKO_MIN_STACK (256 * 1024) /* host code (printf, libm) needs more than a v850 task's 4 KiB */
-#define HAKO_SPIN_SLICE_US 2000 /* CPU time in its own code after which a computing task is preempted */
+#define HAKO_SPIN_SLICE_US 2000 /* CPU time since its dispatch after which a computing task is preempted */
 #define HAKO_SPIN_TIME_US 10000 /* the simulated time a preempted spin is taken to have used */
 
 enum task_state { DORMANT, READY, RUNNING, WAITING };
@@ -417,8 +420,15 @@ static void start_spin_clock(void)
 {
     struct sigaction sa = {.sa_sigaction = on_spin_tick, .sa_flags = SA_SIGINFO | SA_RESTART};
     sigemptyset(&sa.sa_mask);
+    if (sigaction(SIGVTALRM, &sa, NULL) != 0)
+        hako_bench_fault("cannot start the kernel's CPU clock");
+}
+
+/* A fresh slice of CPU time for the task about to run: then one slice after, once a slice. */
+static void start_slice(void)
+{
     struct itimerval slice = {{0, HAKO_SPIN_SLICE_US}, {0, HAKO_SPIN_SLICE_US}};
-    if (sigaction(SIGVTALRM, &sa, NULL) != 0 || setitimer(ITIMER_VIRTUAL, &slice, NULL) != 0)
+    if (setitimer(ITIMER_VIRTUAL, &slice, NULL) != 0)
         hako_bench_fault("cannot start the kernel's CPU clock");
 }
 
@@ -435,6 +445,7 @@ static void dispatch(struct task *t)
     t->state = RUNNING;
     running = t;
     in_service = 0;
+    start_slice();
     swapcontext(&kernel_context, &t->context);
     running = NULL;
 }
