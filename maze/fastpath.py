@@ -6,11 +6,15 @@ A node is a wall midpoint the mouse is crossing, with its heading in the seed li
 depends only on its length: A (just left a turn, at turn speed), B (a straight ended here, a turn must
 follow) and G (crossed into a goal cell: the timed run is over). Edges: straights A->B and A->G, turns
 B->A, and straights from the standing start in the start cell's centre.
-The graph of a maze size is built once; each query prices its edges (infinite where a wall blocks them) and
-searches it as A*: Dijkstra on reduced prices (each edge's price plus the drop in a lower bound of the time to
-the goal, straight-line distance at top speed), with a distance limit so that scipy settles only the nodes
-that could lie on a route no slower than the fastest; the limit starts from the last query's answer, or from
-the bound, and grows until the goal is reached.
+The graph of a maze size is built once; each query marks which edges its walls leave open and searches it as
+A*: Dijkstra on reduced prices (each edge's price plus the drop in a lower bound of the time to the goal),
+with a distance limit so that scipy settles only the nodes that could lie on a route no slower than the
+fastest; the limit starts from the last query's answer and grows until the goal is reached. The bound is the
+time to the goal with only the outer walls, found once per start and goal set by a search back from the goal:
+it is exact where the query's walls are open, so the unknown walls a search assumes open cost A* next to
+nothing, and a wall it meets costs only the detour. The route itself comes from a second search, on the real
+prices, of the small graph of the nodes A* found could lie on a fastest route (a few thousand of the 135 000
+nodes of a 32x32 diagonal graph), so that it does not depend on the limit A* ran under.
 """
 
 from __future__ import annotations
@@ -34,7 +38,6 @@ A, B, G, C = range(LAYERS)
 MIN_SECONDS = 1e-9  # zero-length straights still need an edge, and scipy drops zero weights
 MAX_CROSSINGS = 4  # the most walls a turn crosses (the 180)
 MAX_QUERY_GRAPHS = 4  # (start, goals) pairs kept per move graph: a search has one, `path` of a cell run another
-BOUND_SLACK = 1 - 1e-6  # the lower bound shrunk a little, so that rounding cannot make a reduced price negative
 TIME_SLACK = 1e-9  # rounding in reduced prices must not leave out a node of an equally fast route
 LIMIT_GROWTH = 2.0  # how much the search limit grows when the goal lies beyond it
 LIMIT_TRIES = 16  # then no limit: a route that slow is unlikely, and without one the goal may be out of reach
@@ -136,26 +139,25 @@ def _entered(point: tuple[int, int], previous: tuple[int, int]) -> Cell:
 class QueryGraph:
     """The CSR graph of one start and goal set, and per edge (in its row order) what must be open for it: for a
     straight, `len` open walls ahead at node `key`; for a turn, its walls (one row per wall crossed); for a start
-    edge, its first wall too. `graph` holds the prices; `work` has the same edges, with the reduced prices for
-    A*, then the prices of the edges A* left in; `shift` is the bound's change along each edge and `bound` the
-    bound at the start; `hint` is the last query's reduced time to the goal, where the next one's limit starts
-    (walls change a few at a time)."""
+    edge, its first wall too. `graph` holds the prices (they depend on the mouse only); `valid` marks the
+    edges the last query's walls leave open; `work` has the same edges, with the reduced prices for A* where
+    valid and infinity elsewhere; `reduced` is each edge's reduced price, `bound` the bound at the start;
+    `hint` is the last query's reduced time to the goal, where the next one's limit starts (walls change a few
+    at a time)."""
 
     graph: csr_array
     work: csr_array
-    shift: np.ndarray
+    reduced: np.ndarray
+    valid: np.ndarray
     bound: float
     hint: float | None
     before_turns: int  # straights (rows of A) before the turns; the chain's (rows of C) after them
     st_key: np.ndarray
     st_len: np.ndarray
-    st_cost: np.ndarray
     tu_walls: np.ndarray
-    tu_cost: np.ndarray
     s_key: np.ndarray
     s_len: np.ndarray
     s_wall: np.ndarray
-    s_cost: np.ndarray
 
 
 class MoveGraph:
@@ -172,6 +174,8 @@ class MoveGraph:
         self.open_sentinel, self.closed_sentinel = self.walls, self.walls + 1
         ids = (point_wall(size, x, y) for y in range(self.side) for x in range(self.side))
         self.wall_at = np.array([self.closed_sentinel if w is None else w for w in ids])
+        rim = (self.px == 0) | (self.px == 2 * size) | (self.py == 0) | (self.py == 2 * size)
+        self.outer_walls = np.unique(self.wall_at[rim & ((self.px + self.py) % 2 == 1)])
         self.headings = ALONG + (DIAGONAL if diagonal else ())
         self._build_runs()
         self._build_straights()
@@ -232,8 +236,10 @@ class MoveGraph:
             if (column < 0).all():
                 break
             columns.append(column)
-        self.lines = np.stack(columns, axis=1)
-        self.line_nodes = self.lines >= 0
+        lines = np.stack(columns, axis=1)
+        on_line = lines >= 0
+        self.line_walls = np.where(on_line, nxt_wall[np.maximum(lines, 0)], self.closed_sentinel)
+        self.line_flat, self.line_mask = lines[on_line], on_line
 
     def _build_straights(self) -> None:
         run = self.mouse.run
@@ -348,6 +354,10 @@ class MoveGraph:
         self.tu_cost = np.concatenate(costs)
 
     @cached_property
+    def _wall_list(self) -> list[int]:
+        return self.wall_at.tolist()
+
+    @cached_property
     def _turn_lookup(self) -> dict[tuple[int, int], int]:
         return dict(zip(zip(self.tu_src.tolist(), self.tu_dst.tolist()), self.tu_shape.tolist()))
 
@@ -360,13 +370,12 @@ class MoveGraph:
     # -- queries ----------------------------------------------------------------------------------------------
     def _runs(self, open_ext: np.ndarray) -> np.ndarray:
         """Open walls straight ahead of every node: along each line, the distance to its next closed crossing."""
-        ahead_open = open_ext[self.run_next_wall][self.lines] & self.line_nodes
-        width = self.lines.shape[1]
-        position = np.arange(width)
-        closed_at = np.where(ahead_open, width, position)
+        width = self.line_walls.shape[1]
+        position = np.arange(width, dtype=np.int16)
+        closed_at = np.where(open_ext[self.line_walls], np.int16(width), position)
         next_closed = np.minimum.accumulate(closed_at[:, ::-1], axis=1)[:, ::-1]
-        run = np.zeros(self.layer, dtype=np.int64)
-        run[self.lines[self.line_nodes]] = (next_closed - position)[self.line_nodes]
+        run = np.zeros(self.layer, dtype=np.int16)
+        run[self.line_flat] = (next_closed - position)[self.line_mask]
         return run
 
     def _query(self, start: Cell, goals: tuple[Cell, ...]) -> QueryGraph:
@@ -401,28 +410,28 @@ class MoveGraph:
         cols = np.concatenate([st_dst[:before], self.tu_dst[t_order], st_dst[before:], s_dst]).astype(np.int32)
         n = self.start_node + 1
         indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=n))]).astype(np.int32)
-        graph = csr_array((np.zeros(len(cols)), cols, indptr), shape=(n, n))
+        cost = np.concatenate([st_cost[:before], self.tu_cost[t_order], st_cost[before:], s_cost])
+        graph = csr_array((cost, cols, indptr), shape=(n, n))
         work = csr_array((np.zeros(len(cols)), cols, indptr), shape=(n, n))
-        bound = self._time_bound(start, goals)
-        return QueryGraph(graph, work, bound[cols] - bound[rows], float(bound[self.start_node]),
-                          None, before, st_key, st_len, st_cost, np.ascontiguousarray(self.tu_walls[t_order].T),
-                          self.tu_cost[t_order], s_key, s_len, s_wall, s_cost)
+        q = QueryGraph(graph, work, cost, np.zeros(len(cols), dtype=bool), 0.0, None, before, st_key, st_len,
+                       self.tu_walls[t_order].T.copy(), s_key, s_len, s_wall)
+        bound = self._time_bound(q)
+        with np.errstate(invalid="ignore"):  # an edge between nodes that never reach the goal: inf - inf
+            reduced = np.maximum(cost + bound[cols] - bound[rows], 0.0)
+        reduced[~np.isfinite(reduced)] = np.inf  # such an edge is never on a route
+        q.reduced, q.bound = reduced, float(bound[self.start_node])
+        return q
 
-    def _time_bound(self, start: Cell, goals: tuple[Cell, ...]) -> np.ndarray:
-        """Per node, a lower bound of the time left to the goal: the straight-line distance from its point to
-        the nearest goal cell at the mouse's top speed (no move is faster, nor shorter than its chord), so that
-        the reduced prices price + bound(v) - bound(u) are never negative and A* stays exact."""
-        run = self.mouse.run
-        fastest = max(run.top_speed, run.diagonal_top_speed, run.turn_speed)
-        x, y = np.append(self.px, 2 * start[0] + 1), np.append(self.py, 2 * start[1] + 1)  # points, the start
-        gap = np.full(len(x), np.inf)
-        for gx, gy in goals:  # a goal cell spans 2gx..2gx+2 in half cells
-            dx = np.maximum(np.maximum(2 * gx - x, x - 2 * gx - 2), 0)
-            dy = np.maximum(np.maximum(2 * gy - y, y - 2 * gy - 2), 0)
-            gap = np.minimum(gap, np.hypot(dx, dy))
-        seconds = gap * (self.mouse.cell / 2) / fastest * BOUND_SLACK
-        per_point, at_start = seconds[:-1], seconds[-1:]
-        return np.concatenate([np.tile(np.repeat(per_point, 8), LAYERS), at_start])
+    def _time_bound(self, q: QueryGraph) -> np.ndarray:
+        """Per node, the time left to the goal in the maze with only its outer walls (infinite where even that
+        never reaches it). Each query's open edges are some of these, at the same prices, so no route is faster
+        than the bound: the reduced prices price + bound(v) - bound(u) are never negative (up to rounding,
+        which is clamped) and A* stays exact."""
+        outer_only = np.zeros(self.walls, dtype=np.uint8)  # _open_edges closes the outer walls itself
+        prices = np.where(self._open_edges(q, outer_only), q.graph.data, np.inf)
+        back = csr_array((prices, q.graph.indices, q.graph.indptr), shape=q.graph.shape).T
+        goal_layer = q.graph.indices[(q.graph.indices >= G * self.layer) & (q.graph.indices < (G + 1) * self.layer)]
+        return dijkstra(csr_array(back), directed=True, indices=np.unique(goal_layer), min_only=True)
 
     def _start_edges(self, start: Cell, goals: tuple[Cell, ...]) -> tuple[np.ndarray, ...]:
         """Straights from a standing start in the start cell's centre, along each of its four headings, of every
@@ -456,36 +465,60 @@ class MoveGraph:
         return (np.array(dst, dtype=np.int64), np.array(key, dtype=np.int64), np.array(length, dtype=np.int64),
                 np.array(wall, dtype=np.int64), np.array(cost))
 
-    def _price(self, q: QueryGraph, blocked: bytes | bytearray) -> None:
-        """Each edge's price, infinite where a wall it needs is blocked, and its reduced price for A*."""
+    def _open_edges(self, q: QueryGraph, blocked: bytes | bytearray | np.ndarray) -> np.ndarray:
+        """Per edge (in row order), whether the walls not blocked let the mouse make it. The outer walls are
+        closed whatever `blocked` says: no move leaves the maze (and the bound relies on it)."""
         open_ext = np.concatenate([np.frombuffer(bytes(blocked), dtype=np.uint8) == 0, [True, False]])
+        open_ext[self.outer_walls] = False
         run = self._runs(open_ext)
-        straights = np.where(run[q.st_key] >= q.st_len, q.st_cost, np.inf)
-        turns = np.where(open_ext[q.tu_walls].all(axis=0), q.tu_cost, np.inf)
-        starts = np.where(open_ext[q.s_wall] & (run[q.s_key] >= q.s_len), q.s_cost, np.inf)
-        np.concatenate([straights[:q.before_turns], turns, straights[q.before_turns:], starts], out=q.graph.data)
-        np.maximum(np.add(q.graph.data, q.shift, out=q.work.data), 0.0, out=q.work.data)
+        straights = run[q.st_key] >= q.st_len
+        turns = open_ext[q.tu_walls[0]]
+        for walls in q.tu_walls[1:]:
+            turns &= open_ext[walls]
+        starts = open_ext[q.s_wall] & (run[q.s_key] >= q.s_len)
+        return np.concatenate([straights[:q.before_turns], turns, straights[q.before_turns:], starts])
 
-    def _search(self, q: QueryGraph) -> tuple[np.ndarray, np.ndarray] | None:
-        """Times and predecessors of the nodes a search of the whole graph would settle before the goal, as it
-        would set them; None if the goal cannot be reached. A* on the reduced prices finds how fast the goal
-        can be reached and which nodes could lie on so fast a route; a search on their prices, limited to that
-        time, then settles them in the same order as a search of the whole graph (so that among equally fast
-        routes it picks the same one)."""
+    def _price(self, q: QueryGraph, blocked: bytes | bytearray) -> None:
+        """Which edges the walls leave open, and the reduced prices for A* (infinite where a wall is blocked)."""
+        q.valid = self._open_edges(q, blocked)
+        q.work.data = np.where(q.valid, q.reduced, np.inf)
+
+    def _search(self, q: QueryGraph) -> tuple[list[int], list[float]] | None:
+        """The nodes of a fastest route and the time at each; None if the goal cannot be reached. A* on the
+        reduced prices finds how fast the goal can be reached and which nodes could lie on so fast a route;
+        a search on their prices, limited to that time, then settles them in the order a search of the whole
+        graph would (so that among equally fast routes it picks the same one, whatever A*'s limit was). That
+        search runs on the graph of those nodes alone, each row's edges in their order."""
         reduced = self._reduced_search(q)
         if reduced is None:
             return None
         fastest = float(reduced[self._goal_node(reduced)])
         kept = reduced <= _with_slack(fastest)
-        np.copyto(q.work.data, np.where(kept[q.work.indices], q.graph.data, np.inf))
-        return dijkstra(q.work, directed=True, indices=self.start_node, return_predecessors=True,
-                        limit=_with_slack(fastest + q.bound))
+        nodes = np.flatnonzero(kept)  # ascending: local numbers keep the global order
+        first = q.graph.indptr[nodes]
+        count = q.graph.indptr[nodes + 1] - first
+        row = np.repeat(np.arange(len(nodes)), count)
+        edge = np.arange(len(row)) + np.repeat(first - (np.cumsum(count) - count), count)
+        col = q.graph.indices[edge]
+        use = q.valid[edge] & kept[col]
+        row, edge, col = row[use], edge[use], col[use]
+        indptr = np.concatenate([[0], np.cumsum(np.bincount(row, minlength=len(nodes)))])
+        sub = csr_array((q.graph.data[edge], np.searchsorted(nodes, col), indptr), shape=(len(nodes), len(nodes)))
+        dist, pred = dijkstra(sub, directed=True, indices=len(nodes) - 1, return_predecessors=True,
+                              limit=_with_slack(fastest + q.bound))  # the start node is the last node
+        in_goal = np.flatnonzero((nodes >= G * self.layer) & (nodes < (G + 1) * self.layer))
+        at = [int(in_goal[np.argmin(dist[in_goal])])]  # the lowest-numbered of equals, as _goal_node
+        while at[-1] != len(nodes) - 1:
+            at.append(int(pred[at[-1]]))
+        at.reverse()
+        return nodes[at].tolist(), dist[at].tolist()
 
     def _reduced_search(self, q: QueryGraph) -> np.ndarray | None:
         """A* up to the goal: the reduced times; None if the goal cannot be reached. The limit
         (on reduced time) only leaves out nodes whose time plus bound exceeds it, so the first limit that
-        reaches the goal finds a fastest route."""
-        limit = max(q.hint if q.hint is not None else q.bound, self.mouse.cell / self.mouse.run.top_speed)
+        reaches the goal finds a fastest route. A query with every wall it needs open has a reduced time of 0;
+        the first limit is at least one cell at top speed."""
+        limit = max(q.hint or 0.0, self.mouse.cell / self.mouse.run.top_speed)
         for limit in [limit * LIMIT_GROWTH ** k for k in range(LIMIT_TRIES)] + [np.inf]:
             dist = dijkstra(q.work, directed=True, indices=self.start_node, limit=limit)
             best = self._goal_node(dist)
@@ -498,12 +531,6 @@ class MoveGraph:
         """The node of the goal layer reached first (the lowest-numbered of equals)."""
         return int(np.argmin(dist[G * self.layer: (G + 1) * self.layer])) + G * self.layer
 
-    def _nodes(self, end: int, pred: np.ndarray) -> list[int]:
-        nodes = [end]
-        while nodes[-1] != self.start_node:
-            nodes.append(int(pred[nodes[-1]]))
-        return nodes[::-1]
-
     def fastest(self, blocked: bytes | bytearray, start: Cell, goals: tuple[Cell, ...]) -> Route | None:
         """The fastest run through walls not blocked (1 = blocked, indexed by wall id); None if there is none."""
         q = self._query(start, goals)
@@ -511,16 +538,14 @@ class MoveGraph:
         found = self._search(q)
         if found is None:
             return None
-        dist, pred = found
-        return self._route(self._nodes(self._goal_node(dist), pred), dist, start)
+        return self._route(*found, start)
 
     def _point(self, node: int) -> tuple[tuple[int, int], int]:
         p, h = divmod(node % self.layer, 8)
         return (p % self.side, p // self.side), h
 
     def _edge(self, u: int, v: int, start: Cell) -> tuple[list[tuple[int, int]], str, float]:
-        """The walls edge u->v crosses (as points), its token ('' for a piece of a straight, which _route joins)
-        and its length in cells."""
+        """The walls a start or turn edge u->v crosses (as points), its token and its length in cells."""
         (vx, vy), h = self._point(v)
         if u == self.start_node:
             cx, cy = 2 * start[0] + 1, 2 * start[1] + 1
@@ -528,35 +553,36 @@ class MoveGraph:
             n = (abs(vx - cx) + abs(vy - cy) + 1) // 2
             return [(cx + (2 * k - 1) * dx, cy + (2 * k - 1) * dy) for k in range(1, n + 1)], f"S{n - 0.5:g}", n - 0.5
         (ux, uy), _ = self._point(u)
-        if u // self.layer in (A, C):  # a straight, or a piece of one
-            sx, sy = self._stride(h)
-            n = max(abs(vx - ux) // max(abs(sx), 1), abs(vy - uy) // max(abs(sy), 1))
-            return [(ux + k * sx, uy + k * sy) for k in range(1, n + 1)], "", n * self._unit(h)
         shape = self.shapes[self._turn_lookup[(u, v)]]
         return [(ux + ox, uy + oy) for ox, oy in shape.offsets], shape.token, TURNS[shape.name].cells
 
-    def _route(self, nodes: list[int], dist: np.ndarray, start: Cell) -> Route:
+    def _route(self, nodes: list[int], times: list[float], start: Cell) -> Route:
+        """The moves of a route: a straight is its pieces (A to B or G directly, or through the chain in C)
+        joined, its walls counted from where it began."""
         points = [(2 * start[0] + 1, 2 * start[1] + 1)]
         moves: list[Move] = []
-        straight: tuple[int, float] | None = None  # (node it began at, cells so far) of a straight being joined
-        for u, v in zip(nodes, nodes[1:]):
-            crossed, token, cells = self._edge(u, v, start)
-            points += crossed
-            if token:
-                moves.append(Move(token, cells, float(dist[v] - dist[u])))
+        begin, length = 0, 0.0  # the step the straight being joined began at, and its cells so far
+        for i, (u, v) in enumerate(zip(nodes, nodes[1:])):
+            if u == self.start_node or u // self.layer == B:
+                crossed, token, cells = self._edge(u, v, start)
+                points += crossed
+                moves.append(Move(token, cells, times[i + 1] - times[i]))
+                begin, length = i + 1, 0.0
                 continue
-            begin, length = straight or (u, 0.0)
-            length += cells
-            straight = (begin, length)
+            (ux, uy), h = self._point(u)
+            (vx, vy), _ = self._point(v)
+            sx, sy = self._stride(h)
+            length += max(abs(vx - ux) // max(abs(sx), 1), abs(vy - uy) // max(abs(sy), 1)) * self._unit(h)
             if v // self.layer in (B, G):  # the straight ends here
-                h = v % 8
-                steps = round(length / self._unit(h))
+                (bx, by), _ = self._point(nodes[begin])
+                steps = max(abs(vx - bx) // max(abs(sx), 1), abs(vy - by) // max(abs(sy), 1))
+                points += [(bx + k * sx, by + k * sy) for k in range(1, steps + 1)]
                 if steps:
-                    moves.append(Move(f"{'S' if h in ALONG else 'D'}{steps}", length, float(dist[v] - dist[begin])))
-                straight = None
+                    moves.append(Move(f"{'S' if h in ALONG else 'D'}{steps}", length, times[i + 1] - times[begin]))
         cells = [start] + [_entered(p, q) for q, p in zip(points, points[1:])]
-        walls = [int(self.wall_at[self._index(x, y)]) for x, y in points[1:]]
-        return Route(moves, float(dist[nodes[-1]]), points, walls, cells)
+        wall_at = self._wall_list
+        walls = [wall_at[y * self.side + x] for x, y in points[1:]]
+        return Route(moves, times[-1], points, walls, cells)
 
 
 @lru_cache(maxsize=4)

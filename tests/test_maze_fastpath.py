@@ -1,6 +1,6 @@
-"""The fast-path search (A*, then a search limited to the goal's time) against a plain Dijkstra over the same
-priced graph, on random small mazes, one query after another on one graph (so that each starts from the last
-one's limit)."""
+"""The fast-path search (A*, then a search of the nodes it kept, limited to the goal's time) against a plain
+Dijkstra over the same priced graph, on random small mazes, one query after another on one graph (so that each
+starts from the last one's limit)."""
 
 import copy
 import heapq
@@ -9,16 +9,19 @@ import math
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from maze.builtin import builtin_path
 from maze.fastpath import G, MoveGraph, move_graph
+from maze.mazefile import parse_maze
 from maze.model import Maze
 from maze.mouseparams import load_mouse
 from maze.stepmap import optimistic, pessimistic
 
 
 def plain_fastest(graph: MoveGraph, maze: Maze) -> float:
-    """Textbook Dijkstra over the priced edges (those `fastest` just priced), to the first goal-layer node."""
+    """Textbook Dijkstra over the edges `fastest` just found open, at their prices, to the first goal-layer node."""
     q = graph._query(maze.start, maze.goals)
-    indptr, indices, prices = q.graph.indptr, q.graph.indices, q.graph.data
+    indptr, indices = q.graph.indptr, q.graph.indices
+    prices = [price if ok else math.inf for price, ok in zip(q.graph.data, q.valid)]
     dist = {graph.start_node: 0.0}
     heap = [(0.0, graph.start_node)]
     done = set()
@@ -67,3 +70,20 @@ def test_fastest_is_a_plain_dijkstra(series: list[Maze], diagonal: bool) -> None
                 continue
             assert abs(route.seconds - expected) <= 1e-9
             assert all(not blocked[w] for w in route.walls)
+
+
+def test_no_route_leaves_the_maze_even_if_the_outer_walls_are_given_open() -> None:
+    """The bound of A* is the time with only the outer walls: a query that opened them would otherwise get a
+    bound too high to be exact, and a route through the outside."""
+    maze = Maze.unknown(32, parse_maze(builtin_path("japan2009hef").read_text()).goals)
+    mouse = load_mouse(None, 32)
+    for diagonal in (False, True):
+        graph = move_graph(32, diagonal, mouse)
+        no_walls = graph.fastest(bytes(len(maze.wall)), maze.start, maze.goals)
+        inner_only = bytearray(len(maze.wall))
+        for w in maze.topo.outer:
+            inner_only[w] = 1
+        expected = graph.fastest(bytes(inner_only), maze.start, maze.goals)
+        assert no_walls is not None and expected is not None
+        assert not set(no_walls.walls) & maze.topo.outer
+        assert no_walls.seconds == expected.seconds and no_walls.sequence == expected.sequence
