@@ -40,6 +40,7 @@ MAX_CROSSINGS = 4  # the most walls a turn crosses (the 180)
 MAX_QUERY_GRAPHS = 4  # (start, goals) pairs kept per move graph: a search has one, `path` of a cell run another
 TIME_SLACK = 1e-9  # rounding in reduced prices must not leave out a node of an equally fast route
 LIMIT_GROWTH = 2.0  # how much the search limit grows when the goal lies beyond it
+HINT_MARGIN = 1.25  # the first limit over the last answer: a search's walls only ever make its run slower
 LIMIT_TRIES = 16  # then no limit: a route that slow is unlikely, and without one the goal may be out of reach
 
 
@@ -181,6 +182,7 @@ class MoveGraph:
         self._build_straights()
         self._build_turns()
         self._goal_masks: dict[tuple[Cell, ...], np.ndarray] = {}
+        self._local = np.zeros(self.start_node + 1, dtype=np.int32)
         self._queries: dict[tuple[Cell, tuple[Cell, ...]], QueryGraph] = {}
 
     # -- geometry helpers -------------------------------------------------------------------------------------
@@ -503,7 +505,9 @@ class MoveGraph:
         use = q.valid[edge] & kept[col]
         row, edge, col = row[use], edge[use], col[use]
         indptr = np.concatenate([[0], np.cumsum(np.bincount(row, minlength=len(nodes)))])
-        sub = csr_array((q.graph.data[edge], np.searchsorted(nodes, col), indptr), shape=(len(nodes), len(nodes)))
+        local = self._local  # node -> its number in `nodes`; read only where kept
+        local[nodes] = np.arange(len(nodes), dtype=np.int32)
+        sub = csr_array((q.graph.data[edge], local[col], indptr), shape=(len(nodes), len(nodes)))
         dist, pred = dijkstra(sub, directed=True, indices=len(nodes) - 1, return_predecessors=True,
                               limit=_with_slack(fastest + q.bound))  # the start node is the last node
         in_goal = np.flatnonzero((nodes >= G * self.layer) & (nodes < (G + 1) * self.layer))
@@ -517,8 +521,10 @@ class MoveGraph:
         """A* up to the goal: the reduced times; None if the goal cannot be reached. The limit
         (on reduced time) only leaves out nodes whose time plus bound exceeds it, so the first limit that
         reaches the goal finds a fastest route. A query with every wall it needs open has a reduced time of 0;
-        the first limit is at least one cell at top speed."""
-        limit = max(q.hint or 0.0, self.mouse.cell / self.mouse.run.top_speed)
+        the first limit is at least one cell at top speed. A limit the goal lies beyond costs a whole search,
+        and the walls a search finds only ever slow its fastest run, so the first limit has a margin over the
+        last answer; the route does not depend on the limit (`_search`)."""
+        limit = max((q.hint or 0.0) * HINT_MARGIN, self.mouse.cell / self.mouse.run.top_speed)
         for limit in [limit * LIMIT_GROWTH ** k for k in range(LIMIT_TRIES)] + [np.inf]:
             dist = dijkstra(q.work, directed=True, indices=self.start_node, limit=limit)
             best = self._goal_node(dist)

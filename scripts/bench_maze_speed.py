@@ -1,6 +1,7 @@
 """How fast mazelog is where issue 17 asks: a whole-process `mazelog explore` of a 32x32 maze with a built-in
-strategy, one fastest-path query, and the mms protocol's cost per command; printed for the built-in mazes
-(development) and for held-out mazes (../shared/mazes/halfsize, or --held-out DIR) apart.
+strategy, one fastest-path query (on the whole maze known, on it all unknown, and the queries a search with the
+time objective makes as it finds the walls), and the mms protocol's cost per command; printed for the built-in
+mazes (development) and for held-out mazes (../shared/mazes/halfsize, or --held-out DIR) apart.
 
 Usage: python scripts/bench_maze_speed.py [--repeat N] [--held-out DIR] [--held-out-count N] [--section S]...
 
@@ -21,8 +22,10 @@ from pathlib import Path
 import click
 
 import maze
+import maze.fastpath
 from maze.builtin import builtin_path
-from maze.fastpath import fastest_route
+from maze.explorer import explore
+from maze.fastpath import fastest_route, move_graph
 from maze.mazefile import parse_maze
 from maze.model import Maze
 from maze.mouseparams import load_mouse
@@ -63,6 +66,34 @@ def queries(maze_path: Path, repeat: int) -> dict[str, tuple[float, float]]:
     return out
 
 
+def search_queries(maze_path: Path) -> dict[str, tuple[float, float]]:
+    """The queries `mazelog explore MAZE --objective time --diagonal` makes, in its order, timed one by one
+    on a fresh graph (built by an untimed first query, as the search's own first query builds it): median and
+    90th percentile, not min."""
+    truth = parse_maze(maze_path.read_text())
+    mouse = load_mouse(None, truth.size)
+    seen: list[bytes] = []
+
+    def recording(maze_: Maze, blocked: bytes, diagonal: bool, params) -> object:
+        seen.append(bytes(blocked))
+        return fastest_route(maze_, blocked, diagonal, params)
+
+    maze.fastpath.fastest_route = recording  # explore imports it when it plans
+    try:
+        explore(truth, "stop", "time", True, mouse)
+    finally:
+        maze.fastpath.fastest_route = fastest_route
+    move_graph.cache_clear()
+    fastest_route(truth, seen[0], True, mouse)
+    times = []
+    for blocked in seen[1:]:
+        t0 = time.perf_counter()
+        fastest_route(truth, blocked, True, mouse)
+        times.append((time.perf_counter() - t0) * 1000)
+    return {f"diagonal, the {len(times)} queries of a search": (statistics.median(times),
+                                                                statistics.quantiles(times, n=10)[-1])}
+
+
 def protocol_in_process(repeat: int) -> float:
     """Parsing and answering, per command, on the mms-python template's command stream."""
     from maze.mms import parse_command
@@ -81,10 +112,11 @@ def protocol_in_process(repeat: int) -> float:
     return best
 
 
-def print_rows(title: str, rows: dict[str, tuple[float, float]]) -> None:
-    print(title)
-    for name, (med, low) in rows.items():
-        print(f"  {name:55} median {med:8.2f} ms   min {low:8.2f} ms")
+def print_rows(title: str | None, rows: dict[str, tuple[float, float]], second: str = "min") -> None:
+    if title is not None:
+        print(title)
+    for name, (med, other) in rows.items():
+        print(f"  {name:55} median {med:8.2f} ms   {second} {other:8.2f} ms")
 
 
 @click.command(context_settings={"help_option_names": ["-h", "--help"]})
@@ -117,6 +149,7 @@ def main(repeat: int, held_out: Path, held_out_count: int, sections: tuple[str, 
             print(f"\nfastest-path query (in process), {name}:")
             for m in mazes:
                 print_rows(f" {m.stem}", queries(m, repeat * 4))
+                print_rows(None, search_queries(m), second="p90")
     if "query" in sections:
         print_rows("\nfastest-path query, 16x16 (development):", {
             f"{n}, {k}": v for n in DEV_16 for k, v in queries(builtin_path(n), repeat * 4).items()})
