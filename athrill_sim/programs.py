@@ -113,22 +113,15 @@ def python_program(spec: str) -> Program:
     mock = (sys.executable, "-m", "athrill_sim.main", "--app", spec)
     return Program(f"python app {spec}", SyncMode.LOCKSTEP, True,
                    (*mock, "--run-dir", "{run_dir}", "--test", "{test}"), check_argv=(*mock, "--check"),
-                   files=python_module_file(spec))
+                   files=python_program_files(spec))
 
 
-def python_module_file(spec: str) -> tuple[Path, ...]:
-    """The source file of a Python program's module, found without running the module (a module that cannot
-    be found has no file: the program check then says why it cannot load)."""
-    import importlib.util
-
+def python_program_files(spec: str) -> tuple[Path, ...]:
+    """The source files of a Python program: its module and the user's modules it imports."""
     from athrill_sim.apps import BUILTIN
+    from athrill_sim.python_sources import program_sources
 
-    module = BUILTIN.get(spec, spec).partition(":")[0]
-    try:
-        found = importlib.util.find_spec(module)
-    except (ImportError, ValueError):
-        return ()
-    return (Path(found.origin),) if found is not None and found.origin and Path(found.origin).is_file() else ()
+    return program_sources(BUILTIN.get(spec, spec).partition(":")[0])
 
 
 def native_program(source: Path) -> Program:

@@ -59,3 +59,30 @@ def test_resume_refuses_a_changed_program_or_course_naming_it(tmp_path):
     (course / "course.toml").write_text((course / "course.toml").read_text() + "# edited\n")
     one_line_error(hako("run", "--resume", str(out)), f"--course {course}: course.toml changed")
     assert read_journal(out / JOURNAL_FILE)[1] == records  # nothing was run
+
+
+def test_a_changed_helper_module_the_program_imports_is_named_and_nothing_is_run(tmp_path, monkeypatch):
+    """A user's program split over modules: an edited helper changes the program's hash as its main module
+    does. The modules are read, never run (a top-level side effect would show), and the standard library,
+    installed packages and the bench's own modules are not the program's."""
+    ran = tmp_path / "ran"
+    (tmp_path / "tracer").mkdir()
+    (tmp_path / "tracer" / "__init__.py").write_text(f"open({str(ran)!r}, 'w').close()\n")
+    (tmp_path / "tracer" / "main.py").write_text(
+        "import json, numpy\nfrom athrill_sim.ev3api import Ev3Api\nfrom . import gains\nfrom .steer import steer\n"
+        "def main_task(api):\n    steer(api, gains.KP)\n")
+    (tmp_path / "tracer" / "gains.py").write_text("from tracer.filters import smooth\nKP = 1.0\n")
+    (tmp_path / "tracer" / "steer.py").write_text("def steer(api, kp):\n    pass\n")
+    (tmp_path / "tracer" / "filters.py").write_text("import helpers\ndef smooth(x):\n    return x\n")
+    (tmp_path / "helpers.py").write_text("X = 1\n")
+    (tmp_path / "unused.py").write_text("Y = 2\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    bench = BenchOptions(app="tracer.main:main_task")
+    before = fingerprint(bench, ("app",))
+    assert set(before["app"]) == {"helpers.py", "tracer/__init__.py", "tracer/main.py", "tracer/gains.py",
+                                  "tracer/steer.py", "tracer/filters.py"}
+    assert not ran.exists()
+    (tmp_path / "helpers.py").write_text("X = 2\n")
+    (tmp_path / "unused.py").write_text("Y = 3\n")
+    assert changes(before, fingerprint(bench, ("app",)), bench) == [
+        "--app tracer.main:main_task: helpers.py changed"]
