@@ -22,13 +22,16 @@ BENCH_PACKAGES = ("athrill_sim", "hakoniwa", "testctl", "maze")
 
 
 def program_sources(module: str) -> tuple[Path, ...]:
-    """The module's file and those of the user's modules it imports; () if the module's file is not found
-    (the program check then says why it cannot load)."""
+    """The module's file, its packages' and those of the user's modules they import; () if the module's file
+    is not found (the program check then says why it cannot load)."""
     first = locate(module)
     if first is None:
         return ()
     seen: set[Path] = set()
-    queue = [(module, first)]
+    parts = module.split(".")
+    packages = [".".join(parts[:i]) for i in range(1, len(parts))]  # imported before the module, so run too
+    queue = [(module, first)] + [(name, found) for name in packages
+                                 if (found := locate(name)) is not None and is_users(found)]
     while queue:
         name, path = queue.pop()
         if path in seen:

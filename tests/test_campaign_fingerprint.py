@@ -4,12 +4,16 @@ changed, naming what changed: a resumed campaign must not mix results of two pro
 from __future__ import annotations
 
 import shutil
+import sys
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from conftest import hako, one_line_error
 from native_fixtures import need_cc
+from athrill_sim.python_sources import program_sources
 from hakoniwa.physics.course import COURSES_DIR
 from hakoniwa.physics.options import BenchOptions
 from testctl.fingerprint import FILES_KEY, changes, fingerprint
@@ -86,3 +90,53 @@ def test_a_changed_helper_module_the_program_imports_is_named_and_nothing_is_run
     (tmp_path / "unused.py").write_text("Y = 3\n")
     assert changes(before, fingerprint(bench, ("app",)), bench) == [
         "--app tracer.main:main_task: helpers.py changed"]
+
+
+@st.composite
+def module_graphs(draw) -> tuple[dict[str, list[tuple[str, str]]], str]:
+    """Modules m0..mN, some in package p, each importing others in one of the styles a user writes."""
+    count = draw(st.integers(1, 6))
+    names = [f"p.m{i}" if draw(st.booleans()) else f"m{i}" for i in range(count)]
+    edges = {name: [(draw(st.sampled_from(names)), draw(st.sampled_from(STYLES)))
+                    for _ in range(draw(st.integers(0, 3)))] for name in names}
+    return edges, names[0]
+
+
+STYLES = ("import", "from", "relative", "inside a function")
+
+
+def import_line(importer: str, imported: str, style: str) -> str:
+    package, _, leaf = imported.rpartition(".")
+    if style == "relative" and importer.startswith("p.") and package == "p":
+        return f"from . import {leaf}\n"
+    if style == "from":
+        return f"from {package} import {leaf}\n" if package else f"from {leaf} import X\n"
+    if style == "inside a function":
+        return f"def f():\n    import {imported}\n"
+    return f"import {imported}\n"
+
+
+@settings(max_examples=40, deadline=None)
+@given(module_graphs())
+def test_the_program_files_are_exactly_the_modules_its_imports_reach(tmp_path_factory, graph):
+    edges, main = graph
+    root = tmp_path_factory.mktemp("prog")
+    (root / "p").mkdir()
+    (root / "p" / "__init__.py").write_text("")
+    for name, imports in edges.items():
+        body = "import json\nX = 1\n" + "".join(import_line(name, other, style) for other, style in imports)
+        (root / (name.replace(".", "/") + ".py")).write_text(body)
+    reached, todo = set(), [main]
+    while todo:
+        name = todo.pop()
+        if name not in reached:
+            reached.add(name)
+            todo += [other for other, _ in edges[name]]
+    expected = {root / (n.replace(".", "/") + ".py") for n in reached}
+    if any(n.startswith("p.") for n in reached):
+        expected.add(root / "p" / "__init__.py")
+    sys.path.insert(0, str(root))
+    try:
+        assert set(program_sources(main)) == {p.resolve() for p in expected}
+    finally:
+        sys.path.remove(str(root))
