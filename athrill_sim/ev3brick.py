@@ -27,6 +27,7 @@ class BrickApi:
         self._handlers: list[tuple[Callable[[int], None], int] | None] = [None] * TNUM_BUTTON
         self._buttons_before = self._buttons()
         self.kernel.on_snapshot.append(self._call_click_handlers)
+        self.kernel.watch_buttons = lambda: any(h is not None for h in self._handlers)
 
     def _buttons(self) -> int:
         return int(self.bus.read("I", RX_GUEST_BASE + Rx.BUTTONS))

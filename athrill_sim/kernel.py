@@ -15,7 +15,7 @@ from collections.abc import Callable
 from typing import NoReturn
 
 from hakoniwa.wire.protocol import HEADER_SIZE, NEVER_WAKES, Header, MappedFile, Rx, Tx
-from hakoniwa.wire.timebase import PHYSICS_STEP_US
+from hakoniwa.wire.timebase import BUTTON_POLL_US, PHYSICS_STEP_US
 from hakoniwa.wire.waiting import futex_wake, pid_alive, wait_for, wait_word
 
 TEST_WAIT_NAP_S = 0.005  # a spare Athrill waits a whole test, mostly for nothing
@@ -46,13 +46,23 @@ class Kernel:
         athrill.write_u32(Tx.ATHRILL_PID, os.getpid())
         # Run at every new snapshot before the task goes on, as the C runtime's kernel polls the buttons.
         self.on_snapshot: list[Callable[[], None]] = []
+        # While this says so, the kernel wakes at every multiple of BUTTON_POLL_US too, as EV3RT's button
+        # cyclic runs whatever the task does (the hooks see each such snapshot).
+        self.watch_buttons: Callable[[], bool] = lambda: False
 
     def sleep(self, duration_us: int) -> None:
         """tslp_tsk: sleep at least `duration_us`, rounded up to whole physics steps."""
         if duration_us <= 0:
             return
         steps = -(-duration_us // PHYSICS_STEP_US)
-        wake = self.now_us + steps * PHYSICS_STEP_US
+        due = self.now_us + steps * PHYSICS_STEP_US
+        while self.now_us < due:
+            wake = due
+            if self.watch_buttons():
+                wake = min(due, (self.now_us // BUTTON_POLL_US + 1) * BUTTON_POLL_US)
+            self._await_snapshot(wake)
+
+    def _await_snapshot(self, wake: int) -> None:
         self._publish(wake)
         unity = self.unity
         wait_word(self._snapshot_address, lambda: unity.unity_time_us & 0xFFFFFFFF,
@@ -62,12 +72,14 @@ class Kernel:
             hook()
 
     def finish(self) -> None:
-        """The task returned: outputs stay as they are and no wake-up will ever be due."""
+        """The task returned (or sleeps for good): while a click handler is set the kernel still wakes for the
+        button cyclic, as on EV3RT; then outputs stay as they are and no wake-up will ever be due."""
+        while self.watch_buttons():
+            self._await_snapshot((self.now_us // BUTTON_POLL_US + 1) * BUTTON_POLL_US)
         self._publish(NEVER_WAKES)
 
     def sleep_forever(self) -> NoReturn:
-        """The task sleeps with no timeout: published as never waking, it waits until it is killed (or the
-        physics process is gone)."""
+        """The task sleeps with no timeout: it waits until it is killed (or the physics process is gone)."""
         self.finish()
         wait_for(lambda: False, self._check_physics, spin_s=0.0, nap_s=TEST_WAIT_NAP_S)
         raise AssertionError("unreachable")

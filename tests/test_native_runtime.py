@@ -3,6 +3,7 @@ by a stand-in for the physics process (no MuJoCo), and the API checked call for 
 
 import signal
 import subprocess
+import sys
 import time
 
 import pytest
@@ -428,3 +429,80 @@ def test_a_click_handler_runs_when_the_button_comes_up(tmp_path):
         bench.unity.unity_time_us = wake
     bench.next_wake(proc)
     assert [line.split("] ")[1] for line in finish(proc).splitlines()] == ["clicked 5"]
+
+
+
+SHORT_PRESS_C = r"""
+#include "ev3api.h"
+static void clicked(intptr_t exinf) { syslog(LOG_NOTICE, "clicked %d", (int)exinf); }
+void main_task(intptr_t unused)
+{
+    ev3_button_set_on_clicked(ENTER_BUTTON, clicked, 5);
+    for (;;) tslp_tsk(100000);
+}
+"""
+SHORT_PRESS_PY = """
+from athrill_sim.ev3api import ENTER_BUTTON
+
+def main_task(api):
+    api.ev3_button_set_on_clicked(ENTER_BUTTON, lambda exinf: api.syslog(f"clicked {exinf}"), 5)
+    while True:
+        api.tslp_tsk(100000)
+"""
+PRESS_US = (20_000, 50_000)  # shorter than the program's 100 ms sleep
+
+
+def stamped_lines(log: str) -> list[tuple[str, str]]:
+    """(seconds, message) of each syslog line, as both sides stamp them: `[     0.050 s] message`."""
+    return [(stamp.strip("[ s"), what.strip()) for stamp, what in
+            (line.split("] ", 1) for line in log.splitlines() if line.startswith("[") and "] " in line)]
+
+
+def run_with_a_short_press(bench: FakePhysics, proc: subprocess.Popen, until_us: int) -> list[int]:
+    wakes = []
+    while (wake := bench.next_wake(proc)) <= until_us:
+        wakes.append(wake)
+        bench.unity.write_i32(Rx.BUTTONS, 1 << ENTER_BUTTON if PRESS_US[0] <= wake < PRESS_US[1] else 0)
+        bench.unity.unity_time_us = wake
+    return wakes
+
+
+@pytest.mark.parametrize("side", ["native", "python"])
+def test_a_press_shorter_than_the_programs_sleep_is_clicked_as_on_ev3rt(tmp_path, side, monkeypatch):
+    """EV3RT polls the buttons every 10 ms (brick_dri.cfg's BRICK_BTN_CYC), whatever the tasks do: while a
+    click handler is set both kernels wake that often, so a 30 ms press during a 100 ms sleep is clicked, at
+    the first poll that sees it up (50 ms)."""
+    bench = FakePhysics(tmp_path / "run")
+    if side == "native":
+        proc = bench.start(build(tmp_path / "app", SHORT_PRESS_C))
+    else:
+        (tmp_path / "short_press.py").write_text(SHORT_PRESS_PY)
+        monkeypatch.setenv("PYTHONPATH", str(tmp_path))
+        proc = subprocess.Popen([sys.executable, "-m", "athrill_sim.main", "--app", "short_press:main_task",
+                                 "--run-dir", str(bench.run_dir)], stdin=subprocess.DEVNULL,
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert run_with_a_short_press(bench, proc, 200_000) == [10_000 * k for k in range(1, 21)]
+    assert stamped_lines(finish(proc)) == [("0.050", "clicked 5")]
+
+
+SLEEPS_UNTIL_CLICKED = r"""
+#include "ev3api.h"
+static void clicked(intptr_t exinf) { wup_tsk(MAIN_TASK); }
+void main_task(intptr_t unused)
+{
+    ev3_button_set_on_clicked(ENTER_BUTTON, clicked, 0);
+    slp_tsk();
+    syslog(LOG_NOTICE, "started");
+    tslp_tsk(100000);
+}
+"""
+
+
+def test_a_task_asleep_until_a_click_wakes_when_the_button_is_released(tmp_path):
+    """The press-to-start pattern of EV3RT programs: slp_tsk, and a click handler that wakes the task. With
+    nothing timed left the kernel used to leave at once; the button poll keeps it going."""
+    bench = FakePhysics(tmp_path / "run")
+    proc = bench.start(build(tmp_path / "app", SLEEPS_UNTIL_CLICKED))
+    wakes = run_with_a_short_press(bench, proc, 150_000)
+    assert wakes[:5] == [10_000, 20_000, 30_000, 40_000, 50_000] and 150_000 in wakes
+    assert stamped_lines(finish(proc)) == [("0.050", "started")]

@@ -8,7 +8,7 @@ from __future__ import annotations
 from athrill_sim import kernel as mock_kernel
 from hakoniwa.wire import rundir, waiting
 from hakoniwa.wire.protocol import c_header
-from hakoniwa.wire.timebase import PHYSICS_STEP_US
+from hakoniwa.wire.timebase import BUTTON_POLL_US, PHYSICS_STEP_US
 
 LAYOUT_HEADER = "hako_layout.h"
 TIMING_HEADER = "hako_timing.h"
@@ -17,6 +17,7 @@ TIMING_HEADER = "hako_timing.h"
 def timing_header() -> str:
     values = {
         "PHYSICS_STEP_US": PHYSICS_STEP_US,
+        "BUTTON_POLL_US": BUTTON_POLL_US,
         "TEST_WAIT_NAP_S": mock_kernel.TEST_WAIT_NAP_S,
         "CHECK_EVERY_S": waiting.CHECK_EVERY_S,
     }

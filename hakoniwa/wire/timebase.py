@@ -17,6 +17,7 @@ PHYSICS_STEP_US = 1_000  # the paper's Unity simulation precision, 0.001 s
 CONTROL_PERIOD_US = 100_000  # tslp_tsk(100000) in Fig. 7
 ALLOWED_TIME_DIFF_US = 20_000  # the largest Unity-Athrill time difference the paper allows
 EVENT_CHECK_PERIOD_US = 10_000  # goal, wall and time-limit checks
+BUTTON_POLL_US = 10_000  # EV3RT's brick_button_cyc, which sees clicks (brick_dri.cfg: CRE_CYC(BRICK_BTN_CYC, 10000))
 TRACE_PERIOD_US = 50_000  # trajectory samples
 
 

@@ -2,7 +2,10 @@
  * The brick's other devices: button click handlers, the speaker (each call a line in the log; there is no
  * sound) and the battery (its RX slots, as uart_dri_get_data_battery reads them), and Athrill's stopwatch. A
  * click is EV3RT's (brick_dri.c, brick_button_cyc): a button that was down and is now up; its handler runs,
- * like a cyclic handler, before any task, at the first snapshot that shows the button up again.
+ * like a cyclic handler, before any task, at the first snapshot that shows the button up again. EV3RT polls
+ * the buttons every 10 ms whatever the tasks do, so while a click handler is set the kernel wakes at least
+ * that often (hako_buttons_watched): a press shorter than the program's sleep, or one that a task waits for
+ * in slp_tsk, is seen as on EV3RT.
  */
 #include "athrill_syscall.h"
 #include "ev3api.h"
@@ -19,6 +22,14 @@ ER ev3_button_set_on_clicked(button_t button, ISR handler, intptr_t exinf)
     click_handlers[button] = handler;
     click_exinfs[button] = exinf;
     return E_OK;
+}
+
+bool hako_buttons_watched(void)
+{
+    for (int b = LEFT_BUTTON; b <= BACK_BUTTON; b++)
+        if (click_handlers[b] != NULL)
+            return true;
+    return false;
 }
 
 void hako_buttons_poll(void)

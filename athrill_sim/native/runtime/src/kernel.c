@@ -368,6 +368,11 @@ static int64_t next_event(void)
     for (uint_t i = 0; i < hako_cyclic_count; i++)
         if (cyclics[i].active && cyclics[i].due < next)
             next = cyclics[i].due;
+    if (hako_buttons_watched()) {
+        int64_t poll = (now_us / HAKO_BUTTON_POLL_US + 1) * HAKO_BUTTON_POLL_US;
+        if (poll < next)
+            next = poll;
+    }
     return next;
 }
 

@@ -7,6 +7,7 @@
 #define HAKO_RUNTIME_H
 
 #include <stdarg.h>
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "hako_layout.h"
@@ -43,9 +44,11 @@ void hako_kernel_run(int64_t start_us) __attribute__((noreturn));
 /* main.c: the run directory (absolute: the program's working directory is the SD card folder). */
 const char *hako_run_dir(void);
 
-/* sdcard.c: enter the SD card folder; brick.c: call the click handlers of the buttons just pressed. */
+/* sdcard.c: enter the SD card folder; brick.c: call the click handlers of the buttons just released, and
+ * whether any is set (then the kernel wakes every HAKO_BUTTON_POLL_US, as EV3RT's button cyclic runs). */
 void hako_sdcard_enter(void);
 void hako_buttons_poll(void);
+bool hako_buttons_watched(void);
 
 /* syslog.c: lines on stderr, each written at once. */
 void hako_vline(const char *prefix, const char *format, va_list args);
