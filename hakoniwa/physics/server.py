@@ -19,6 +19,7 @@ would be charged to the parameters under test.
 from __future__ import annotations
 
 import csv
+import io
 import math
 import subprocess
 import threading
@@ -175,20 +176,23 @@ class PhysicsServer:
         self._log.flush()
         return outcome
 
+    def _replace_file(self, name: str, text: str) -> None:
+        """Written beside and renamed into place: whoever reads the run directory sees a whole file or none."""
+        tmp = self.run_dir / (name + ".tmp")
+        tmp.write_text(text, newline="")
+        tmp.replace(self.run_dir / name)
+
     def _write_program_output(self, lines: list[str]) -> None:
         """Before the event is published, so that the controller finds it when it sees the crash."""
         if lines:
-            tmp = self.run_dir / (PROGRAM_OUTPUT_FILE + ".tmp")
-            tmp.write_text("\n".join(lines) + "\n")
-            tmp.replace(self.run_dir / PROGRAM_OUTPUT_FILE)
+            self._replace_file(PROGRAM_OUTPUT_FILE, "\n".join(lines) + "\n")
 
     def _write_trajectory(self) -> None:
-        tmp = self.run_dir / (TRAJECTORY_FILE + ".tmp")
-        with open(tmp, "w", newline="") as f:
-            w = csv.writer(f)
-            w.writerow(["time_us", "x", "y", "yaw"])
-            w.writerows((t, f"{x:.5f}", f"{y:.5f}", f"{yaw:.5f}") for t, x, y, yaw in self.env.trajectory)
-        tmp.replace(self.run_dir / TRAJECTORY_FILE)
+        out = io.StringIO()
+        w = csv.writer(out)
+        w.writerow(["time_us", "x", "y", "yaw"])
+        w.writerows((t, f"{x:.5f}", f"{y:.5f}", f"{yaw:.5f}") for t, x, y, yaw in self.env.trajectory)
+        self._replace_file(TRAJECTORY_FILE, out.getvalue())
 
     def reset(self) -> None:
         """start = 0: stop Athrill, restore the saved initial state, clear event and goal time."""
