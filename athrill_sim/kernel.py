@@ -59,8 +59,11 @@ class Kernel:
         while self.now_us < due:
             wake = due
             if self.watch_buttons():
-                wake = min(due, (self.now_us // BUTTON_POLL_US + 1) * BUTTON_POLL_US)
+                wake = min(due, self._next_button_poll())
             self._await_snapshot(wake)
+
+    def _next_button_poll(self) -> int:
+        return (self.now_us // BUTTON_POLL_US + 1) * BUTTON_POLL_US
 
     def _await_snapshot(self, wake: int) -> None:
         self._publish(wake)
@@ -75,7 +78,7 @@ class Kernel:
         """The task returned (or sleeps for good): while a click handler is set the kernel still wakes for the
         button cyclic, as on EV3RT; then outputs stay as they are and no wake-up will ever be due."""
         while self.watch_buttons():
-            self._await_snapshot((self.now_us // BUTTON_POLL_US + 1) * BUTTON_POLL_US)
+            self._await_snapshot(self._next_button_poll())
         self._publish(NEVER_WAKES)
 
     def sleep_forever(self) -> NoReturn:

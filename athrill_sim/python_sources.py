@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import ast
 import sysconfig
+from functools import cache
 from importlib.machinery import PathFinder
 from pathlib import Path
 
@@ -95,6 +96,10 @@ def imports_of(name: str, path: Path) -> list[str]:
 
 def is_users(path: Path) -> bool:
     """Neither the standard library, nor an installed package, nor one of this bench's packages."""
+    return not any(path.is_relative_to(root) for root in not_users_roots())
+
+
+@cache
+def not_users_roots() -> tuple[Path, ...]:
     environment = {sysconfig.get_paths()[key] for key in ("stdlib", "platstdlib", "purelib", "platlib")}
-    roots = [Path(p).resolve() for p in environment] + [BENCH_ROOT / package for package in BENCH_PACKAGES]
-    return not any(path.is_relative_to(root) for root in roots)
+    return tuple(Path(p).resolve() for p in environment) + tuple(BENCH_ROOT / package for package in BENCH_PACKAGES)
