@@ -31,6 +31,7 @@ from .wallrecord import COORD_LIMIT, RECORD_BYTES, TEXT_HEADER, WallRecord, enco
 if TYPE_CHECKING:
     from .explorer import SearchResult
     from .fastpath import Route
+    from .film import Replay
     from .harness import MouseRun
     from .mmsworld import MmsWorld
     from .motion import SearchRun
@@ -236,7 +237,7 @@ def replay(log: Path, size: int | None, drop_last: int, until: int | None, fmt: 
 
 def draw_replay(log: Path, loaded: LoadedLog, records: list[WallRecord], drop_last: int, truth_path: Path | None,
                 truth: Maze | None, size: int, png: Path | None, gif: Path | None, stride: int | None) -> None:
-    from .film import Replay, default_stride, film, write_gif
+    from .film import Replay, default_stride
 
     def title(replay: Replay) -> list[str]:
         footer = replay_footer(replay.applied, loaded, drop_last, replay.maze, replay.contradictions)
@@ -244,10 +245,7 @@ def draw_replay(log: Path, loaded: LoadedLog, records: list[WallRecord], drop_la
 
     if gif is not None:
         step = stride or default_stride(len(records))
-        count = len(records) // step + 1 + (len(records) % step > 0)
-        with atomic_open(gif) as fp, click.progressbar(film(Replay.start(size, truth), records, step, title),
-                                                      length=count, label="drawing frames", file=sys.stderr) as frames:
-            written = write_gif(frames, fp)
+        written = write_film(gif, Replay.start(size, truth), records, step, title)
         click.echo(f"film: {written} frames, one per {step} record{'s' * (step > 1)} -> {gif} "
                    f"({gif.stat().st_size} bytes)", err=True)
     if png is not None:
@@ -539,21 +537,27 @@ def final_marks(world: MmsWorld) -> dict[Cell, tuple[str, str]]:
     return marks_at(world.marks, len(world.records))
 
 
+def write_film(gif: Path, start: Replay, records: list[WallRecord], step: int,
+               title: Callable[[Replay], list[str]]) -> int:
+    """The GIF of `records` replayed from `start`, a frame per `step`, with a progress bar; frames written."""
+    from .film import film, frame_count, write_gif
+
+    with atomic_open(gif) as fp, click.progressbar(film(start, records, step, title),
+                                                  length=frame_count(len(records), step), label="drawing frames",
+                                                  file=sys.stderr) as frames:
+        return write_gif(frames, fp)
+
+
 def film_mouse(world: MmsWorld, mazefile: Path, program: str, gif: Path) -> None:
-    from .film import Replay, default_stride, film, write_gif
+    from .film import Replay, default_stride
 
     records = world.records
     step = default_stride(len(records))
-    marks = world.marks
 
     def title(replay: Replay) -> list[str]:
         return [f"{mazefile.name}: {program}", f"{replay.applied} of {len(records)} walls sensed"]
 
-    count = len(records) // step + 1 + (len(records) % step > 0)
-    with atomic_open(gif) as fp, click.progressbar(film(Replay.start(world.truth.size, None, marks), records, step,
-                                                        title), length=count, label="drawing frames",
-                                                   file=sys.stderr) as frames:
-        written = write_gif(frames, fp)
+    written = write_film(gif, Replay.start(world.truth.size, None, world.marks), records, step, title)
     click.echo(f"film:          {written} frames, one per {step} record{'s' * (step > 1)} -> {gif}")
 
 

@@ -95,6 +95,11 @@ def film(replay: Replay, records: list[WallRecord], stride: int,
             yield replay.picture(title(replay))
 
 
+def frame_count(records: int, stride: int) -> int:
+    """How many frames `film` yields for that many records."""
+    return records // stride + 1 + (records % stride > 0)
+
+
 def write_gif(frames: Iterable[Image.Image], fp: IO[bytes]) -> int:
     """Stream the frames into a GIF, each stored as the rectangle that changed, with the pixels in it that did not
     change transparent (long runs compress well). Pillow's own writer keeps every frame in memory: some 200 MB
