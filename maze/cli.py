@@ -601,15 +601,14 @@ def write_search_log(result: SearchResult, log_path: Path, power_cut: int | str 
     if power_cut is None:
         write_bytes(log_path, data)
         return f"{total} records, {len(data)} bytes -> {log_path}"
-    from .flash import log_sectors, log_writes, run_writes
+    from .flash import cut_log
 
     assert isinstance(power_cut, int)  # 'reset' is refused without --mouse
-    flash, _ = run_writes(log_writes(result), log_sectors(result.maze.size), power_cut)
-    write_bytes(log_path, bytes(flash.data))
-    written = min(power_cut, len(data))
+    image, written = cut_log(result.records, result.maze.size, power_cut)
+    write_bytes(log_path, image)
     torn = f" and {written % RECORD_BYTES} byte of the next" if written % RECORD_BYTES else ""
     return (f"{written // RECORD_BYTES} of {total} records written before the power cut at byte {power_cut}{torn}; "
-            f"flash image {len(flash.data)} bytes -> {log_path}")
+            f"flash image {len(image)} bytes -> {log_path}")
 
 
 def draw_search(result: SearchResult, truth: Maze, mazefile: Path, strategy: str, objective: str,
