@@ -6,16 +6,30 @@ benches building the same program at once both end up with a good product and no
 
 from __future__ import annotations
 
+import os
 import shutil
 import tempfile
 from pathlib import Path
 from typing import Callable
 
 
+def cache_root() -> Path:
+    """`${XDG_CACHE_HOME:-~/.cache}/hakoniwa-py`: native binaries, v850 images and the unpacked toolchain."""
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "hakoniwa-py"
+
+
 def cached_build(entry: Path, product: str, build: Callable[[Path], None]) -> Path:
     """`entry/product`, made by `build(scratch)` unless the entry already holds it."""
-    done = entry / product
-    if done.is_file():
+    cached_folder(entry, lambda folder: folder / product if (folder / product).is_file() else None, build)
+    return entry / product
+
+
+def cached_folder(entry: Path, find: Callable[[Path], Path | None], build: Callable[[Path], None]) -> Path | None:
+    """`find(entry)`, the entry made whole by `build(scratch)` first unless it already is. None when a build
+    that just succeeded left nothing `find` finds (the build's inputs lack it)."""
+    done = find(entry)
+    if done is not None:
         return done
     entry.parent.mkdir(parents=True, exist_ok=True)
     scratch = Path(tempfile.mkdtemp(prefix=entry.name + ".tmp-", dir=entry.parent))
@@ -24,8 +38,8 @@ def cached_build(entry: Path, product: str, build: Callable[[Path], None]) -> Pa
         try:
             scratch.rename(entry)
         except OSError:  # another build of the same inputs finished first; it made the same product
-            if not done.is_file():
+            if find(entry) is None:
                 raise
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
-    return done
+    return find(entry)

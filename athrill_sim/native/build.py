@@ -22,7 +22,7 @@ import subprocess
 from collections.abc import Collection
 from pathlib import Path
 
-from athrill_sim.build_cache import cached_build
+from athrill_sim.build_cache import cache_root, cached_build
 from athrill_sim.native import NativeBuildError, appcfg, headers, workspace
 from athrill_sim.native.appcfg import KERNEL_CFG_C, KERNEL_CFG_H, kernel_config
 from athrill_sim.native.workspace import AppSources, find_app
@@ -43,11 +43,6 @@ _LINKER_LOCATION = re.compile(r"^.*?:\(\.\w+[^)]*\): ")
 _UNDEFINED = re.compile(r"undefined reference to [`'\u2018]([A-Za-z_]\w*)['\u2019]")
 
 
-def cache_root() -> Path:
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "hakoniwa-py" / "native"
-
-
 def find_compiler() -> Path:
     """The system C compiler: $CC, else cc, else gcc."""
     for name in (os.environ.get("CC"), "cc", "gcc"):
@@ -61,7 +56,7 @@ def build_app(path: Path) -> Path:
     app = find_app(path)
     cc = find_compiler()
     generated = headers.generated_headers()
-    return cached_build(cache_root() / cache_key(app, cc, generated), EXECUTABLE,
+    return cached_build(cache_root() / "native" / cache_key(app, cc, generated), EXECUTABLE,
                         lambda scratch: _build(app, cc, generated, scratch))
 
 

@@ -24,9 +24,9 @@ import subprocess
 from pathlib import Path
 from typing import Callable
 
-from athrill_sim.build_cache import cached_build
+from athrill_sim.build_cache import cache_root, cached_build
 from athrill_sim.v850 import ImageError
-from athrill_sim.v850.toolchain import Tools, cache_root, check_build_tools, find_tools
+from athrill_sim.v850.toolchain import Tools, check_build_tools, find_tools
 
 APP_NAME = "hako_app"  # the workspace folder the program is built as (no SDK sample has this name)
 IMAGE = "asp"

@@ -11,10 +11,10 @@ import hashlib
 import os
 import shutil
 import tarfile
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
+from athrill_sim.build_cache import cache_root, cached_folder
 from athrill_sim.v850 import ImageError
 
 PROJECT = Path(__file__).resolve().parents[2]
@@ -26,11 +26,6 @@ TOOLCHAIN_TARBALLS = "toolchain/*.tar.gz"
 ATHRILL_ENV = "ATHRILL_SRC"  # the same variable scripts/build_athrill2.sh reads
 ATHRILL_TARGET = "athrill/src/athrill-target-v850e2m"
 INSTALL_RUBY = "Ruby is not installed (EV3RT's cfg and tecsgen generators are Ruby): apt-get install ruby"
-
-
-def cache_root() -> Path:
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "hakoniwa-py"
 
 
 @dataclass(frozen=True)
@@ -80,27 +75,21 @@ def unpack_toolchain(tarball: Path) -> Path:
     """The tarball's v850-elf-gcc, unpacked into the cache under the tarball's hash (once; a concurrent
     unpack of the same tarball leaves the same tree)."""
     digest = hashlib.sha256(tarball.read_bytes()).hexdigest()[:16]
-    entry = cache_root() / "toolchain" / digest
-    found = sorted(entry.glob(f"*/bin/{GCC}"))
-    if found:
-        return found[0]
-    entry.parent.mkdir(parents=True, exist_ok=True)
-    scratch = Path(tempfile.mkdtemp(prefix=digest + ".tmp-", dir=entry.parent))
-    try:
+
+    def gcc(folder: Path) -> Path | None:
+        return next(iter(sorted(folder.glob(f"*/bin/{GCC}"))), None)
+
+    def unpack(scratch: Path) -> None:
         with tarfile.open(tarball) as tar:
             tar.extractall(scratch, filter="tar")
-        try:
-            scratch.rename(entry)
-        except OSError:  # another process unpacked it first
-            pass
+
+    try:
+        found = cached_folder(cache_root() / "toolchain" / digest, gcc, unpack)
     except (OSError, tarfile.TarError) as e:
         raise ImageError(f"cannot unpack the toolchain {tarball}: {e}") from None
-    finally:
-        shutil.rmtree(scratch, ignore_errors=True)
-    found = sorted(entry.glob(f"*/bin/{GCC}"))
-    if not found:
+    if found is None:
         raise ImageError(f"the toolchain tarball {tarball} holds no bin/{GCC}")
-    return found[0]
+    return found
 
 
 def find_athrill() -> Path:
