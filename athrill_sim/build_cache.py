@@ -6,6 +6,7 @@ benches building the same program at once both end up with a good product and no
 
 from __future__ import annotations
 
+import hashlib
 import os
 import shutil
 import tempfile
@@ -17,6 +18,21 @@ def cache_root() -> Path:
     """`${XDG_CACHE_HOME:-~/.cache}/hakoniwa-py`: native binaries, v850 images and the unpacked toolchain."""
     base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
     return Path(base) / "hakoniwa-py"
+
+
+class CacheKey:
+    """The name of a cache entry: every input hashed as its label, its length and its bytes, so that no two
+    different sets of inputs run together into the same stream."""
+
+    def __init__(self) -> None:
+        self._hash = hashlib.sha256()
+
+    def add(self, label: str, data: bytes) -> None:
+        self._hash.update(f"{label}\0{len(data)}\0".encode())
+        self._hash.update(data)
+
+    def name(self) -> str:
+        return self._hash.hexdigest()[:32]
 
 
 def cached_build(entry: Path, product: str, build: Callable[[Path], None]) -> Path:

@@ -14,7 +14,6 @@ type-puns freely; integer-to-pointer casts are not warned about, because EV3RT p
 
 from __future__ import annotations
 
-import hashlib
 import os
 import re
 import shutil
@@ -22,7 +21,7 @@ import subprocess
 from collections.abc import Collection
 from pathlib import Path
 
-from athrill_sim.build_cache import cache_root, cached_build
+from athrill_sim.build_cache import CacheKey, cache_root, cached_build
 from athrill_sim.native import NativeBuildError, appcfg, headers, workspace
 from athrill_sim.native.appcfg import KERNEL_CFG_C, KERNEL_CFG_H, kernel_config
 from athrill_sim.native.workspace import AppSources, find_app
@@ -61,11 +60,8 @@ def build_app(path: Path) -> Path:
 
 
 def cache_key(app: AppSources, cc: Path, generated: dict[str, str]) -> str:
-    h = hashlib.sha256()
-
-    def add(label: str, data: bytes) -> None:
-        h.update(f"{label}\0{len(data)}\0".encode())
-        h.update(data)
+    key = CacheKey()
+    add = key.add
 
     def rel(path: Path | None) -> str:
         return os.path.relpath(path, app.root) if path else ""
@@ -79,7 +75,7 @@ def cache_key(app: AppSources, cc: Path, generated: dict[str, str]) -> str:
         add(rel(f), f.read_bytes())
     for name, text in sorted(generated.items()):
         add(name, text.encode())
-    return h.hexdigest()[:32]
+    return key.name()
 
 
 def _compiler_identity(cc: Path) -> str:

@@ -16,7 +16,6 @@ build: `app.cfg`, `app.h` (unless it has one) and an empty `Makefile.inc` are wr
 
 from __future__ import annotations
 
-import hashlib
 import os
 import re
 import shutil
@@ -24,7 +23,7 @@ import subprocess
 from pathlib import Path
 from typing import Callable
 
-from athrill_sim.build_cache import cache_root, cached_build
+from athrill_sim.build_cache import CacheKey, cache_root, cached_build
 from athrill_sim.v850 import ImageError
 from athrill_sim.v850.toolchain import Tools, check_build_tools, find_tools
 
@@ -91,12 +90,8 @@ def app_files(app: Path) -> tuple[Path, list[Path], bool]:
 
 
 def cache_key(root: Path, files: list[Path], lone: bool, tools: Tools) -> str:
-    h = hashlib.sha256()
-
-    def add(label: str, data: bytes) -> None:
-        h.update(f"{label}\0{len(data)}\0".encode())
-        h.update(data)
-
+    key = CacheKey()
+    add = key.add
     add("compiler", f"{tools.gcc}\n{_run([str(tools.gcc), '--version'], root, 'cannot run ' + str(tools.gcc))}".encode())
     add("make", "\0".join(MAKE).encode())
     add("builder", Path(__file__).read_bytes())
@@ -106,7 +101,7 @@ def cache_key(root: Path, files: list[Path], lone: bool, tools: Tools) -> str:
             add(f"{label}/{f.relative_to(tree)}", f.read_bytes())
     for f in files:
         add(f"app/{f.relative_to(root)}", f.read_bytes())
-    return h.hexdigest()[:32]
+    return key.name()
 
 
 def _build(root: Path, files: list[Path], lone: bool, tools: Tools, scratch: Path) -> None:
