@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import datetime as dt
+import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -136,8 +137,9 @@ def make_out_dir(out_dir: Path) -> None:
     immutable one, or one in /proc is a one-line error now rather than a traceback when the first test ends."""
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
-        probe = out_dir / ".hako-write-test"
-        probe.write_bytes(b"")
-        probe.unlink()
+        # A name of this process's own: two runs started on one folder at once must not unlink each other's
+        # probe (the loser would report an unwritable folder instead of the lock's refusal).
+        with tempfile.NamedTemporaryFile(dir=out_dir, prefix=".hako-write-test-"):
+            pass
     except OSError as e:
         raise click.ClickException(f"--out {out_dir}: cannot write there: {e.strerror or e}") from None

@@ -21,7 +21,7 @@ from campaign_racer import CAMPAIGN
 from testctl.campaign import Campaign
 from testctl.executor import TestSpec
 from testctl.journal import JOURNAL_FILE, read_journal
-from testctl.options import plan
+from testctl.options import make_out_dir, plan
 from test_campaign_resume import essence
 
 RACER = Path(__file__).with_name("campaign_racer.py")
@@ -109,6 +109,31 @@ def test_a_second_run_or_a_resume_while_a_campaign_runs_is_refused(at: int, kill
         finally:
             again.lock.release()
         assert essence(read_journal(out / JOURNAL_FILE)[1]) == REFERENCE
+
+
+def test_runs_probing_one_folder_at_once_do_not_see_it_unwritable(tmp_path: Path):
+    """Each run proves its --out takes files before it takes the lock; runs started together on one folder
+    used to share the probe's name, so one could unlink the other's probe and call the folder unwritable."""
+    out = tmp_path / "c"
+    start = threading.Barrier(8)
+    errors: list[BaseException] = []
+
+    def probe() -> None:
+        start.wait()
+        for _ in range(300):
+            try:
+                make_out_dir(out)
+            except click.ClickException as e:
+                errors.append(e)
+                return
+
+    threads = [threading.Thread(target=probe) for _ in range(8)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(60)
+    assert not errors, errors[0].format_message()
+    assert [p.name for p in out.iterdir()] == []  # no probe left behind
 
 
 @pytest.mark.slow
