@@ -11,7 +11,7 @@ import pytest
 from athrill_sim.v850 import ImageError
 from athrill_sim.v850.build import app_files, cache_key, first_error
 from athrill_sim.v850.elf import check_image
-from athrill_sim.v850.toolchain import Tools
+from athrill_sim.v850.toolchain import Tools, unpack_toolchain
 from athrill_fixtures import ASP_IMAGE
 from conftest import hako, one_line_error
 from realemu_fixtures import BASE_PRACTICE, need_v850_tools
@@ -95,6 +95,15 @@ def test_no_toolchain_is_one_line_naming_it(tmp_path):
     need_v850_tools()
     workspace(tmp_path / "app")
     one_line_error(hako("build", str(tmp_path / "app"), "--toolchain", str(tmp_path)), "v850-elf-gcc")
+
+
+def test_a_toolchain_tarball_that_is_no_tarball_is_one_line(tmp_path, monkeypatch):
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    bad = tmp_path / "v850-elf-gcc.tar.xz"
+    bad.write_bytes(b"a download that stopped at an error page\n")
+    with pytest.raises(ImageError) as info:
+        unpack_toolchain(bad)
+    assert str(info.value) == f"the toolchain {bad} is not a tar archive (plain, gz, bz2 or xz)"
 
 
 def test_no_ruby_is_one_line_naming_it(tmp_path):

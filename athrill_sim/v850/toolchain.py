@@ -85,6 +85,8 @@ def unpack_toolchain(tarball: Path) -> Path:
 
     try:
         found = cached_folder(cache_root() / "toolchain" / digest, gcc, unpack)
+    except tarfile.ReadError:  # its message lists every compression tried, one line each
+        raise ImageError(f"the toolchain {tarball} is not a tar archive (plain, gz, bz2 or xz)") from None
     except (OSError, tarfile.TarError) as e:
         raise ImageError(f"cannot unpack the toolchain {tarball}: {e}") from None
     if found is None:
