@@ -27,6 +27,7 @@ MAX_COMMANDS = 2_000_000  # mms's templates never stop on their own: a run ends 
 MAX_LINE_BYTES = 1 << 16  # a longer line without a newline is no command: the program is printing garbage
 STDERR_TAIL_BYTES = 400
 KILL_WAIT_S = 2.0
+STARTUP_S = 30.0  # the wait for a program's first line at least: a JVM, or a loaded CI runner, starts slowly
 
 
 @dataclass
@@ -87,8 +88,9 @@ def run_mouse(argv: list[str], world: MmsWorld, stderr_path: Path, max_steps: in
             while True:
                 newline = buffer.find(b"\n", start)
                 if newline < 0:
-                    if not selector.select(timeout):
-                        fault = f"the program sent no command for {timeout:g} s (last command: {last})"
+                    wait = timeout if lineno or buffer else max(timeout, STARTUP_S)  # --timeout is per command
+                    if not selector.select(wait):
+                        fault = f"the program sent no command for {wait:g} s (last command: {last})"
                         break
                     chunk = os.read(out_fd, READ_BYTES)
                     if not chunk:

@@ -109,6 +109,23 @@ def test_a_mouse_that_never_answers_times_out(tmp_path: Path) -> None:
     assert "Error: --mouse: the program sent no command for 0.5 s (last command: 'wallFront' (line 1))" in r.output
 
 
+def test_a_slow_start_up_is_not_a_silence(tmp_path: Path) -> None:
+    """--timeout is the wait for each next command; the first one also waits for the program to start."""
+    r = run("explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'slowstart.py'}", "--timeout", "0.5",
+            "--log", tmp_path / "slow.bin")
+    assert r.exit_code == 0, r.output
+
+
+def test_a_mouse_that_never_starts_talking_times_out(tmp_path: Path, monkeypatch) -> None:
+    import maze.harness
+
+    monkeypatch.setattr(maze.harness, "STARTUP_S", 1.0)
+    r = run("explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'mute.py'}", "--timeout", "0.2",
+            "--log", tmp_path / "m.bin")
+    assert r.exit_code == 1
+    assert "Error: --mouse: the program sent no command for 1 s (last command: (none yet))" in r.output
+
+
 def test_bad_coordinates_are_a_warning_as_mms_ignores_them(tmp_path: Path) -> None:
     r = CliRunner().invoke(main, ["explore", "minimaze", "--mouse",
                                  f"{PY} {MICE / 'bad' / 'badcoords.py'}", "--log",
@@ -179,10 +196,10 @@ def test_ctrl_c_keeps_the_logs_and_exits_130(tmp_path: Path) -> None:
     proc = subprocess.Popen([exe, "explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'silent.py'}",
                              "--timeout", "30", "--log", str(log)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             text=True, preexec_fn=interruptible)
-    deadline = time.monotonic() + 20
-    while not (tmp_path / "int.stderr.txt").exists() and time.monotonic() < deadline:
-        time.sleep(0.05)
-    time.sleep(0.5)  # the mouse has asked its one question and gone quiet
+    deadline = time.monotonic() + 60
+    stderr = tmp_path / "int.stderr.txt"
+    while not (stderr.exists() and stderr.read_text()) and time.monotonic() < deadline:
+        time.sleep(0.05)  # until the mouse has had the answer to its one question, and gone quiet
     proc.send_signal(signal.SIGINT)
     out, err = proc.communicate(timeout=20)
     assert proc.returncode == 130

@@ -4,4 +4,5 @@ import time
 
 print("wallFront", flush=True)
 sys.stdin.readline()
+print("answered; silent from now on", file=sys.stderr, flush=True)
 time.sleep(60)

@@ -1,0 +1,4 @@
+"""Never sends a line at all."""
+import time
+
+time.sleep(60)
