@@ -108,6 +108,12 @@ objective_option = click.option("--objective", type=click.Choice(list(OBJECTIVES
 diagonal_option = click.option("--diagonal", is_flag=True, help="Allow diagonal runs and 45/135/V90 turns.")
 
 
+def timeout_option(whose: str) -> Callable[[F], F]:
+    """`--timeout` of a mouse run, for `explore --mouse` and `bench`, whose help names the program as `whose`."""
+    return click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=10.0, show_default=True,
+                        metavar="SECONDS", help=f"{whose} next command (its first, at start-up, may take longer).")
+
+
 def parse_cell(ctx: click.Context, param: click.Parameter, values: tuple[str, ...]) -> tuple[Cell, ...]:
     cells = []
     for value in values:
@@ -410,9 +416,7 @@ def objective_words(objective: str, diagonal: bool, mouse: MouseParams) -> str:
 @click.option("--max-steps", type=click.IntRange(min=1), default=None, help="--mouse: end after this many cells.")
 @click.option("--time-budget", type=click.FloatRange(min=0, min_open=True), default=None, metavar="SECONDS",
               help="--mouse: end when the modelled search time passes this (a contest's search minutes).")
-@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=10.0, show_default=True,
-              metavar="SECONDS",
-              help="--mouse: longest wait for the program's next command (its first, at start-up, may take longer).")
+@timeout_option("--mouse: longest wait for the program's")
 @click.option("--reset-at", type=click.IntRange(min=1), multiple=True, metavar="STEP",
               help="--mouse: press mms's Reset button after this many cells (repeatable).")
 @click.option("--animate", type=OutFile, default=None, metavar="GIF",
@@ -748,8 +752,7 @@ def draw_path(maze: Maze, route: Route, source: Path, objective: str, png: Path)
 @objective_option
 @diagonal_option
 @click.option("--max-steps", type=click.IntRange(min=1), default=None, help="End each mouse run after this many cells.")
-@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=10.0, show_default=True,
-              metavar="SECONDS", help="Longest wait for a mouse's next command (its first, at start-up, may take longer).")
+@timeout_option("Longest wait for a mouse's")
 @click.option("--jobs", type=click.IntRange(min=1), default=None, help="Parallel processes [default: half the cores].")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path), required=True,
               help="Folder for results.csv, summary.txt and each run's wall log.")

@@ -66,8 +66,8 @@ def _tail(path: Path) -> str:
     return lines[-1].strip() if lines else ""
 
 
-def run_mouse(argv: list[str], world: MmsWorld, stderr_path: Path, max_steps: int | None = None,
-              time_budget: float | None = None, timeout: float = 10.0) -> MouseRun:
+def run_mouse(argv: list[str], world: MmsWorld, stderr_path: Path, max_steps: int | None,
+              time_budget: float | None, timeout: float) -> MouseRun:
     """Talk to the program until it exits, `max_steps` cells are entered or the modelled search time passes
     `time_budget`; a fault ends the run early and says why in one line."""
     t0 = time.perf_counter()
