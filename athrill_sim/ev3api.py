@@ -167,6 +167,12 @@ class Ev3Api(LcdApi, SerialApi, FsApi, BrickApi):
             return 0
         return c_div(int(self.bus.read("h", rx(Rx.ULTRASONIC_MM))), 10)
 
+    def ev3_ultrasonic_sensor_listen(self, port: int) -> bool:
+        """Whether another ultrasonic sensor is heard: its slot nonzero (uart_dri_get_data_ultrasonic, mode 2)."""
+        if self._sensor_error(port, ULTRASONIC_SENSOR, "ev3_ultrasonic_sensor_listen"):
+            return False
+        return self.bus.read("I", rx(Rx.ULTRASONIC_LISTEN)) != 0
+
     def ev3_touch_sensor_is_pressed(self, port: int) -> bool:
         """The first touch sensor in port order reads slot 0, any later one slot 1 (uart_dri_get_data_touch)."""
         if self._sensor_error(port, TOUCH_SENSOR, "ev3_touch_sensor_is_pressed"):

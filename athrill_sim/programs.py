@@ -27,6 +27,7 @@ from hakoniwa.wire.processes import die_with_parent
 from hakoniwa.wire.protocol import ATHRILL_FILE, UNITY_FILE, SyncMode
 
 PROJECT = Path(__file__).resolve().parents[1]
+NATIVE_DIR = Path(__file__).resolve().parent / "native"  # the bench's runtime and libraries, not the user's program
 BUILD_ATHRILL_HINT = ("build it from TOPPERS' sources (github.com/toppers/athrill-target-v850e2m @ d7123b6 with "
                       "github.com/toppers/athrill @ 8bf811e as its athrill/ folder: ATHRILL_SRC=that/folder "
                       "scripts/build_athrill2.sh build/athrill; docs/REAL-ATHRILL.md), then pass --athrill2 "
@@ -39,13 +40,15 @@ REAL_SYNCS = {"repeatable": SyncMode.REPEATABLE, "hakoniwa": SyncMode.HAKONIWA}
 SYNC_WAIT_KEY = "DEBUG_FUNC_VDEV_MMAP_SYNC_WAIT"  # read by scripts/athrill-patches/01-*.patch
 
 # Athrill's memory map and device configuration for an EV3RT image in MMAP mode: the layout the TOPPERS
-# ev3rt-athrill-v850e2m images are linked for, with the two mapped files at the VDEV addresses below. Athrill
-# finds the mapped files by these names, relative to its working directory (the run directory).
+# ev3rt-athrill-v850e2m images are linked for (v850es_fk3.ld, and the SDK's sdk/common/memory.txt: 2048 KB of
+# ROM and of data RAM; a C++ program with libstdc++'s iostream outgrows the 512 KB of the older ble_sample's
+# map), the serial FIFO's RAM, and the two mapped files at the VDEV addresses below. Athrill finds the mapped
+# files by these names, relative to its working directory (the run directory).
 MMAP_TX_ADDR = 0x40000000
 MMAP_RX_ADDR = 0x40010000
 MEMORY_CONFIG = "memory_mmap.txt"
 DEVICE_CONFIG = "device_config_mmap.txt"
-ATHRILL_MEMORY = [("ROM", 0x00000000, "512"), ("RAM", 0x00200000, "512"), ("RAM", 0x03FF7000, "1024"),
+ATHRILL_MEMORY = [("ROM", 0x00000000, "2048"), ("RAM", 0x00200000, "2048"), ("RAM", 0x03FF7000, "1024"),
                   ("RAM", 0x05FF7000, "10240"), ("RAM", 0x07FF7000, "10240"),
                   ("MMAP", MMAP_TX_ADDR, ATHRILL_FILE), ("MMAP", MMAP_RX_ADDR, UNITY_FILE)]
 ATHRILL_DEVICE = [
@@ -132,7 +135,7 @@ def native_program(source: Path) -> Program:
 
     try:
         exe = build_app(source)
-        files = find_app(source).hashed
+        files = tuple(f for f in find_app(source).hashed if not f.is_relative_to(NATIVE_DIR))  # the user's
     except NativeBuildError as e:
         raise ProgramError(str(e)) from None
     return Program(f"native C app {source}", SyncMode.LOCKSTEP, True,
@@ -205,11 +208,13 @@ def resolve_program(spec: str, *, athrill2: str | None = None, emulator: str | N
     (a .c file, a workspace folder or a built-in C name), or a v850 ELF. `emulator` athrill2 builds a C
     program into a v850 image; `sync` (repeatable, hakoniwa) is how a real emulator keeps time."""
     from athrill_sim.apps import BUILTIN, C_BUILTIN
+    from athrill_sim.native.workspace import SOURCE_SUFFIXES
     from athrill_sim.v850.elf import is_elf
 
     path = Path(spec)
     builtins = ", ".join([*BUILTIN, *C_BUILTIN])
-    c_source = C_BUILTIN.get(spec) or (path if path.is_dir() or (path.is_file() and path.suffix == ".c") else None)
+    c_source = C_BUILTIN.get(spec) or (path if path.is_dir() or (path.is_file() and path.suffix in SOURCE_SUFFIXES)
+                                       else None)
     real = emulator == "athrill2" or (c_source is None and path.is_file() and is_elf(path))
     if sync is not None and not real:
         raise ProgramError(f"--sync {sync} is for the real emulator (a v850 image, or --emulator athrill2); "
@@ -224,11 +229,11 @@ def resolve_program(spec: str, *, athrill2: str | None = None, emulator: str | N
             if emulator == "native":
                 raise ProgramError(f"--app {spec}: a v850 image runs only in the real emulator (--emulator athrill2)")
             return elf_program(path, athrill2, real_sync)
-        raise ProgramError(f"--app {spec}: not a v850 ELF image, a C file (.c), a built-in app ({builtins}) "
+        raise ProgramError(f"--app {spec}: not a v850 ELF image, a C or C++ file (.c, .cpp), a built-in app ({builtins}) "
                            "or module:function")
     if emulator == "athrill2":
-        raise ProgramError(f"--app {spec}: --emulator athrill2 runs EV3RT C programs (app.c, a workspace folder, "
-                           "line_trace_c) and v850 images, not Python programs")
+        raise ProgramError(f"--app {spec}: --emulator athrill2 runs EV3RT C and C++ programs (app.c, app.cpp, a "
+                           "workspace folder, line_trace_c) and v850 images, not Python programs")
     module, _, func = spec.partition(":")
     if not (module and func):
         raise ProgramError(f"--app {spec}: no such file or folder, and not a built-in app ({builtins}) "

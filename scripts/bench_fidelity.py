@@ -5,8 +5,9 @@ v850 image in the real TOPPERS athrill2 (repeatable mode), on the same course an
 draw (none by default: the two sides draw sensor noise at different instants, so only a noise-free pair
 compares the programs alone). Programs: each EV3RT sample in the SDK's workspace that builds both ways (one
 that does not move the robot natively is listed as such and not run in the real emulator, where a CPU-bound
-sample emulates at a few simulated ms per wall second), and the built-in C tracer (the paper's Fig. 7 law)
-at `--sets` seeded random gain sets.
+sample emulates at a few simulated ms per wall second), the C and C++ programs written for the tests in ET
+Robocon teams' style (`tests/programs/`: each on its robot, started by the touch press it waits for), and the
+built-in C tracer (the paper's Fig. 7 law) at `--sets` seeded random gain sets.
 
 Per program it prints the event, lap and distance on each side and the largest difference in the motor-power
 sequence (the i-th command each side sent its wheel motors, compared in order; the first index where they
@@ -41,8 +42,28 @@ from testctl.runner import TrialRunner
 
 REPO = Path(__file__).resolve().parents[1]
 WORKSPACE = REPO.parent / "shared" / "third_party" / "ev3rt" / "ev3rt-athrill-v850e2m" / "sdk" / "workspace"
+TEAM_PROGRAMS = REPO / "tests" / "programs"
+# The team-style programs: (folder, robot, the touch port pressed at 0.5 s to start it).
+TEAMS = [("etrobo_cpp_tracer", None, 4), ("cpp_features", None, None), ("etrobo_hackev", "hackev", 1)]
 TOLERANCE = 0.02  # laps and distances within 2%
 TRACER = "line_trace_c"
+
+
+@dataclass(frozen=True)
+class Subject:
+    """A program to compare, with the robot and start press it needs."""
+
+    label: str
+    app: str
+    robot: str | None = None
+    press_port: int | None = None
+
+    def scenario(self, folder: Path) -> str | None:
+        if self.press_port is None:
+            return None
+        path = folder / f"press-{self.press_port}.toml"
+        path.write_text(f'[[press]]\nsensor = "touch"\nport = {self.press_port}\nat_s = 0.5\nfor_s = 0.2\n')
+        return str(path)
 
 
 @dataclass
@@ -57,9 +78,10 @@ class Run:
 class RecordingBench:
     """One program on an in-process physics server whose motor commands are recorded per test."""
 
-    def __init__(self, program: Program, course: str, time_limit_s: float | None) -> None:
+    def __init__(self, program: Program, course: str, time_limit_s: float | None, subject: Subject | None = None) -> None:
         self._tmp = tempfile.TemporaryDirectory(prefix="hako-fidelity-")
-        options = BenchOptions(course=course, time_limit_s=time_limit_s)
+        options = BenchOptions(course=course, time_limit_s=time_limit_s, robot=subject and subject.robot,
+                               scenario=subject and subject.scenario(Path(self._tmp.name)))
         loaded, robot, scenario = load_bench(options)
         self.server = PhysicsServer(Path(self._tmp.name), loaded, program, athrill_timeout_s=30.0,
                                     time_limit_us=options.time_limit_us(loaded.time_limit_us), robot=robot,
@@ -118,12 +140,15 @@ def sim_seconds(r: TestResult, limit_s: float) -> float:
     return r.lap_time_s if r.lap_time_s is not None else limit_s
 
 
-def programs(corpus: bool) -> list[tuple[str, str]]:
-    """(label, --app) of the programs to compare: the SDK's samples (each folder with an app.c), then the tracer."""
+def programs(corpus: bool, teams: bool) -> list[Subject]:
+    """The programs to compare: the SDK's samples (each folder with an app.c), the team-style programs, then
+    the tracer."""
     found = []
     if corpus and WORKSPACE.is_dir():
-        found = [(d.name, str(d)) for d in sorted(WORKSPACE.iterdir()) if (d / "app.c").is_file()]
-    return [*found, (TRACER, TRACER)]
+        found = [Subject(d.name, str(d)) for d in sorted(WORKSPACE.iterdir()) if (d / "app.c").is_file()]
+    if teams:
+        found += [Subject(name, str(TEAM_PROGRAMS / name), robot, port) for name, robot, port in TEAMS]
+    return [*found, Subject(TRACER, TRACER)]
 
 
 def random_gains(sets: int, seed: int) -> list[tuple[float, float, float]]:
@@ -141,13 +166,16 @@ def random_gains(sets: int, seed: int) -> list[tuple[float, float, float]]:
 @click.option("--time-limit", type=click.FloatRange(min=0.1), default=None,
               help="Simulated seconds per run [the course's].")
 @click.option("--corpus/--no-corpus", default=True, show_default=True, help="Include the SDK's sample programs.")
+@click.option("--teams/--no-teams", default=True, show_default=True,
+              help="Include the team-style C and C++ programs of tests/programs.")
 @click.option("--program", "extra", multiple=True, type=click.Path(exists=True, path_type=Path),
               help="Another EV3RT program (app.c or workspace folder) to compare; repeatable.")
 @click.option("--only", multiple=True, help="Only these programs (labels as printed); repeatable.")
 @click.option("--athrill2", default=None, help="athrill2 with the sync patch [on PATH, else build/athrill-repeatable].")
 @click.option("--sync-cost", is_flag=True, help="Also time the tracer at the paper's gains with --sync hakoniwa.")
 def main(sets: int, seed: int, noise: float, noise_seed: int, course: str, time_limit: float | None,
-         corpus: bool, extra: tuple[Path, ...], only: tuple[str, ...], athrill2: str | None, sync_cost: bool) -> None:
+         corpus: bool, teams: bool, extra: tuple[Path, ...], only: tuple[str, ...], athrill2: str | None,
+         sync_cost: bool) -> None:
     """Run each program natively and in the real emulator; print the pairs and whether they agree."""
     limit_s = BenchOptions(course=course, time_limit_s=time_limit).time_limit_us(
         load_course(course).time_limit_us) / US_PER_S
@@ -155,13 +183,15 @@ def main(sets: int, seed: int, noise: float, noise_seed: int, course: str, time_
     misses = []
     print(f"{'program':<26} {'native: event':>14} {'lap':>7} {'dist':>6}   {'real: event':>12} {'lap':>7} {'dist':>6}"
           f"   {'max dP':>6} {'first':>5}  ok")
-    for label, app in [*programs(corpus), *((p.name, str(p)) for p in extra)]:
+    for subject in [*programs(corpus, teams), *(Subject(p.name, str(p)) for p in extra)]:
+        label, app = subject.label, subject.app
         if only and label not in only:
             continue
         gain_sets = random_gains(sets, seed) if app == TRACER else [BEST_GAINS]
         try:
-            native = RecordingBench(resolve_program(app), course, time_limit)
-            real = RecordingBench(resolve_program(app, emulator="athrill2", athrill2=athrill2), course, time_limit)
+            native = RecordingBench(resolve_program(app), course, time_limit, subject)
+            real = RecordingBench(resolve_program(app, emulator="athrill2", athrill2=athrill2), course, time_limit,
+                                  subject)
         except ProgramError as e:
             print(f"{label:<26} skipped: {e}")
             continue

@@ -19,3 +19,17 @@ def test_native_and_real_runs_agree_on_a_subset(base_practice_image, repeatable_
     assert "skipped" not in out.stdout, out.stdout
     assert out.stdout.count(" yes\n") == 3, out.stdout
     assert out.returncode == 0 and out.stdout.rstrip().endswith(": none"), out.stdout + out.stderr
+
+
+@pytest.mark.slow
+def test_the_team_style_c_and_cpp_programs_agree_natively_and_in_the_real_emulator(repeatable_athrill2):
+    from realemu_fixtures import need_v850_tools
+
+    need_v850_tools()
+    teams = ("etrobo_cpp_tracer", "cpp_features", "etrobo_hackev")
+    out = subprocess.run([sys.executable, str(REPO / "scripts" / "bench_fidelity.py"), "--no-corpus",
+                          *(arg for name in teams for arg in ("--only", name)),
+                          "--athrill2", str(repeatable_athrill2)], capture_output=True, text=True, timeout=1800)
+    assert "skipped" not in out.stdout, out.stdout
+    assert out.stdout.count(" yes\n") == len(teams), out.stdout
+    assert out.returncode == 0 and out.stdout.rstrip().endswith(": none"), out.stdout + out.stderr

@@ -10,7 +10,7 @@ from athrill_sim.native import NativeBuildError
 from athrill_sim.native.appcfg import kernel_config
 from athrill_sim.native.build import build_app, first_error
 from athrill_sim.native.headers import generated_headers
-from athrill_sim.native.workspace import find_app, read_makefile_inc
+from athrill_sim.native.workspace import find_app
 from hakoniwa.wire import protocol, waiting
 from athrill_sim.programs import ProgramError, resolve_program
 from hakoniwa.wire.timebase import PHYSICS_STEP_US
@@ -77,12 +77,13 @@ def test_app_cfg_declares_tasks_and_cyclic_handlers_with_ids(tmp_path):
                    'ATT_MOD("app.o");\n')
     config = kernel_config(cfg, same)
     header, source = config.header(), config.source()
-    for line in ("#define MAIN_TASK 1", "#define TRACER_TASK 2", "#define TICK 1", "#define KICK 2",
-                 "#define TNUM_TSKID 2", "#define TNUM_CYCID 2"):
+    # EV3RT numbers its EV3_CRE_CYC handlers apart from ASP3's CRE_CYC ones (ev3cyclic_dri.c): each from 1
+    for line in ("#define MAIN_TASK 1", "#define TRACER_TASK 2", "#define TICK 1", "#define KICK 1",
+                 "#define TNUM_TSKID 2", "#define TNUM_CYCID 1"):
         assert line + "\n" in header
     assert '{"MAIN_TASK", (TA_ACT), (intptr_t)(0), main_task, (PRI + 1), (4096)},' in source
-    assert '{TNFY_HANDLER, (intptr_t)(3), tick}, ((RELTIM)(4) * 1000U), ((RELTIM)(1) * 1000U)},' in source
-    assert '{"KICK", (TA_NULL), {TNFY_ACTTSK, TRACER_TASK}, (4U * 1000U), (1U * 1000U)},' in source
+    assert '{TNFY_HANDLER, (intptr_t)(3), tick}, ((RELTIM)(4) * 1000U), ((RELTIM)(1) * 1000U), true},' in source
+    assert '{"KICK", (TA_NULL), {TNFY_ACTTSK, TRACER_TASK}, (4U * 1000U), (1U * 1000U), false},' in source
     assert "void tick(intptr_t exinf);" in source and "not_an_api" not in source
 
 
@@ -99,21 +100,20 @@ def test_app_cfg_errors_name_the_problem(tmp_path, cfg, message):
         kernel_config(tmp_path / "app.cfg", same)
 
 
-def test_makefile_inc_names_the_sources_and_refuses_cplusplus(tmp_path):
-    (tmp_path / "app.c").write_text("")
-    (tmp_path / "util").mkdir()
-    (tmp_path / "util" / "pid.c").write_text("")
-    (tmp_path / "Makefile.inc").write_text(
+def test_makefile_inc_names_the_sources_as_gnu_make_reads_it(tmp_path):
+    app = tmp_path / "ws" / "app"
+    (app / "util").mkdir(parents=True)
+    (app / "app.c").write_text("")
+    (app / "util" / "pid.c").write_text("")
+    (app / "Makefile.inc").write_text(
         "mkfile_path := $(dir $(lastword $(MAKEFILE_LIST)))\nAPPL_DIRS += $(mkfile_path)util\n"
-        "ifdef USE_CXX\n\tAPPL_CXXOBJS += tracer.o\nelse\n\tAPPL_COBJS += pid.o\nendif\n"
-        "INCLUDES += -I$(mkfile_path)util\nCOPTS += -DGAIN=2 -O3\n")
-    assert read_makefile_inc(tmp_path / "Makefile.inc")["APPL_COBJS"] == ["pid.o"]
-    app = find_app(tmp_path)
-    assert app.sources == (tmp_path / "app.c", tmp_path / "util" / "pid.c")
-    assert app.include_dirs == (tmp_path / "util",) and app.defines == ("-DGAIN=2",)
-    (tmp_path / "Makefile.inc").write_text("SRCLANG := c++\n")
-    with pytest.raises(NativeBuildError, match="C\\+\\+"):
-        find_app(tmp_path)
+        "ifeq ($(SRCLANG),c++)\n\tAPPL_CXXOBJS += tracer.o\nelse\n\tAPPL_COBJS += $(notdir $(wildcard "
+        "$(mkfile_path)util/*.c))\nendif\nAPPL_COBJS := $(APPL_COBJS:.c=.o)\n"
+        "INCLUDES += -I$(mkfile_path)util\nCOPTS += -DGAIN=2 -O3 -ffast-math -I $(mkfile_path)util -std=c99\n")
+    found = find_app(app)
+    assert found.sources == (app / "app.c", app / "util" / "pid.c")
+    assert found.include_dirs == (app / "util",) and found.defines == ("-DGAIN=2",) and found.c_std == "-std=c99"
+    assert app / "Makefile.inc" in found.hashed
 
 
 def test_a_build_is_cached_until_a_source_changes(tmp_path, monkeypatch):

@@ -373,6 +373,45 @@ def test_tasks_and_cyclic_handlers_run_in_priority_and_time_order(tmp_path):
 
 
 
+EV3_IDS_CFG = """
+#include "app.h"
+CRE_TSK(MAIN_TASK, { TA_ACT, 0, main_task, MAIN_PRIORITY, STACK_SIZE, NULL });
+CRE_TSK(TRACER_TASK, { TA_NULL, 0, tracer_task, MAIN_PRIORITY + 1, STACK_SIZE, NULL });
+CRE_CYC(TRACER_CYC, { TA_NULL, { TNFY_ACTTSK, TRACER_TASK }, 10 * 1000, 0 });
+"""
+EV3_IDS_APP = r"""
+#include "ev3api.h"
+#include "app.h"
+void tracer_task(intptr_t exinf) { syslog(LOG_NOTICE, "traced"); }
+void main_task(intptr_t exinf)
+{
+    syslog(LOG_NOTICE, "ev3_sta_cyc(TRACER_CYC) %d", ev3_sta_cyc(TRACER_CYC));
+    tslp_tsk(25 * 1000);
+    syslog(LOG_NOTICE, "sta_cyc(TRACER_CYC) %d", sta_cyc(TRACER_CYC));
+    tslp_tsk(15 * 1000);
+    stp_cyc(TRACER_CYC);
+}
+"""
+
+
+def test_ev3_sta_cyc_takes_only_an_ev3_cyclics_id_as_on_ev3rt(tmp_path):
+    """ev3cyclic_dri.c's CHECK_EV3CYCID: an ASP3 CRE_CYC handler's ID is E_ID to ev3_sta_cyc, which starts
+    nothing (a C++ tracer, run both ways, found the native runtime starting it)."""
+    (tmp_path / "app").mkdir()
+    (tmp_path / "app" / "app.h").write_text(SCHEDULING_H + "void tracer_task(intptr_t);\n")
+    exe = build(tmp_path / "app", EV3_IDS_APP, EV3_IDS_CFG)
+    bench = FakePhysics(tmp_path / "run")
+    proc = bench.start(exe)
+    assert bench.wakes(proc, 60_000) == [25_000, 35_000, 40_000, NEVER_WAKES]
+    log = [line.split("] ", 1) for line in finish(proc).splitlines()]
+    assert [(stamp.strip("[ s"), what) for stamp, what in log] == [
+        ("0.000", "ev3_sta_cyc(TRACER_CYC) -18"),  # E_ID, and no tracing until sta_cyc
+        ("0.025", "sta_cyc(TRACER_CYC) 0"),
+        ("0.025", "traced"),
+        ("0.035", "traced"),
+    ]
+
+
 # Each loop computes for a small fraction of the spin slice (about 0.1 ms here), then sleeps 100 ms.
 COMPUTING_APP = r"""
 #include "ev3api.h"

@@ -14,7 +14,9 @@ from hakoniwa.wire.protocol import (ATHRILL_FILE, COURSE_BLOCK_POSITIONS, FILE_S
 # The README's tables, written out independently of protocol.py.
 REAL_HEADER = {"magic": 0, "version": 4, "athrill_time": 8, "unity_time": 16, "ext_off": 24, "ext_size": 28}
 REAL_RX = {"buttons": 0, "color0_ambient": 4, "color0_color": 8, "color0_reflect": 12, "color0_rgb": 16,
-           "gyro_angle": 28, "gyro_rate": 32, "ultrasonic_mm": 88, "touch0": 112, "touch1": 124,
+           "gyro_angle": 28, "gyro_rate": 32, "ultrasonic_mm": 88,
+           "ultrasonic_listen": 92,  # ev3_vdev_common.h: EV3_SENSOR_INX_ULTRASONIC_LISTEN 22, 4 bytes each
+           "touch0": 112, "touch1": 124,
            # ev3_vdev_common.h: EV3_SENSOR_OFF 4 + 4 * EV3_BATTERY_INX_CURRENT (28) / _VOLTAGE (29)
            "battery_current": 116, "battery_voltage": 120,
            "color1_ambient": 128, "color1_color": 132, "color1_reflect": 136, "color1_rgb": 140, "motor_angle": 256,

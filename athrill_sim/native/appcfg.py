@@ -8,9 +8,10 @@ constant of the program's headers, and a wrong one is a compiler error that name
 Static APIs:
 - `CRE_TSK(ID, { attr, exinf, task, priority, stack size, stack })`: a task; TA_ACT starts it.
 - `EV3_CRE_CYC(ID, { attr, exinf, handler, period, phase })`: EV3RT's cyclic handler, times in
-  milliseconds; TA_STA starts it. `ev3_sta_cyc` / `ev3_stp_cyc`, or `sta_cyc` / `stp_cyc`.
+  milliseconds; TA_STA starts it, as do `ev3_sta_cyc` / `ev3_stp_cyc`.
 - `CRE_CYC(ID, { attr, { TNFY_HANDLER, exinf, handler } or { TNFY_ACTTSK | TNFY_WUPTSK, task }, period,
-  phase })`: ASP3's cyclic handler, times in microseconds. Both kinds share one ID space.
+  phase })`: ASP3's cyclic handler, times in microseconds; `sta_cyc` / `stp_cyc`. The two kinds are numbered
+  apart, each from 1, as on EV3RT, where `ev3_sta_cyc` takes only an EV3 cyclic's ID (else E_ID).
 - `INCLUDE("file.cfg")`: read from the program's folder; EV3RT's own configuration files are skipped.
 - `DOMAIN(...) { }`, `ATT_MOD(...)` and `ATT_INI(...)` (HRP3: memory protection, initialization routines) are skipped. Anything else is an error that names it.
 """
@@ -61,6 +62,7 @@ class Cyclic:
     handler: str | None  # the function it calls, if any
     period_us: str
     phase_us: str
+    ev3: bool  # EV3_CRE_CYC (its ID is ev3_sta_cyc's), else CRE_CYC (sta_cyc's)
 
 
 @dataclass
@@ -72,9 +74,11 @@ class KernelConfig:
     def header(self) -> str:
         lines = ["/* Generated from app.cfg by athrill_sim/native/appcfg.py; do not edit. */",
                  "#ifndef HAKO_KERNEL_CFG_H", "#define HAKO_KERNEL_CFG_H",
-                 f"#define TNUM_TSKID {len(self.tasks)}", f"#define TNUM_CYCID {len(self.cyclics)}"]
+                 f"#define TNUM_TSKID {len(self.tasks)}",
+                 f"#define TNUM_CYCID {sum(not c.ev3 for c in self.cyclics)}"]
         lines += [f"#define {t.name} {i}" for i, t in enumerate(self.tasks, 1)]
-        lines += [f"#define {c.name} {i}" for i, c in enumerate(self.cyclics, 1)]
+        for ev3 in (True, False):
+            lines += [f"#define {c.name} {i}" for i, c in enumerate((c for c in self.cyclics if c.ev3 == ev3), 1)]
         return "\n".join([*lines, "#endif", ""])
 
     def source(self) -> str:
@@ -92,7 +96,8 @@ class KernelConfig:
                 for t in self.tasks]
         out += ["    {0}", "};", f"const uint_t hako_task_count = {len(self.tasks)};",
                 "const hako_cyclic_cfg hako_cyclic_table[] = {"]
-        out += [f'    {{"{c.name}", ({c.attr}), {c.notify}, ({c.period_us}), ({c.phase_us})}},' for c in self.cyclics]
+        out += [f'    {{"{c.name}", ({c.attr}), {c.notify}, ({c.period_us}), ({c.phase_us}), {str(c.ev3).lower()}}},'
+                for c in self.cyclics]
         out += ["    {0}", "};", f"const uint_t hako_cyclic_count = {len(self.cyclics)};", ""]
         return "\n".join(out)
 
@@ -141,7 +146,7 @@ class _Reader:
                 ident, (attr, exinf, handler, period_ms, phase_ms) = _object(name, args, 5, where)
                 handler = _function(handler, name, where)
                 cyclics.append(Cyclic(ident, attr, f"{{TNFY_HANDLER, (intptr_t)({exinf}), {handler}}}", handler,
-                                      f"(RELTIM)({period_ms}) * 1000U", f"(RELTIM)({phase_ms}) * 1000U"))
+                                      f"(RELTIM)({period_ms}) * 1000U", f"(RELTIM)({phase_ms}) * 1000U", True))
             elif name == "CRE_CYC":
                 ident, (attr, notify, period_us, phase_us) = _object(name, args, 4, where)
                 parts = _braced(notify, f"{name}({ident}) notification", where)
@@ -149,7 +154,7 @@ class _Reader:
                     raise NativeBuildError(f"{where}: {name}({ident}): the notification is {{mode, task}} or "
                                            "{mode, exinf, handler}")
                 handler = _function(parts[2], name, where) if len(parts) == 3 else None
-                cyclics.append(Cyclic(ident, attr, "{" + ", ".join(parts) + "}", handler, period_us, phase_us))
+                cyclics.append(Cyclic(ident, attr, "{" + ", ".join(parts) + "}", handler, period_us, phase_us, False))
             else:
                 raise NativeBuildError(f"{where}: {name} is not supported by the native mock (it supports "
                                        f"{', '.join(SUPPORTED)}; see docs/NATIVE.md)")

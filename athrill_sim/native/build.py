@@ -1,15 +1,22 @@
-"""Building a user's EV3RT C program into a native Athrill, once per campaign and cached.
+"""Building a user's EV3RT C or C++ program into a native Athrill, once per campaign and cached.
 
 The cache key is a hash of everything that goes into the binary: the program's files (`AppSources.hashed`, by
-their paths relative to the program's folder, so a copy elsewhere is the same program), the runtime's sources
-and headers, the generated headers, the generator's own code, the flags, and the compiler's identity (its path
-and `--version`). A build happens in a scratch folder beside the cache entry and is renamed into place when it
-is whole, so two benches building the same program at once both end up with a good binary. Entries live in
-`${XDG_CACHE_HOME:-~/.cache}/hakoniwa-py/native/<key>/`, with the compiler's output in `build.log`.
+their paths relative to the program's folder, so a copy elsewhere is the same program, and the makefiles its
+`Makefile.inc` read), the runtime's sources and headers, the generated headers, the generator's own code, the
+flags, and the compilers' identities (their paths and `--version`). A build happens in a scratch folder beside
+the cache entry and is renamed into place when it is whole, so two benches building the same program at once
+both end up with a good binary. Entries live in `${XDG_CACHE_HOME:-~/.cache}/hakoniwa-py/native/<key>/`, with
+the compilers' output in `build.log`.
 
-The flags keep float arithmetic strict, so that a program computes what its C says, operation by operation:
-`-ffp-contract=off` (no fused multiply-add) and no fast-math. `-fno-strict-aliasing`, because embedded code
-type-puns freely; integer-to-pointer casts are not warned about, because EV3RT programs use guest addresses.
+Each source is compiled on its own (C with `$CC`, C++ with `$CXX`, two at a time), so that sources of the
+same name in different folders (EV3RT keeps a library's objects apart too) never collide, and the objects are
+linked by the C++ driver when any source is C++. The flags keep float arithmetic strict, so that a program
+computes what its source says, operation by operation: `-ffp-contract=off` (no fused multiply-add) and no
+fast-math. `-fno-strict-aliasing`, because embedded code type-puns freely; integer-to-pointer casts are not
+warned about, because EV3RT programs use guest addresses. C++ is gcc 12's default dialect, `-std=gnu++17`,
+which the v850 toolchain compiles EV3RT's C++ programs with; a `-std=` in the program's `COPTS` wins.
+ET Robocon's programs define `void *__dso_handle = 0;` (EV3RT links without the C runtime's start files,
+which define it); natively that name is the C runtime's, so the program's is renamed by a macro.
 """
 
 from __future__ import annotations
@@ -19,23 +26,31 @@ import re
 import shutil
 import subprocess
 from collections.abc import Collection
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from athrill_sim.build_cache import CacheKey, cache_root, cached_build
-from athrill_sim.native import NativeBuildError, appcfg, headers, workspace
+from athrill_sim.native import NativeBuildError, appcfg, headers, makefile, workspace
 from athrill_sim.native.appcfg import KERNEL_CFG_C, KERNEL_CFG_H, kernel_config
-from athrill_sim.native.workspace import AppSources, find_app
+from athrill_sim.native.makefile import ETROBOC_COMMON
+from athrill_sim.native.workspace import CXX_SUFFIX, AppSources, find_app
 
 RUNTIME = Path(__file__).with_name("runtime")
 RUNTIME_INCLUDE = RUNTIME / "include"
 RUNTIME_SRC = RUNTIME / "src"
-GENERATORS = (Path(__file__), Path(appcfg.__file__), Path(headers.__file__), Path(workspace.__file__))
-CFLAGS = ("-std=gnu11", "-O2", "-ffp-contract=off", "-fno-fast-math", "-fno-strict-aliasing", "-Wall",
-          "-Wno-int-to-pointer-cast")
+GENERATORS = (Path(__file__), Path(appcfg.__file__), Path(headers.__file__), Path(workspace.__file__),
+              Path(makefile.__file__))
+STRICT_FLAGS = ("-O2", "-ffp-contract=off", "-fno-fast-math", "-fno-strict-aliasing", "-Wall",
+                "-Wno-int-to-pointer-cast")
+C_STD = "-std=gnu11"
+CXX_STD = "-std=gnu++17"
+CXX_FLAGS = ("-D__dso_handle=hako_program_dso_handle",)
 LIBS = ("-lm",)
 EXECUTABLE = "athrill-native"
 BUILD_LOG = "build.log"
+OBJECTS = "objects"
 COMPILE_TIMEOUT_S = 300
+INSTALL_CXX = "install one (apt-get install g++) or set CXX"
 
 _ERROR = re.compile(r"\berror: |undefined reference to |multiple definition of ")
 _LINKER_LOCATION = re.compile(r"^.*?:\(\.\w+[^)]*\): ")
@@ -44,31 +59,53 @@ _UNDEFINED = re.compile(r"undefined reference to [`'\u2018]([A-Za-z_]\w*)['\u201
 
 def find_compiler() -> Path:
     """The system C compiler: $CC, else cc, else gcc."""
-    for name in (os.environ.get("CC"), "cc", "gcc"):
+    return _find(("CC", "cc", "gcc"), "no C compiler (cc or gcc) on PATH to build a native app; install one or set CC")
+
+
+def find_cxx_compiler() -> Path:
+    """The system C++ compiler: $CXX, else c++, else g++."""
+    return _find(("CXX", "c++", "g++"), f"no C++ compiler (c++ or g++) on PATH to build a C++ app; {INSTALL_CXX}")
+
+
+def _find(names: tuple[str, str, str], missing: str) -> Path:
+    env, *defaults = names
+    for name in (os.environ.get(env), *defaults):
         if name and (found := shutil.which(name)):
             return Path(found)
-    raise NativeBuildError("no C compiler (cc or gcc) on PATH to build a native app; install one or set CC")
+    raise NativeBuildError(missing)
+
+
+class Compilers:
+    """The C compiler, and the C++ one when the program has C++ sources."""
+
+    def __init__(self, app: AppSources) -> None:
+        self.cc = find_compiler()
+        self.cxx = find_cxx_compiler() if app.cxx else None
+
+    def identity(self) -> str:
+        return "\n".join(f"{c}\n{_compiler_identity(c)}" for c in (self.cc, self.cxx) if c is not None)
 
 
 def build_app(path: Path) -> Path:
     """The native Athrill for the program at `path`, built now unless the cache holds it."""
     app = find_app(path)
-    cc = find_compiler()
+    compilers = Compilers(app)
     generated = headers.generated_headers()
-    return cached_build(cache_root() / "native" / cache_key(app, cc, generated), EXECUTABLE,
-                        lambda scratch: _build(app, cc, generated, scratch))
+    return cached_build(cache_root() / "native" / cache_key(app, compilers, generated), EXECUTABLE,
+                        lambda scratch: _build(app, compilers, generated, scratch))
 
 
-def cache_key(app: AppSources, cc: Path, generated: dict[str, str]) -> str:
+def cache_key(app: AppSources, compilers: Compilers, generated: dict[str, str]) -> str:
     key = CacheKey()
     add = key.add
 
     def rel(path: Path | None) -> str:
         return os.path.relpath(path, app.root) if path else ""
 
-    add("compiler", f"{cc}\n{_compiler_identity(cc)}".encode())
-    add("flags", "\0".join((*CFLAGS, *LIBS, *app.defines)).encode())
-    add("layout", repr(([rel(s) for s in app.sources], rel(app.cfg), [rel(d) for d in app.include_dirs])).encode())
+    add("compiler", compilers.identity().encode())
+    add("flags", "\0".join((*STRICT_FLAGS, *_c_flags(app), *_cxx_flags(app), *LIBS, *app.libs, *app.defines)).encode())
+    add("layout", repr(([rel(s) for s in app.sources], [rel(s) for s in app.library_sources], rel(app.cfg),
+                        [rel(d) for d in app.include_dirs])).encode())
     for f in (*sorted(RUNTIME.rglob("*.[ch]")), *GENERATORS):
         add(os.path.relpath(f, RUNTIME.parent), f.read_bytes())
     for f in app.hashed:
@@ -78,11 +115,19 @@ def cache_key(app: AppSources, cc: Path, generated: dict[str, str]) -> str:
     return key.name()
 
 
+def _c_flags(app: AppSources) -> tuple[str, ...]:
+    return (app.c_std or C_STD, *STRICT_FLAGS)
+
+
+def _cxx_flags(app: AppSources) -> tuple[str, ...]:
+    return (app.cxx_std or CXX_STD, *STRICT_FLAGS, *CXX_FLAGS)
+
+
 def _compiler_identity(cc: Path) -> str:
     try:
         out = subprocess.run([str(cc), "--version"], capture_output=True, text=True, timeout=60, env=_compiler_env())
     except OSError as e:
-        raise NativeBuildError(f"cannot run the C compiler {cc}: {e.strerror}") from None
+        raise NativeBuildError(f"cannot run the compiler {cc}: {e.strerror}") from None
     return out.stdout
 
 
@@ -91,47 +136,91 @@ def _compiler_env() -> dict[str, str]:
 
 
 def _include_flags(app: AppSources, build_dir: Path) -> list[str]:
-    """Ours first: a stray kernel_cfg.h from a real EV3RT build in the program's folder must not win."""
-    return [f"-I{d}" for d in (build_dir, RUNTIME_INCLUDE, app.root, *app.include_dirs)]
+    """Ours first: a stray kernel_cfg.h from a real EV3RT build in the program's folder, or ET Robocon's own
+    etroboc_ext.h on the program's include path, must not win."""
+    return [f"-I{d}" for d in (build_dir, RUNTIME_INCLUDE, ETROBOC_COMMON, app.root, *app.include_dirs)]
 
 
-def _build(app: AppSources, cc: Path, generated: dict[str, str], build_dir: Path) -> None:
+def _build(app: AppSources, compilers: Compilers, generated: dict[str, str], build_dir: Path) -> None:
     for name, text in generated.items():
         (build_dir / name).write_text(text)
     includes = _include_flags(app, build_dir)
 
     def preprocess(cfg: Path) -> str:
-        cmd = [str(cc), "-E", "-P", "-x", "c", "-DTOPPERS_MACRO_ONLY", *includes, *app.defines, str(cfg)]
+        cmd = [str(compilers.cc), "-E", "-P", "-x", "c", "-DTOPPERS_MACRO_ONLY", *includes, *app.defines, str(cfg)]
         return _run(cmd, app.root, build_dir, f"{cfg.name} does not preprocess")
 
     config = kernel_config(app.cfg, preprocess)
     (build_dir / KERNEL_CFG_H).write_text(config.header())
     (build_dir / KERNEL_CFG_C).write_text(config.source())
-    sources = [os.path.relpath(s, app.root) for s in app.sources]
-    cmd = [str(cc), *CFLAGS, *includes, *app.defines, *sources, str(build_dir / KERNEL_CFG_C),
-           *(str(s) for s in sorted(RUNTIME_SRC.glob("*.c"))), "-o", str(build_dir / EXECUTABLE), *LIBS]
+    sources = [*app.sources, build_dir / KERNEL_CFG_C, *sorted(RUNTIME_SRC.glob("*.c"))]
+    objects = _compile_all(app, compilers, includes, [*sources, *app.library_sources], build_dir)
+    failure = f"{app.sources[0].name} does not build"
+    archive = []
+    if app.library_sources:  # an archive, as EV3RT links its libraries: what the program does not use stays out
+        archive = [build_dir / OBJECTS / "libraries.a"]
+        _run(["ar", "rcs", str(archive[0]), *map(str, objects[len(sources):])], app.root, build_dir, failure)
+    linker = compilers.cxx or compilers.cc
     entries = {t.entry for t in config.tasks} | {c.handler for c in config.cyclics if c.handler}
-    _run(cmd, app.root, build_dir, f"{app.sources[0].name} does not build", entries)
+    _run([str(linker), *map(str, objects[:len(sources)]), *map(str, archive), "-o", str(build_dir / EXECUTABLE),
+          *app.libs, *LIBS], app.root, build_dir, failure, entries, cxx=app.cxx)
+    shutil.rmtree(build_dir / OBJECTS)
 
 
-def _run(cmd: list[str], cwd: Path, build_dir: Path, failure: str, entries: Collection[str] = ()) -> str:
+def _compile_all(app: AppSources, compilers: Compilers, includes: list[str], sources: list[Path],
+                 build_dir: Path) -> list[Path]:
+    """Every source compiled to its own object; the first error (in source order) is the build's."""
+    (build_dir / OBJECTS).mkdir()
+    objects = [build_dir / OBJECTS / f"{i:03d}-{s.stem}.o" for i, s in enumerate(sources)]
+
+    def compile_one(source: Path, obj: Path) -> subprocess.CompletedProcess:
+        if source.suffix == CXX_SUFFIX:
+            cmd = [str(compilers.cxx), *_cxx_flags(app)]
+        else:
+            cmd = [str(compilers.cc), *_c_flags(app)]
+        cmd += [*includes, *app.defines, "-c", _shown(source, app.root), "-o", str(obj)]
+        return _compile(cmd, app.root)
+
+    with ThreadPoolExecutor(max_workers=max(2, os.cpu_count() or 1)) as pool:
+        results = list(pool.map(compile_one, sources, objects))
+    with open(build_dir / BUILD_LOG, "a") as log:
+        for out in results:
+            log.write(" ".join(out.args) + "\n" + out.stderr)
+    for out in results:
+        if out.returncode != 0:
+            raise NativeBuildError(f"{app.sources[0].name} does not build: {first_error(out.stderr)}")
+    return objects
+
+
+def _shown(source: Path, root: Path) -> str:
+    """A program's source by its path in the program's folder, as its errors then name it; others whole."""
+    return os.path.relpath(source, root) if source.is_relative_to(root) else str(source)
+
+
+def _compile(cmd: list[str], cwd: Path) -> subprocess.CompletedProcess:
     try:
-        out = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=COMPILE_TIMEOUT_S,
-                             env=_compiler_env())
+        return subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=COMPILE_TIMEOUT_S,
+                              env=_compiler_env())
     except (OSError, subprocess.TimeoutExpired) as e:
-        raise NativeBuildError(f"{failure}: the compiler failed to run: {e}") from None
+        raise NativeBuildError(f"the compiler failed to run: {e}") from None
+
+
+def _run(cmd: list[str], cwd: Path, build_dir: Path, failure: str, entries: Collection[str] = (),
+         cxx: bool = False) -> str:
+    out = _compile(cmd, cwd)
     with open(build_dir / BUILD_LOG, "a") as log:
         log.write(" ".join(cmd) + "\n" + out.stderr)
     if out.returncode != 0:
-        raise NativeBuildError(f"{failure}: {first_error(out.stderr, entries)}")
+        raise NativeBuildError(f"{failure}: {first_error(out.stderr, entries, cxx)}")
     return out.stdout
 
 
-def first_error(output: str, entries: Collection[str] = ()) -> str:
+def first_error(output: str, entries: Collection[str] = (), cxx: bool = False) -> str:
     """The compiler's (or linker's) first error as one line. A missing function is either one of the program's
     own entry points (`entries`: the task and handler functions app.cfg names, main_task without one), which
-    the program failed to define, or an API function not in the subset. The compiler driver's closing summary
-    ("collect2: error: ld returned 1") is never the first error."""
+    the program failed to define (in C++: to define as `extern "C"`, as app.h declares them), or an API
+    function not in the subset. The compiler driver's closing summary ("collect2: error: ld returned 1") is
+    never the first error."""
     lines = [line.strip() for line in output.splitlines() if line.strip()]
     errors = [line for line in lines if _ERROR.search(line) and not line.startswith("collect2:")]
     line = (errors or lines or ["the compiler failed"])[0]
@@ -141,6 +230,8 @@ def first_error(output: str, entries: Collection[str] = ()) -> str:
     if missing and missing.group(1) in entries:
         line = (f"the program defines no function {missing.group(1)}, a task or handler function that app.cfg "
                 "names (a program without app.cfg needs main_task)")
+        if cxx:
+            line += '; in C++ it must be extern "C", as EV3RT\'s app.h declares it'
     elif missing:
         line += " (not in the native mock's EV3RT subset, see docs/NATIVE.md)"
     return line

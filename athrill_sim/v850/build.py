@@ -11,7 +11,13 @@ and the compiler's identity (its path and `--version`). Only the program's sourc
 (`SOURCE_SUFFIXES`, `Makefile.inc`), so what the key covers is exactly what the build can read of it.
 
 A folder or `.c` file without `app.cfg` is a program whose `main_task` is its one task, as for the native
-build: `app.cfg`, `app.h` (unless it has one) and an empty `Makefile.inc` are written for it.
+build: `app.cfg`, `app.h` (unless it has one) and an empty `Makefile.inc` are written for it (a lone `.cpp`
+gets the C++ language and `libcpp-ev3`, as natively).
+
+C++ programs (`SRCLANG := c++`, whose main file is `app.cpp`) build with the SDK's own C++ path. EV3RT runs
+their static constructors itself (`_app_init_task`, before the program's tasks: `sdk/common/ev3api/src/ev3api.c`),
+so nothing is added to them. athrill2 asserts while reading C++ DWARF (`elf_dwarf_build_struct_member`), so
+the image is `--strip-debug`ed; the unstripped image stays beside it as `asp.debug`.
 """
 
 from __future__ import annotations
@@ -24,11 +30,19 @@ from pathlib import Path
 from typing import Callable
 
 from athrill_sim.build_cache import CacheKey, cache_root, cached_build
+from athrill_sim.native import NativeBuildError
+from athrill_sim.native.headers import LAYOUT_HEADER
+from athrill_sim.native.makefile import ETROBO_VARIABLES, ETROBOC_COMMON, evaluate
+from athrill_sim.native.workspace import LONE_CXX_MAKEFILE_INC
 from athrill_sim.v850 import ImageError
 from athrill_sim.v850.toolchain import Tools, check_build_tools, find_tools
+from hakoniwa.wire.protocol import c_header
 
 APP_NAME = "hako_app"  # the workspace folder the program is built as (no SDK sample has this name)
 IMAGE = "asp"
+DEBUG_IMAGE = "asp.debug"  # the image before --strip-debug, for a person's debugger
+ETROBO_FOLDER = "etrobo"
+ETROBOC_EXT = ETROBOC_COMMON / "etroboc_ext.h"
 BUILD_LOG = "build.log"
 MAKE = ("make", f"img={APP_NAME}")
 BUILD_TIMEOUT_S = 600
@@ -64,17 +78,18 @@ def build_image(app: Path, *, sdk: Path | None = None, toolchain: Path | None = 
     if (entry / IMAGE).is_file():
         return entry / IMAGE
     check_build_tools()
+    cxx = is_cxx(root, files, lone)
     if announce is not None:
         announce(f"building {root} with the EV3RT SDK at {tools.sdk} and {tools.gcc}")
-    return cached_build(entry, IMAGE, lambda scratch: _build(root, files, lone, tools, scratch))
+    return cached_build(entry, IMAGE, lambda scratch: _build(root, files, lone, tools, scratch, cxx))
 
 
 def app_files(app: Path) -> tuple[Path, list[Path], bool]:
-    """The program's folder, its source files, and whether it is a lone .c file (the first of the files,
-    built as app.c beside the headers of its folder)."""
+    """The program's folder, its source files, and whether it is a lone .c or .cpp file (the first of the
+    files, built as app.c or app.cpp beside the headers of its folder)."""
     app = app.resolve()
-    if app.is_file() and app.suffix != ".c":
-        raise ImageError(f"{app}: not a C source file (.c) or an EV3RT workspace folder")
+    if app.is_file() and app.suffix not in (".c", ".cpp"):
+        raise ImageError(f"{app}: not a C or C++ source file (.c, .cpp) or an EV3RT workspace folder")
     root = app.parent if app.is_file() else app
     if not (root / "app.cfg").is_file():
         source = app if app.is_file() else root / "app.c"
@@ -82,11 +97,25 @@ def app_files(app: Path) -> tuple[Path, list[Path], bool]:
             raise ImageError(f"{root}: no app.c; an EV3RT workspace folder holds app.c, app.h, app.cfg and "
                              "Makefile.inc")
         return root, [source, *sorted(root.glob("*.h"))], True
-    if not (root / "app.c").is_file():
-        raise ImageError(f"{root}: no app.c; an EV3RT workspace folder holds app.c, app.h, app.cfg and Makefile.inc")
+    if not any((root / main).is_file() for main in ("app.c", "app.cpp")):
+        raise ImageError(f"{root}: no app.c or app.cpp; an EV3RT workspace folder holds app.c (app.cpp in C++), "
+                         "app.h, app.cfg and Makefile.inc")
     files = sorted(f for f in root.rglob("*")
                    if f.is_file() and (f.suffix in SOURCE_SUFFIXES or f.name == "Makefile.inc"))
     return root, files, False
+
+
+def is_cxx(root: Path, files: list[Path], lone: bool) -> bool:
+    """Whether EV3RT builds the program as C++: its Makefile.inc says `SRCLANG := c++` (read by GNU make, as
+    the SDK reads it), or it is a lone .cpp file."""
+    if lone:
+        return files[0].suffix == ".cpp"
+    if not (root / "Makefile.inc").is_file():
+        return False
+    try:
+        return evaluate(root / "Makefile.inc").words("SRCLANG") == ["c++"]
+    except NativeBuildError as e:
+        raise ImageError(str(e)) from None
 
 
 def cache_key(root: Path, files: list[Path], lone: bool, tools: Tools) -> str:
@@ -101,10 +130,25 @@ def cache_key(root: Path, files: list[Path], lone: bool, tools: Tools) -> str:
             add(f"{label}/{f.relative_to(tree)}", f.read_bytes())
     for f in files:
         add(f"app/{f.relative_to(root)}", f.read_bytes())
+    add("etrobo", repr({name: os.environ.get(name) for name in ETROBO_VARIABLES}).encode())
+    for name, text in sorted(etroboc_files().items()):
+        add(f"etroboc_common/{name}", text.encode())
     return key.name()
 
 
-def _build(root: Path, files: list[Path], lone: bool, tools: Tools, scratch: Path) -> None:
+def _build(root: Path, files: list[Path], lone: bool, tools: Tools, scratch: Path, cxx: bool) -> None:
+    _make_image(root, files, lone, tools, scratch)
+    if cxx:
+        shutil.copyfile(scratch / IMAGE, scratch / DEBUG_IMAGE)
+        strip = tools.gcc.with_name(tools.gcc.name.replace("gcc", "strip"))
+        try:
+            subprocess.run([str(strip), "--strip-debug", str(scratch / IMAGE)], check=True, capture_output=True,
+                           timeout=60)
+        except (OSError, subprocess.SubprocessError) as e:
+            raise ImageError(f"{root}: cannot strip the C++ debug information athrill2 cannot read: {e}") from None
+
+
+def _make_image(root: Path, files: list[Path], lone: bool, tools: Tools, scratch: Path) -> None:
     sdk = scratch / tools.sdk.name
     shutil.copytree(tools.sdk, sdk, symlinks=True)
     for d, _, names in os.walk(sdk):  # a read-only source tree copies read-only
@@ -119,20 +163,20 @@ def _build(root: Path, files: list[Path], lone: bool, tools: Tools, scratch: Pat
     shutil.rmtree(staged, ignore_errors=True)
     if lone:
         staged.mkdir()
-        shutil.copyfile(files[0], staged / "app.c")
+        shutil.copyfile(files[0], staged / f"app{files[0].suffix}")
         for h in files[1:]:
             shutil.copyfile(h, staged / h.name)
         (staged / "app.cfg").write_text(LONE_APP_CFG)
         if not (staged / "app.h").exists():
             (staged / "app.h").write_text(LONE_APP_H)
-        (staged / "Makefile.inc").write_text("")
+        (staged / "Makefile.inc").write_text(LONE_CXX_MAKEFILE_INC if files[0].suffix == ".cpp" else "")
     else:
         for f in files:
             target = staged / f.relative_to(root)
             target.parent.mkdir(parents=True, exist_ok=True)
             shutil.copyfile(f, target)
     env = {**os.environ, "LC_ALL": "C.UTF-8", "PWD": str(workspace),  # Ruby reads the SDK's UTF-8; make $(PWD)
-           "PATH": f"{tools.gcc.parent}{os.pathsep}{os.environ.get('PATH', '')}"}
+           "PATH": f"{tools.gcc.parent}{os.pathsep}{os.environ.get('PATH', '')}", **_etrobo_env(scratch)}
     try:
         out = subprocess.run(MAKE, cwd=workspace, capture_output=True, text=True, timeout=BUILD_TIMEOUT_S, env=env)
     except (OSError, subprocess.TimeoutExpired) as e:
@@ -143,7 +187,23 @@ def _build(root: Path, files: list[Path], lone: bool, tools: Tools, scratch: Pat
         raise ImageError(f"{root} does not build: {message}")
     (workspace / IMAGE).rename(scratch / IMAGE)
     shutil.rmtree(sdk)
+    shutil.rmtree(scratch / ETROBO_FOLDER)
     (scratch / "athrill").unlink()
+
+
+def _etrobo_env(scratch: Path) -> dict[str, str]:
+    """ET Robocon's variables the user has not set, naming a folder whose `etroboc_common/` holds the bench's
+    `etroboc_ext.h` (and the layout header it reads), as the native build's do: ET Robocon's samples say
+    `-I$(ETROBO_HRP3_WORKSPACE)/etroboc_common`."""
+    common = scratch / ETROBO_FOLDER / "etroboc_common"
+    common.mkdir(parents=True)
+    for name, text in etroboc_files().items():
+        (common / name).write_text(text)
+    return {name: str(common.parent) for name in ETROBO_VARIABLES if not os.environ.get(name)}
+
+
+def etroboc_files() -> dict[str, str]:
+    return {ETROBOC_EXT.name: ETROBOC_EXT.read_text(), LAYOUT_HEADER: c_header()}
 
 
 def first_error(output: str) -> str:

@@ -26,6 +26,9 @@ POLL_S = 0.01
 UNTOUCHED = -0x5A5A5A5B  # 0xA5A5A5A5, the TX body's fill: no LED bits, power or flag an EV3RT driver writes
 TX_WORDS = EXT_OFF // 4  # the TX body before our extension area
 OUTPUT_LINES = 3
+DWARF_ASSERTION = "elf_dwarf_"  # athrill2's DWARF reader asserts on C++ debug information
+DWARF_HINT = (" (athrill2 cannot read a C++ image's debug information: strip it with v850-elf-strip --strip-debug, "
+              "as hako build does)")
 
 
 def check(exe: str, image: Path, sync: SyncMode) -> str | None:
@@ -51,8 +54,9 @@ def check(exe: str, image: Path, sync: SyncMode) -> str | None:
             if exited is not None:
                 said = " / ".join(line.strip() for line in log.read_text(errors="replace").splitlines()[-OUTPUT_LINES:]
                                   if line.strip())
+                hint = DWARF_HINT if DWARF_ASSERTION in said else ""
                 return (f"{name}: athrill2 exited at once (status {exited}) after {reached} us of simulated time"
-                        + (f": {said}" if said else ""))
+                        + (f": {said}" if said else "") + hint)
             if reached < CHECK_SIM_US:
                 return f"{name}: athrill2 did not reach {CHECK_SIM_US} us of simulated time in {CHECK_WALL_S:g} s"
             return (f"{name}: the program wrote nothing to the mapped files in its first {CHECK_SIM_US // 1000} "

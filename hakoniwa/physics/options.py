@@ -67,9 +67,9 @@ class _Option:
 _OPTIONS = [
     _Option("course", "--course", "Built-in course name or course folder."),
     _Option("app", "--app", "Robot program: a built-in name (line_trace, line_trace_c), a Python "
-            "module:function, an EV3RT C program (app.c or its workspace folder), or a v850 ELF image (run in "
-            "the real athrill2)."),
-    _Option("emulator", "--emulator", "What an EV3RT C program runs on: native (compiled for this machine) or "
+            "module:function, an EV3RT C or C++ program (app.c, app.cpp or its workspace folder), or a v850 ELF "
+            "image (run in the real athrill2)."),
+    _Option("emulator", "--emulator", "What an EV3RT C or C++ program runs on: native (compiled for this machine) or "
             "athrill2 (built into a v850 image with the EV3RT SDK and run in the real TOPPERS emulator) "
             "[default: native; a v850 image always runs in athrill2].", click.Choice(EMULATORS)),
     _Option("athrill2", "--athrill2", "The TOPPERS athrill2 emulator for the real emulator [default: on PATH, "

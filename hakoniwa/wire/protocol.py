@@ -70,6 +70,7 @@ class Rx:
     GYRO_ANGLE = 28  # degrees, clockwise positive seen from above; 16 bits read
     GYRO_RATE = 32  # degrees/s; 16 bits read
     ULTRASONIC_MM = 88  # distance ahead in mm (EV3RT returns it / 10, in cm); 16 bits read
+    ULTRASONIC_LISTEN = 92  # another ultrasonic sensor heard (nonzero); EV3RT reads the whole word. 0 here
     TOUCH0 = 112  # 0 released / 4095 pressed (EV3RT: pressed when > 2048)
     BATTERY_CURRENT = 116  # mA, i32 (ev3_vdev_common.h EV3_BATTERY_INX_CURRENT 28); Unity leaves it 0
     BATTERY_VOLTAGE = 120  # mV, i32 (EV3_BATTERY_INX_VOLTAGE 29)

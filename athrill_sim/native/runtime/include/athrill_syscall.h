@@ -5,6 +5,12 @@
  */
 #ifndef _ATHRILL_SYSCALL_H_
 #define _ATHRILL_SYSCALL_H_
+#ifdef __cplusplus
+extern "C" {
+#endif
 void athrill_reset_time(void);
 void athrill_show_time(void);
+#ifdef __cplusplus
+}
+#endif
 #endif /* _ATHRILL_SYSCALL_H_ */

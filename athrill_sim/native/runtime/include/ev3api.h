@@ -19,6 +19,9 @@
 
 #include "hako_layout.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
 typedef enum { EV3_PORT_1 = 0, EV3_PORT_2, EV3_PORT_3, EV3_PORT_4, TNUM_SENSOR_PORT } sensor_port_t;
 
 typedef enum {
@@ -210,6 +213,9 @@ ER ev3_sta_cyc(ID ev3cycid);
 ER ev3_stp_cyc(ID ev3cycid);
 
 extern void _app_init_task(intptr_t unused);
+#ifdef __cplusplus
+}
+#endif
 #include "kernel_cfg.h"
 #endif /* TOPPERS_MACRO_ONLY */
 #endif /* HAKO_EV3API_H */

@@ -4,6 +4,9 @@
 
 #include "kernel.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
 typedef struct {
     const char *name;
     ATR attr;
@@ -25,11 +28,15 @@ typedef struct {
     hako_notify notify;
     RELTIM period_us;
     RELTIM phase_us;
+    bool ev3; /* EV3_CRE_CYC (ev3_sta_cyc's IDs), else CRE_CYC (sta_cyc's) */
 } hako_cyclic_cfg;
 
 extern const hako_task_cfg hako_task_table[];
 extern const uint_t hako_task_count;
 extern const hako_cyclic_cfg hako_cyclic_table[];
 extern const uint_t hako_cyclic_count;
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* HAKO_CFG_H */

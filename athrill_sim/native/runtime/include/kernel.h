@@ -26,6 +26,9 @@
 
 #ifndef TOPPERS_MACRO_ONLY
 
+#ifdef __cplusplus
+extern "C" {
+#endif
 ER act_tsk(ID tskid);
 ER ext_tsk(void);
 ER get_tid(ID *p_tskid);
@@ -61,6 +64,9 @@ ER wai_flg(ID flgid, FLGPTN waiptn, MODE wfmode, FLGPTN *p_flgptn);
 ER snd_dtq(ID dtqid, intptr_t data);
 ER rcv_dtq(ID dtqid, intptr_t *p_data);
 ER ext_ker(void);
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* TOPPERS_MACRO_ONLY */
 #endif /* HAKO_KERNEL_H */

@@ -143,6 +143,11 @@ int16_t ev3_ultrasonic_sensor_get_distance(sensor_port_t port)
     return sensor_ready(port, ULTRASONIC_SENSOR, __func__) ? (int16_t)(read_i16(RX(HAKO_RX_ULTRASONIC_MM)) / 10) : 0;
 }
 
+bool_t ev3_ultrasonic_sensor_listen(sensor_port_t port)
+{
+    return sensor_ready(port, ULTRASONIC_SENSOR, __func__) && read_u32(RX(HAKO_RX_ULTRASONIC_LISTEN)) != 0;
+}
+
 bool_t ev3_touch_sensor_is_pressed(sensor_port_t port)
 {
     return sensor_ready(port, TOUCH_SENSOR, __func__) &&

@@ -100,7 +100,17 @@ static struct task *task_of(ID id)
     return id >= 1 && (uint_t)id <= hako_task_count ? &tasks[id - 1] : NULL;
 }
 
-static struct cyclic *cyclic_of(ID id) { return id >= 1 && (uint_t)id <= hako_cyclic_count ? &cyclics[id - 1] : NULL; }
+/* EV3RT's cyclic handlers (EV3_CRE_CYC) and ASP3's (CRE_CYC) are numbered apart, each from 1 in app.cfg's
+ * order: ev3_sta_cyc takes the first kind's IDs only and answers E_ID for any other, as EV3RT's does
+ * (ev3cyclic_dri.c, CHECK_EV3CYCID), and sta_cyc the second's. */
+static struct cyclic *cyclic_of(ID id, bool ev3)
+{
+    ID seen = 0;
+    for (uint_t i = 0; i < hako_cyclic_count; i++)
+        if (cyclics[i].cfg->ev3 == ev3 && ++seen == id)
+            return &cyclics[i];
+    return NULL;
+}
 
 static void make_ready(struct task *t, bool at_head)
 {
@@ -283,10 +293,9 @@ static void schedule(struct cyclic *c)
     c->event_order = ++events_set;
 }
 
-ER sta_cyc(ID cycid)
+static ER start_cyclic(struct cyclic *c)
 {
     SERVICE;
-    struct cyclic *c = cyclic_of(cycid);
     if (c == NULL)
         return E_ID;
     c->active = true;
@@ -296,19 +305,22 @@ ER sta_cyc(ID cycid)
     return E_OK;
 }
 
-ER stp_cyc(ID cycid)
+static ER stop_cyclic(struct cyclic *c)
 {
     SERVICE;
-    struct cyclic *c = cyclic_of(cycid);
     if (c == NULL)
         return E_ID;
     c->active = false;
     return E_OK;
 }
 
-ER ev3_sta_cyc(ID ev3cycid) { return sta_cyc(ev3cycid); }
+ER sta_cyc(ID cycid) { return start_cyclic(cyclic_of(cycid, false)); }
 
-ER ev3_stp_cyc(ID ev3cycid) { return stp_cyc(ev3cycid); }
+ER stp_cyc(ID cycid) { return stop_cyclic(cyclic_of(cycid, false)); }
+
+ER ev3_sta_cyc(ID ev3cycid) { return start_cyclic(cyclic_of(ev3cycid, true)); }
+
+ER ev3_stp_cyc(ID ev3cycid) { return stop_cyclic(cyclic_of(ev3cycid, true)); }
 
 static void fire(struct cyclic *c)
 {
@@ -468,7 +480,7 @@ static void give_stack(struct task *t)
     t->stack_size = size;
 }
 
-void hako_kernel_run(int64_t start_us)
+void hako_kernel_start(int64_t start_us)
 {
     now_us = start_us;
     tasks = calloc(hako_task_count + 1, sizeof *tasks);
@@ -485,9 +497,13 @@ void hako_kernel_run(int64_t start_us)
     for (uint_t i = 0; i < hako_cyclic_count; i++) {
         cyclics[i].cfg = &hako_cyclic_table[i];
         if (cyclics[i].cfg->attr & TA_STA)
-            sta_cyc((ID)(i + 1));
+            start_cyclic(&cyclics[i]);
     }
     hako_sdcard_enter();
+}
+
+void hako_kernel_run(void)
+{
     hako_buttons_poll();
     start_spin_clock();
     for (;;) {

@@ -4,6 +4,12 @@
  * runs the program's kernel in lockstep with physics until it is killed, the program ends, or physics is
  * gone. Exit status: HAKO_EXIT_BENCH_FAULT when the files cannot be used, 2 for a bad command line, 0
  * otherwise; a crash in the program ends it by its signal, as it would end a real program.
+ *
+ * The runtime starts in a constructor that runs before the program's own (priority 101, the first a program
+ * may not use): the program's objects with static storage (C++ globals, `static ev3api::Motor gLeft(PORT_C);`
+ * as ET Robocon teams write them) are then constructed as on the robot, after the start-up and before the
+ * first task, with this test started, the guest windows loaded and the SD card folder entered, so that what
+ * their constructors read and write is this test's. glibc passes a constructor the program's arguments.
  */
 #include <errno.h>
 #include <stdio.h>
@@ -22,7 +28,7 @@ static void usage(const char *problem)
     exit(2);
 }
 
-int main(int argc, char **argv)
+__attribute__((constructor(101))) static void hako_start(int argc, char **argv)
 {
     const char *run_dir = NULL;
     long long test = -1;
@@ -49,5 +55,10 @@ int main(int argc, char **argv)
         hako_wait_for_test((uint32_t)test);
     hako_announce();
     hako_window_load();
-    hako_kernel_run((int64_t)hako_rx_unity_time());
+    hako_kernel_start((int64_t)hako_rx_unity_time());
+}
+
+int main(void)
+{
+    hako_kernel_run();
 }

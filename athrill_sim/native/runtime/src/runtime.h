@@ -39,7 +39,8 @@ void hako_wait_snapshot(int64_t wake_us);
 
 /* kernel.c: the tasks and cyclic handlers of app.cfg in simulated time. */
 int64_t hako_now(void);
-void hako_kernel_run(int64_t start_us) __attribute__((noreturn));
+void hako_kernel_start(int64_t start_us); /* the tables, TA_ACT tasks and TA_STA handlers; the SD card folder */
+void hako_kernel_run(void) __attribute__((noreturn));
 
 /* main.c: the run directory (absolute: the program's working directory is the SD card folder). */
 const char *hako_run_dir(void);
