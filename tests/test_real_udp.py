@@ -74,3 +74,10 @@ def test_a_port_in_use_is_one_line_before_any_test(athrill2, tmp_path):
                             str(config), "--run-dir", str(tmp_path / "run"), timeout=120),
                        f"127.0.0.1:{port}", "in use")
     assert not (tmp_path / "run" / "result.json").exists()
+
+
+def test_fixed_ports_for_several_benches_are_one_line(athrill2, tmp_path):
+    one_line_error(hako("run", "--app", str(ASP_IMAGE), "--athrill2", str(athrill2), "--device-config",
+                        str(etroboc_config(tmp_path)), "--benches", "2", "--out", str(tmp_path / "campaign"),
+                        timeout=120),
+                   "fixes athrill2's UDP ports", "2 benches cannot share", "--benches 1")

@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 from athrill_sim.programs import ProgramError, resolve_program
 from athrill_sim.vdev_udp import (PORT_RANGE, Endpoint, Hex, LinkError, bench_link, bind_fixed, bind_pair,
                                   check_free, lookup, parse_device_config, port_free, user_link)
+from conftest import hako, one_line_error
 from realemu_fixtures import ETROBOC_DEVICE_CONFIGS
 UDP_BASE = "DEBUG_FUNC_ENABLE_VDEV\t1\nDEVICE_CONFIG_TIMER_FD\t400\n"
 
@@ -83,10 +84,12 @@ def test_a_device_config_the_bench_cannot_use_is_one_line(tmp_path, text, words)
         assert w in str(e.value)
 
 
-def test_a_non_local_address_is_refused_before_anything_is_built(tmp_path):
+def test_a_non_local_address_is_one_line_before_anything_is_built(tmp_path):
     path = config(tmp_path, UDP_BASE + "DEBUG_FUNC_VDEV_TX_IPADDR 10.0.0.5\n")
     with pytest.raises(ProgramError, match="10.0.0.5 is not this machine's loopback"):
         resolve_program("line_trace_c", emulator="athrill2", device_config=str(path))
+    one_line_error(hako("trial", "--app", "line_trace_c", "--emulator", "athrill2", "--device-config", str(path),
+                        timeout=60), "DEBUG_FUNC_VDEV_TX_IPADDR 10.0.0.5", "loopback")
 
 
 def test_a_device_config_without_ports_gets_the_benchs_first(tmp_path):
