@@ -9,7 +9,6 @@ from __future__ import annotations
 import statistics
 import subprocess
 import sys
-from pathlib import Path
 
 import click
 
@@ -34,7 +33,7 @@ def main(tests: int, athrill2: str) -> None:
     laps: dict[str, list[float]] = {name: [] for name in benches}
     for _ in range(tests):
         for name, bench in benches.items():
-            rate, (result,) = trial_rate(bench, 1, warm_up=False)
+            _, (result,) = trial_rate(bench, 1, warm_up=False)
             laps[name].append(result.lap_time_s or float("nan"))
             sim[name] += (result.goal_time_us or 0) / 1e6
             wall[name] += result.wall_s
