@@ -13,12 +13,13 @@ import sys
 import click
 
 from bench_sim import REPO, trial_rate  # scripts/ is this script's folder
+from hakoniwa.clickutil import HELP
 from hakoniwa.physics.options import BenchOptions
 
 TRACER = REPO / "athrill_sim" / "apps" / "line_trace.c"
 
 
-@click.command()
+@click.command(context_settings=HELP)
 @click.option("--tests", type=click.IntRange(min=1), default=5, show_default=True, help="Trials per transport.")
 @click.option("--athrill2", default=str(REPO / "build" / "athrill" / "athrill2"), show_default=True,
               help="The real TOPPERS emulator (scripts/build_athrill2.sh builds it).")
