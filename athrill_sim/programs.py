@@ -10,8 +10,10 @@ Three kinds of robot program run against the same physics:
 
 The kind decides how time is kept (`SyncMode`): our own programs run in the deterministic lockstep; the real
 emulator runs in the repeatable mode (athrill2 built with scripts/athrill-patches waits at each sync point)
-unless `--sync hakoniwa` asks for the unmodified protocol. Everything here is checked before the first test,
-so a bad `--app` is one clear error instead of a campaign of crashed tests.
+unless `--sync hakoniwa` asks for the unmodified protocol. The real emulator's packets travel over the mapped
+files (athrill2's MMAP transport) or, with `--transport udp`, over UDP as in ET Robocon's simulator (its
+`vdev_udp` device; `athrill_sim.vdev_udp`), which has the hakoniwa mode only. Everything here is checked before
+the first test, so a bad `--app` is one clear error instead of a campaign of crashed tests.
 """
 
 from __future__ import annotations
@@ -22,9 +24,13 @@ import subprocess
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from hakoniwa.wire.processes import die_with_parent
 from hakoniwa.wire.protocol import ATHRILL_FILE, UNITY_FILE, SyncMode
+
+if TYPE_CHECKING:
+    from athrill_sim.vdev_udp import UdpLink
 
 PROJECT = Path(__file__).resolve().parents[1]
 NATIVE_DIR = Path(__file__).resolve().parent / "native"  # the bench's runtime and libraries, not the user's program
@@ -38,6 +44,7 @@ BUILD_REPEATABLE_HINT = (f"build one with scripts/build_athrill2.sh --repeatable
 EMULATORS = ("native", "athrill2")  # what a C program runs on: compiled for this machine, or the real emulator
 REAL_SYNCS = {"repeatable": SyncMode.REPEATABLE, "hakoniwa": SyncMode.HAKONIWA}
 SYNC_WAIT_KEY = "DEBUG_FUNC_VDEV_MMAP_SYNC_WAIT"  # read by scripts/athrill-patches/01-*.patch
+TRANSPORTS = ("mmap", "udp")  # how athrill2's packets travel: the mapped files, or UDP (ET Robocon's simulator)
 
 # Athrill's memory map and device configuration for an EV3RT image in MMAP mode: the layout the TOPPERS
 # ev3rt-athrill-v850e2m images are linked for (v850es_fk3.ld, and the SDK's sdk/common/memory.txt: 2048 KB of
@@ -62,6 +69,12 @@ ATHRILL_DEVICE = [
     ("DEVICE_CONFIG_SERIAL_FILFO_0_RD_INTOFF", "8"), ("DEVICE_CONFIG_SERIAL_FILFO_0_WR_INTOFF", "0"),
     ("DEVICE_CONFIG_SERIAL_FILFO_0_EXDEV_ENABLE", "1"), ("DEVICE_CONFIG_EV3_SERIAL_ID", "0"),
 ]
+# Over UDP: the same configuration without the two mapped files (athrill2 then keeps its VDEV window in its
+# own memory and exchanges it as packets), under the names of ET Robocon's; the physics side writes the device
+# config once it holds its port (`athrill_sim.vdev_udp.UdpLink.device_config`).
+MMAP_ONLY_KEYS = ("DEBUG_FUNC_VDEV_MMAP_TX", "DEBUG_FUNC_VDEV_MMAP_RX", "DEBUG_FUNC_VDEV_SIMSYNC_TYPE")
+UDP_MEMORY_CONFIG = "memory.txt"
+UDP_DEVICE_CONFIG = "device_config.txt"
 
 
 class ProgramError(ValueError):
@@ -80,6 +93,7 @@ class Program:
     config_files: dict[str, str] = field(default_factory=dict)  # written into the run directory once
     check_argv: tuple[str, ...] = ()  # a command that exits non-zero, saying why, if the program cannot run
     files: tuple[Path, ...] = ()  # what the program is made of (its sources, its image), for a campaign's journal
+    udp: UdpLink | None = None  # the real emulator over UDP: its endpoints (else the mapped files carry all)
 
     def prepare(self, run_dir: Path) -> None:
         for name, text in self.config_files.items():
@@ -143,18 +157,43 @@ def native_program(source: Path) -> Program:
 
 
 def athrill_config(sync: SyncMode) -> dict[str, str]:
-    """athrill2's memory map and device configuration for a run in `sync` mode, by file name."""
+    """athrill2's memory map and device configuration for a run in `sync` mode over mmap, by file name."""
     device = [*ATHRILL_DEVICE, *([(SYNC_WAIT_KEY, "1")] if sync == SyncMode.REPEATABLE else [])]
-    return {MEMORY_CONFIG: "".join(f"{kind}, 0x{addr:08X}, {arg}\n" for kind, addr, arg in ATHRILL_MEMORY),
+    return {MEMORY_CONFIG: _memory_map(ATHRILL_MEMORY),
             DEVICE_CONFIG: "".join(f"{key}\t{value}\n" for key, value in device)}
 
 
-def athrill_argv(exe: str, image: Path) -> tuple[str, ...]:
-    return exe, "-c1", "-t", "-1", "-m", MEMORY_CONFIG, "-d", DEVICE_CONFIG, str(image.resolve())
+def _memory_map(regions: list[tuple[str, int, str]]) -> str:
+    return "".join(f"{kind}, 0x{addr:08X}, {arg}\n" for kind, addr, arg in regions)
 
 
-def elf_program(image: Path, athrill2: str | None, sync: SyncMode = SyncMode.REPEATABLE) -> Program:
-    """A v850 image under the real athrill2; checked (by a short run of its own) before the first test."""
+def athrill_argv(exe: str, image: Path, udp: bool = False) -> tuple[str, ...]:
+    memory, device = (UDP_MEMORY_CONFIG, UDP_DEVICE_CONFIG) if udp else (MEMORY_CONFIG, DEVICE_CONFIG)
+    return exe, "-c1", "-t", "-1", "-m", memory, "-d", device, str(image.resolve())
+
+
+def udp_link(transport: str | None, device_config: str | None) -> UdpLink | None:
+    """The UDP link `--transport` and `--device-config` ask for (a device config alone means UDP), or None
+    for the mapped files."""
+    from athrill_sim.vdev_udp import LinkError, bench_link, user_link
+
+    if (transport or ("udp" if device_config else "mmap")) == "mmap":
+        if device_config is not None:
+            raise ProgramError(f"--device-config {device_config} configures athrill2's UDP transport; it does "
+                               "not go with --transport mmap")
+        return None
+    if device_config is None:
+        return bench_link([(k, v) for k, v in ATHRILL_DEVICE if k not in MMAP_ONLY_KEYS])
+    try:
+        return user_link(Path(device_config))
+    except LinkError as e:
+        raise ProgramError(str(e)) from None
+
+
+def elf_program(image: Path, athrill2: str | None, sync: SyncMode = SyncMode.REPEATABLE,
+                udp: UdpLink | None = None) -> Program:
+    """A v850 image under the real athrill2; checked (by a short run of its own, over the mapped files, as
+    the image and the emulator do not depend on the transport) before the first test."""
     from athrill_sim.v850 import ImageError
     from athrill_sim.v850.elf import check_image
 
@@ -163,10 +202,13 @@ def elf_program(image: Path, athrill2: str | None, sync: SyncMode = SyncMode.REP
     except ImageError as e:
         raise ProgramError(f"--app {e}") from None
     exe = find_athrill2(athrill2, sync)
-    return Program(f"v850 image {image} on {exe}", sync, False, athrill_argv(exe, image), in_run_dir=True,
-                   config_files=athrill_config(sync), files=(image.resolve(),),
+    config = athrill_config(sync) if udp is None else {
+        UDP_MEMORY_CONFIG: _memory_map([region for region in ATHRILL_MEMORY if region[0] != "MMAP"])}
+    over = "" if udp is None else " over UDP"
+    return Program(f"v850 image {image} on {exe}{over}", sync, False, athrill_argv(exe, image, udp is not None),
+                   in_run_dir=True, config_files=config, files=(image.resolve(),),
                    check_argv=(sys.executable, "-m", "athrill_sim.v850.check", exe, str(image.resolve()),
-                               sync.name.lower()))
+                               sync.name.lower()), udp=udp)
 
 
 def find_athrill2(given: str | None, sync: SyncMode) -> str:
@@ -203,10 +245,12 @@ def has_sync_patch(exe: Path) -> bool:
 
 
 def resolve_program(spec: str, *, athrill2: str | None = None, emulator: str | None = None,
-                    sync: str | None = None) -> Program:
+                    sync: str | None = None, transport: str | None = None,
+                    device_config: str | None = None) -> Program:
     """The program `--app SPEC` names: a built-in or `module:function` Python program, an EV3RT C program
     (a .c file, a workspace folder or a built-in C name), or a v850 ELF. `emulator` athrill2 builds a C
-    program into a v850 image; `sync` (repeatable, hakoniwa) is how a real emulator keeps time."""
+    program into a v850 image; `sync` (repeatable, hakoniwa) is how a real emulator keeps time, `transport`
+    (mmap, udp) and `device_config` how its packets travel."""
     from athrill_sim.apps import BUILTIN, C_BUILTIN
     from athrill_sim.native.workspace import SOURCE_SUFFIXES
     from athrill_sim.v850.elf import is_elf
@@ -219,16 +263,23 @@ def resolve_program(spec: str, *, athrill2: str | None = None, emulator: str | N
     if sync is not None and not real:
         raise ProgramError(f"--sync {sync} is for the real emulator (a v850 image, or --emulator athrill2); "
                            f"{spec} runs in the lockstep")
-    real_sync = REAL_SYNCS[sync or "repeatable"]
+    udp = udp_link(transport, device_config)
+    if udp is not None and not real:
+        raise ProgramError(f"--transport udp is for the real emulator (a v850 image, or --emulator athrill2); "
+                           f"{spec} runs in the lockstep over the mapped files")
+    if udp is not None and sync == "repeatable":
+        raise ProgramError("--sync repeatable needs --transport mmap (the wait is patched into athrill2's mmap "
+                           "device); over UDP athrill2 keeps TOPPERS' protocol: --sync hakoniwa")
+    real_sync = REAL_SYNCS[sync or ("hakoniwa" if udp is not None else "repeatable")]
     if spec in BUILTIN and emulator != "athrill2":
         return python_program(spec)
     if c_source is not None:
-        return image_program(c_source, athrill2, real_sync) if real else native_program(c_source)
+        return image_program(c_source, athrill2, real_sync, udp) if real else native_program(c_source)
     if path.is_file():
         if real:
             if emulator == "native":
                 raise ProgramError(f"--app {spec}: a v850 image runs only in the real emulator (--emulator athrill2)")
-            return elf_program(path, athrill2, real_sync)
+            return elf_program(path, athrill2, real_sync, udp)
         raise ProgramError(f"--app {spec}: not a v850 ELF image, a C or C++ file (.c, .cpp), a built-in app ({builtins}) "
                            "or module:function")
     if emulator == "athrill2":
@@ -241,7 +292,7 @@ def resolve_program(spec: str, *, athrill2: str | None = None, emulator: str | N
     return python_program(spec)
 
 
-def image_program(source: Path, athrill2: str | None, sync: SyncMode) -> Program:
+def image_program(source: Path, athrill2: str | None, sync: SyncMode, udp: UdpLink | None = None) -> Program:
     """A user's EV3RT C program, built now into a v850 image (cached) and run in the real emulator."""
     from athrill_sim.v850 import ImageError
     from athrill_sim.v850.build import build_image
@@ -250,4 +301,4 @@ def image_program(source: Path, athrill2: str | None, sync: SyncMode) -> Program
         image = build_image(source)
     except ImageError as e:
         raise ProgramError(str(e)) from None
-    return elf_program(image, athrill2, sync)
+    return elf_program(image, athrill2, sync, udp)

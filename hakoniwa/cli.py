@@ -163,7 +163,7 @@ def _run(benches: int | None, scheduler: str | None, validate: int | None, optio
     if validate is None:
         validate = 1 if p.config.noise == 0 else SMOKE_DRAWS if options["smoke"] else DEFAULT_DRAWS
     bench = _campaign_bench(p.bench, given)
-    check_bench(bench)
+    check_bench(bench, benches=None if scheduler else n)
     files = recorded_files(p.bench, bench)
     run_dir = p.out_dir / "run"
     from testctl.bench import Bench
@@ -214,7 +214,7 @@ def test_command(test_file: Path, benches: int | None, scheduler: str | None, ou
             if path is not None and path.parent.resolve() != out_dir.resolve():  # the output folder: made below
                 _writable_file(path, option)
         for options in dict.fromkeys(c.bench for c in cases):
-            check_bench(options)
+            check_bench(options, benches=None if scheduler else n)
         make_out_dir(out_dir)
     except SuiteError as e:
         raise RunBroken(str(e)) from None
@@ -261,32 +261,40 @@ def time_limit_s(bench: BenchOptions) -> float:
         raise click.ClickException(str(e)) from None
 
 
-def check_bench(bench: BenchOptions) -> None:
+def check_bench(bench: BenchOptions, benches: int | None = 1) -> None:
     """Load the course and check the program here, once, so that a bad one is one line before any worker
-    starts (and a C program is built once, into the cache every local worker then hits)."""
+    starts (and a C program is built once, into the cache every local worker then hits). `benches` is how
+    many run on this machine at once (None: a cluster's, elsewhere)."""
     from hakoniwa.physics.bench import load_bench
     from hakoniwa.physics.course import CourseError
     from hakoniwa.physics.robots import RobotError
     from hakoniwa.physics.scenario import ScenarioError
-    from athrill_sim.programs import ProgramError, resolve_program
+    from athrill_sim.programs import ProgramError
+    from athrill_sim.vdev_udp import TX_PORT_KEY, RX_PORT_KEY, LinkError, check_free
 
     try:
         load_bench(bench)
-        program = resolve_program(bench.app, athrill2=bench.athrill2, emulator=bench.emulator, sync=bench.sync)
+        program = bench.program()
+        if program.udp is not None and program.udp.fixed:
+            if benches is not None and benches > 1:
+                raise click.ClickException(
+                    f"--device-config {bench.device_config} fixes athrill2's UDP ports ({program.udp.physics}, "
+                    f"{program.udp.athrill}), which {benches} benches cannot share: use --benches 1, or delete "
+                    f"its {TX_PORT_KEY} and {RX_PORT_KEY} lines (each bench then adds ports of its own)")
+            check_free(program.udp)
         program.finish_check(program.start_check())
-    except (CourseError, RobotError, ScenarioError, ProgramError) as e:
+    except (CourseError, RobotError, ScenarioError, ProgramError, LinkError) as e:
         raise click.ClickException(str(e)) from None
 
 
 def repeatable_bench(bench: BenchOptions) -> bool:
     """Whether the bench runs the real emulator in the repeatable mode, where a set's tests without noise
     all give the same result."""
-    from athrill_sim.programs import ProgramError, resolve_program
+    from athrill_sim.programs import ProgramError
     from hakoniwa.wire.protocol import SyncMode
 
     try:
-        return resolve_program(bench.app, athrill2=bench.athrill2, emulator=bench.emulator,
-                               sync=bench.sync).sync == SyncMode.REPEATABLE
+        return bench.program().sync == SyncMode.REPEATABLE
     except ProgramError as e:
         raise click.ClickException(str(e)) from None
 
@@ -296,7 +304,8 @@ def default_benches() -> int:
 
 
 # What the journal records of the bench: what decides results (not where athrill2 lives).
-RECORDED_BENCH = ("course", "app", "emulator", "sync", "time_limit_s", "robot", "scenario")
+RECORDED_BENCH = ("course", "app", "emulator", "sync", "transport", "device_config", "time_limit_s", "robot",
+                  "scenario")
 
 
 def bench_info(bench: BenchOptions) -> dict:
@@ -320,7 +329,8 @@ def _campaign_bench(stored: dict, given: BenchOptions) -> BenchOptions:
     """The bench for a campaign: as given, with paths made absolute for workers elsewhere; a resumed campaign
     runs on the bench its journal records, and giving another is an error."""
     given = dataclasses.replace(given, course=_absolute(given.course), app=_absolute(given.app),
-                                robot=_absolute(given.robot), scenario=_absolute(given.scenario))
+                                robot=_absolute(given.robot), scenario=_absolute(given.scenario),
+                                device_config=_absolute(given.device_config))
     if not stored:
         return given
     ctx = click.get_current_context()

@@ -19,6 +19,9 @@ from athrill_sim.v850.toolchain import SHARED, check_build_tools, find_tools
 
 WORKSPACE = SHARED / "ev3rt" / "ev3rt-athrill-v850e2m" / "sdk" / "workspace"
 BASE_PRACTICE = WORKSPACE / "base_practice_1"
+# ET Robocon's athrill2 device configs for its UDP link (127.0.0.1, ports 54001 / 54002), as its SDKs ship them.
+ETROBOC_DEVICE_CONFIGS = [SHARED / "raspike" / "raspike-athrill-v850e2m" / "sdk" / "common" / "device_config.txt",
+                          SHARED / "ev3rt" / "ev3rt-athrill-v850e2m" / "sdk" / "common" / "device_config.txt"]
 
 
 def need_v850_tools() -> None:

@@ -18,7 +18,8 @@ from hakoniwa.clickutil import HELP
 from hakoniwa.physics.options import BenchOptions, bench_options
 from hakoniwa.wire.timebase import US_PER_S
 from hakoniwa.wire.processes import describe_exit, die_with_parent
-from athrill_sim.programs import ProgramError, resolve_program
+from athrill_sim.programs import ProgramError
+from athrill_sim.vdev_udp import LinkError
 from hakoniwa.wire.rundir import COURSE_ENV, RUN_DIR_ENV, TIME_LIMIT_ENV, RunDirBusy, RunDirLock
 
 
@@ -34,8 +35,7 @@ def main(run_dir: Path, controller: tuple[str, ...], **bench) -> None:
     $HAKO_TIME_LIMIT_S."""
     options = BenchOptions(**bench)
     try:
-        program = resolve_program(options.app, athrill2=options.athrill2, emulator=options.emulator,
-                                  sync=options.sync)
+        program = options.program()
         check = program.start_check()
         world_course, robot, scenario = load_bench(options)
         lock = RunDirLock(run_dir)
@@ -50,7 +50,7 @@ def main(run_dir: Path, controller: tuple[str, ...], **bench) -> None:
                                scenario=scenario)
         program.finish_check(check)
         code = serve(server, run_dir, world_course.folder, controller)
-    except ProgramError as e:
+    except (ProgramError, LinkError) as e:
         raise click.ClickException(str(e)) from None
     finally:
         lock.release()

@@ -11,13 +11,16 @@ import dataclasses
 import sys
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import click
 
-from athrill_sim.programs import EMULATORS, REAL_SYNCS, REPEATABLE_DIR
+from athrill_sim.programs import EMULATORS, REAL_SYNCS, REPEATABLE_DIR, TRANSPORTS, UDP_DEVICE_CONFIG
 from hakoniwa.clickutil import SECONDS, option_group
 from hakoniwa.wire.timebase import US_PER_S
+
+if TYPE_CHECKING:
+    from athrill_sim.programs import Program
 
 DEFAULT_COURSE = "oval"
 DEFAULT_APP = "line_trace"
@@ -31,7 +34,9 @@ class BenchOptions:
     app: str = DEFAULT_APP
     athrill2: str | None = None
     emulator: str | None = None  # None: by the kind of --app (a C program natively, a v850 image in athrill2)
-    sync: str | None = None  # None: repeatable for the real emulator
+    sync: str | None = None  # None: repeatable for the real emulator (hakoniwa over UDP)
+    transport: str | None = None  # None: mmap, or udp with a device config
+    device_config: str | None = None  # a user's athrill2 device config for UDP (ET Robocon's device_config.txt)
     athrill_timeout_s: float = 10.0
     time_limit_s: float | None = None  # None: the course's own limit
     robot: str | None = None  # None: the default robot, with the course's wheel ports
@@ -44,6 +49,13 @@ class BenchOptions:
             if value is not None:
                 cmd += [option.flag, value if isinstance(value, str) else repr(value)]
         return [*cmd, "--", *controller]
+
+    def program(self) -> Program:
+        """The robot program this bench serves (ProgramError, one line, if it cannot run)."""
+        from athrill_sim.programs import resolve_program
+
+        return resolve_program(self.app, athrill2=self.athrill2, emulator=self.emulator, sync=self.sync,
+                               transport=self.transport, device_config=self.device_config)
 
     def time_limit_us(self, course_limit_us: int) -> int:
         """The simulated time a test may take: the override if one was given, else the course's. A campaign
@@ -77,7 +89,13 @@ _OPTIONS = [
     _Option("sync", "--sync", "How the real emulator keeps time with physics: repeatable (athrill2 built with "
             "scripts/build_athrill2.sh --repeatable waits at each sync point: the same result on every run) or "
             "hakoniwa (TOPPERS' unmodified protocol: results depend on the machine's load) [default: "
-            "repeatable].", click.Choice(tuple(REAL_SYNCS))),
+            "repeatable; hakoniwa over UDP].", click.Choice(tuple(REAL_SYNCS))),
+    _Option("transport", "--transport", "How the real emulator's packets travel: mmap (the two mapped files) or "
+            "udp (athrill2's vdev_udp device, as in ET Robocon's simulator; --sync hakoniwa only) [default: mmap; "
+            "udp with --device-config].", click.Choice(TRANSPORTS)),
+    _Option("device_config", "--device-config", f"athrill2's device config for UDP, e.g. ET Robocon's "
+            f"{UDP_DEVICE_CONFIG}: athrill2 runs with it unchanged and the physics side uses its addresses and "
+            "ports (127.x.x.x only) [default: the bench writes one with ports of its own]."),
     _Option("athrill_timeout_s", "--athrill-timeout",
             "Wall seconds a silent Athrill is waited for before the test counts as a crash.", SECONDS),
     _Option("robot", "--robot", "The robot's wiring: a built-in name (default, hackev) or a robot TOML file "

@@ -33,6 +33,7 @@ from hakoniwa.physics.course import Course
 from hakoniwa.physics.environment import Environment
 from hakoniwa.physics.lcd import draw_screen, forget_screen
 from hakoniwa.physics.noise import NoiseDraw
+from hakoniwa.physics.relay import open_transport
 from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
 from hakoniwa.physics.scenario import Scenario
 from hakoniwa.physics.slots import Report, Slots
@@ -71,13 +72,14 @@ class PhysicsServer:
         (self.run_dir / SERIAL_INPUT).write_text(scenario.serial_lines())
         self.slots = Slots(self.run_dir)
         self.athrill = self.slots.athrill
+        self._log = open(self.run_dir / PHYSICS_LOG, "a")
+        self.transport = open_transport(program, self.slots, self.run_dir, self._note)
         self.launcher = AthrillLauncher(self.run_dir, program)
         self.answer_before_start = 0
         self.tests_run = 0
         self._max_diff_us = 0
         self._athrill_proc: subprocess.Popen | None = None
         self._controller_gone = threading.Event()
-        self._log = open(self.run_dir / PHYSICS_LOG, "a")
 
     # -- what the sync loops use ---------------------------------------------------------------------
     @property
@@ -100,6 +102,7 @@ class PhysicsServer:
 
     def publish_sensors(self) -> None:
         self.slots.publish(self.env.read_sensors(), unity_time_us(self.program.sync, self.env.now_us))
+        self.transport.published()
 
     def apply_actuators(self) -> None:
         commands = self.slots.take_commands()
@@ -115,8 +118,11 @@ class PhysicsServer:
     def check_files(self) -> None:
         """Repair the mapped files if anyone damaged them since the last test, and say so in the log."""
         for line in self.slots.repair():
-            self._log.write(line + "\n")
-            self._log.flush()
+            self._note(line)
+
+    def _note(self, line: str) -> None:
+        self._log.write(line + "\n")
+        self._log.flush()
 
     def _read_noise(self) -> NoiseDraw | None:
         """This test's noise from the seed and scale the controller wrote; None for scale 0 (or a scale that
@@ -147,6 +153,7 @@ class PhysicsServer:
         noise = self._start_test(seq)
         crash: AthrillCrash | None = None
         try:
+            self.transport.launching()
             proc = self._athrill_proc = self.launcher.take(seq)
         except OSError as e:
             crash = AthrillCrash(CrashKind.BENCH, 0, f"cannot start athrill: {e}")
@@ -199,6 +206,7 @@ class PhysicsServer:
         if self._athrill_proc is not None:
             kill(self._athrill_proc)
             self._athrill_proc = None
+        self.transport.ended()
         self.env.reset()
         self.slots.publish_event(Event.NONE, 0)
 
@@ -230,5 +238,6 @@ class PhysicsServer:
         finally:
             if self._athrill_proc is not None:
                 kill(self._athrill_proc)
+            self.transport.close()
             self.launcher.close()
             self._log.close()

@@ -11,7 +11,9 @@ the same parameters give the same event and goal time to the microsecond under a
 (RX header 16), writes its own clock (TX header 8), and only refuses to skip idle cycles past the unity
 time. Physics steps while `athrill_time - world_time > -ALLOWED_TIME_DIFF_US`, in whole 1 ms steps that
 never take it more than the allowed 20 ms ahead, and then publishes its time; results depend on how fast
-the emulator runs, as with the real Unity.
+the emulator runs, as with the real Unity. Over UDP (athrill2's `vdev_udp`) the loop is the same: the
+transport (`hakoniwa.physics.relay`) brings Athrill's packets into the TX file when the loop receives, and
+sends each published snapshot as a packet.
 
 `repeatable` (the real TOPPERS Athrill built with scripts/athrill-patches, its wait turned on by the device
 config): at every device clock that reaches the unity time, Athrill publishes its clock and sleeps until the
@@ -37,7 +39,7 @@ from typing import TYPE_CHECKING, Callable
 from hakoniwa.wire.processes import CpuUse, cpu_use, describe_exit, take_bench_fault
 from hakoniwa.wire.protocol import HEADER_SIZE, CrashKind, Header, SyncMode, Tx
 from hakoniwa.wire.timebase import ALLOWED_TIME_DIFF_US, PHYSICS_STEP_US
-from hakoniwa.wire.waiting import wait_for, wait_word
+from hakoniwa.wire.waiting import wait_word
 
 if TYPE_CHECKING:
     from hakoniwa.physics.server import PhysicsServer
@@ -147,15 +149,17 @@ def run_lockstep(server: PhysicsServer, proc: subprocess.Popen) -> None:
 
 def run_hakoniwa(server: PhysicsServer, proc: subprocess.Popen) -> None:
     a = server.athrill
+    link = server.transport  # over UDP, what Athrill sent reaches the TX file when the loop receives it
     check = watchdog(proc, server.athrill_timeout_s, lambda: a.athrill_time_us, lambda: a.athrill_time_us > 0,
                      server.run_dir)
     sched = server.scheduler
     while True:
+        link.receive()
         now = server.now_us
         # Whole steps that keep physics at most the allowed difference ahead of Athrill's clock.
         steps = (a.athrill_time_us + ALLOWED_TIME_DIFF_US - now) // PHYSICS_STEP_US
         if steps <= 0:
-            wait_for(lambda: a.athrill_time_us + ALLOWED_TIME_DIFF_US - server.now_us >= PHYSICS_STEP_US, check)
+            link.wait_for(lambda: a.athrill_time_us + ALLOWED_TIME_DIFF_US - server.now_us >= PHYSICS_STEP_US, check)
             continue
         server.note_time_diff(a.athrill_time_us - now)
         server.apply_actuators()

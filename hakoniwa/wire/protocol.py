@@ -329,6 +329,16 @@ class MappedFile:
     def clear(self, start: int, end: int) -> None:
         self._mm[self._at(start, end - start) : HEADER_SIZE + end] = bytes(end - start)
 
+    def read_bytes(self, offset: int, size: int) -> bytes:
+        return self._mm[self._at(offset, size) : HEADER_SIZE + offset + size]
+
+    def write_bytes(self, offset: int, data: bytes) -> None:
+        self._mm[self._at(offset, len(data)) : HEADER_SIZE + offset + len(data)] = data
+
+    def file_bytes(self, size: int) -> bytes:
+        """The file's first `size` bytes, header included: what a UDP packet carries (`hakoniwa.wire.packets`)."""
+        return self._mm[:size]
+
 
 def open_unity(run_dir: Path, *, create: bool = False) -> MappedFile:
     return MappedFile(Path(run_dir) / UNITY_FILE, UNITY_MAGIC, create=create)
