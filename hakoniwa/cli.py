@@ -162,8 +162,8 @@ def _run(benches: int | None, scheduler: str | None, validate: int | None, optio
     p = plan(**options, penalty_s=time_limit_s(given))
     if validate is None:
         validate = 1 if p.config.noise == 0 else SMOKE_DRAWS if options["smoke"] else DEFAULT_DRAWS
-    bench = _campaign_bench(p.bench, given)
-    check_bench(bench)
+    bench = dataclasses.replace(_campaign_bench(p.bench, given), bindings=p.config.space.bindings())
+    program = check_bench(bench)
     files = recorded_files(p.bench, bench)
     run_dir = p.out_dir / "run"
     from testctl.bench import Bench
@@ -178,7 +178,7 @@ def _run(benches: int | None, scheduler: str | None, validate: int | None, optio
     try:
         run_campaign(p, executor, bench_info={**bench_info(bench), FILES_KEY: files},
                      trial_once=lambda spec: (local.run(spec), run_dir), course_folder=Path(bench.course),
-                     failures=(ClusterError,), validate=validate)
+                     failures=(ClusterError,), validate=validate, write_patch=patch_writer(program))
     finally:
         local.close()
         executor.close()
@@ -261,9 +261,19 @@ def time_limit_s(bench: BenchOptions) -> float:
         raise click.ClickException(str(e)) from None
 
 
-def check_bench(bench: BenchOptions) -> None:
+def patch_writer(program):
+    """best.patch's writer for a program tuned as it is written; None for one that reads its parameters at
+    their offsets (nothing of it to patch)."""
+    if program.tuning is None:
+        return None
+    from testctl.patch import write_patch
+
+    return lambda path, values: write_patch(path, program.tuning, values)
+
+
+def check_bench(bench: BenchOptions):
     """Load the course and check the program here, once, so that a bad one is one line before any worker
-    starts (and a C program is built once, into the cache every local worker then hits)."""
+    starts (and a C program is built once, into the cache every local worker then hits); the program."""
     from hakoniwa.physics.bench import load_bench
     from hakoniwa.physics.course import CourseError
     from hakoniwa.physics.robots import RobotError
@@ -272,10 +282,12 @@ def check_bench(bench: BenchOptions) -> None:
 
     try:
         load_bench(bench)
-        program = resolve_program(bench.app, athrill2=bench.athrill2, emulator=bench.emulator, sync=bench.sync)
+        program = resolve_program(bench.app, athrill2=bench.athrill2, emulator=bench.emulator, sync=bench.sync,
+                                  bindings=bench.bindings)
         program.finish_check(program.start_check())
     except (CourseError, RobotError, ScenarioError, ProgramError) as e:
         raise click.ClickException(str(e)) from None
+    return program
 
 
 def repeatable_bench(bench: BenchOptions) -> bool:

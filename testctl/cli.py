@@ -71,7 +71,8 @@ def campaign(run_dir: Path, course: str, time_limit: float, **options) -> None:
     runner = connect(run_dir)
 
     def run_test(spec: TestSpec):
-        return runner.run_test(spec.params, noise_seed=spec.noise_seed, noise_scale=spec.noise_scale)
+        return runner.run_test(spec.params, noise_seed=spec.noise_seed, noise_scale=spec.noise_scale,
+                               slot_types=spec.slot_types)
 
     try:
         run_campaign(p, SerialExecutor(run_test, name=str(run_dir)), bench_info={},

@@ -14,6 +14,7 @@ type-puns freely; integer-to-pointer casts are not warned about, because EV3RT p
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import re
 import shutil
@@ -50,9 +51,11 @@ def find_compiler() -> Path:
     raise NativeBuildError("no C compiler (cc or gcc) on PATH to build a native app; install one or set CC")
 
 
-def build_app(path: Path) -> Path:
-    """The native Athrill for the program at `path`, built now unless the cache holds it."""
+def build_app(path: Path, *, flags: tuple[str, ...] = ()) -> Path:
+    """The native Athrill for the program at `path`, built now unless the cache holds it. `flags` are extra
+    compiler flags after the program's own (a tuned program's -DNAME=value, athrill_sim.tuning)."""
     app = find_app(path)
+    app = dataclasses.replace(app, defines=(*app.defines, *flags)) if flags else app
     cc = find_compiler()
     generated = headers.generated_headers()
     return cached_build(cache_root() / "native" / cache_key(app, cc, generated), EXECUTABLE,

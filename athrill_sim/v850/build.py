@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import os
 import re
+import shlex
 import shutil
 import subprocess
 from pathlib import Path
@@ -55,18 +56,20 @@ _MAKE_SUMMARY = re.compile(r"^make(\[\d+\])?: \*\*\* .*Error \d+")
 
 
 def build_image(app: Path, *, sdk: Path | None = None, toolchain: Path | None = None,
-                announce: Callable[[str], None] | None = None) -> Path:
+                announce: Callable[[str], None] | None = None, flags: tuple[str, ...] = ()) -> Path:
     """The v850 image of the program at `app` (an app.c or a workspace folder), built now unless cached;
-    `announce` hears what is being built before a build starts (it takes seconds)."""
+    `announce` hears what is being built before a build starts (it takes seconds). `flags` are extra
+    compiler flags for the program (a tuned program's -DNAME=value, athrill_sim.tuning), added to its
+    Makefile.inc's COPTS in the scratch copy."""
     tools = find_tools(sdk, toolchain)
     root, files, lone = app_files(Path(app))
-    entry = cache_root() / "v850" / cache_key(root, files, lone, tools)
+    entry = cache_root() / "v850" / cache_key(root, files, lone, tools, flags)
     if (entry / IMAGE).is_file():
         return entry / IMAGE
     check_build_tools()
     if announce is not None:
         announce(f"building {root} with the EV3RT SDK at {tools.sdk} and {tools.gcc}")
-    return cached_build(entry, IMAGE, lambda scratch: _build(root, files, lone, tools, scratch))
+    return cached_build(entry, IMAGE, lambda scratch: _build(root, files, lone, tools, scratch, flags))
 
 
 def app_files(app: Path) -> tuple[Path, list[Path], bool]:
@@ -89,9 +92,11 @@ def app_files(app: Path) -> tuple[Path, list[Path], bool]:
     return root, files, False
 
 
-def cache_key(root: Path, files: list[Path], lone: bool, tools: Tools) -> str:
+def cache_key(root: Path, files: list[Path], lone: bool, tools: Tools, flags: tuple[str, ...] = ()) -> str:
     key = CacheKey()
     add = key.add
+    if flags:
+        add("flags", "\0".join(flags).encode())
     add("compiler", f"{tools.gcc}\n{_run([str(tools.gcc), '--version'], root, 'cannot run ' + str(tools.gcc))}".encode())
     add("make", "\0".join(MAKE).encode())
     add("builder", Path(__file__).read_bytes())
@@ -104,7 +109,7 @@ def cache_key(root: Path, files: list[Path], lone: bool, tools: Tools) -> str:
     return key.name()
 
 
-def _build(root: Path, files: list[Path], lone: bool, tools: Tools, scratch: Path) -> None:
+def _build(root: Path, files: list[Path], lone: bool, tools: Tools, scratch: Path, flags: tuple[str, ...]) -> None:
     sdk = scratch / tools.sdk.name
     shutil.copytree(tools.sdk, sdk, symlinks=True)
     for d, _, names in os.walk(sdk):  # a read-only source tree copies read-only
@@ -131,6 +136,9 @@ def _build(root: Path, files: list[Path], lone: bool, tools: Tools, scratch: Pat
             target = staged / f.relative_to(root)
             target.parent.mkdir(parents=True, exist_ok=True)
             shutil.copyfile(f, target)
+    if flags:
+        with open(staged / "Makefile.inc", "a") as inc:
+            inc.write("\nCOPTS += " + " ".join(shlex.quote(f).replace("$", "$$") for f in flags) + "\n")
     env = {**os.environ, "LC_ALL": "C.UTF-8", "PWD": str(workspace),  # Ruby reads the SDK's UTF-8; make $(PWD)
            "PATH": f"{tools.gcc.parent}{os.pathsep}{os.environ.get('PATH', '')}"}
     try:

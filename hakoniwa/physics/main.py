@@ -35,7 +35,7 @@ def main(run_dir: Path, controller: tuple[str, ...], **bench) -> None:
     options = BenchOptions(**bench)
     try:
         program = resolve_program(options.app, athrill2=options.athrill2, emulator=options.emulator,
-                                  sync=options.sync)
+                                  sync=options.sync, bindings=options.bindings)
         check = program.start_check()
         world_course, robot, scenario = load_bench(options)
         lock = RunDirLock(run_dir)

@@ -36,6 +36,7 @@ class BenchOptions:
     time_limit_s: float | None = None  # None: the course's own limit
     robot: str | None = None  # None: the default robot, with the course's wheel ports
     scenario: str | None = None  # a scenario TOML applied to every test
+    bindings: str | None = None  # JSON: how parameters other than `offset` reach the program (from the space)
 
     def physics_command(self, run_dir: Path, controller: list[str]) -> list[str]:
         cmd = [sys.executable, "-m", "hakoniwa.physics.main", "--run-dir", str(run_dir)]
@@ -57,11 +58,12 @@ class _Option:
     flag: str
     help: str
     type: click.ParamType | None = None
+    hidden: bool = False
 
     def declare(self) -> Callable:
         default = next(f.default for f in dataclasses.fields(BenchOptions) if f.name == self.field)
         return click.option(self.flag, self.field, type=self.type, default=default,
-                            show_default=default is not None, help=self.help)
+                            show_default=default is not None, help=self.help, hidden=self.hidden)
 
 
 _OPTIONS = [
@@ -86,6 +88,8 @@ _OPTIONS = [
             "times, the same in every test."),
     _Option("time_limit_s", "--time-limit", "Simulated seconds before a test ends as TIME_OVER; a campaign "
             "scores a failed test as this many seconds [default: the course's time_limit_s].", SECONDS),
+    _Option("bindings", "--bindings", "How the parameters of kinds other than offset (define, symbol, file, "
+            "source) reach the program, as JSON; the controller makes it from the --space file.", hidden=True),
 ]
 
 bench_options = option_group([o.declare() for o in _OPTIONS])
