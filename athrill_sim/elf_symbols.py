@@ -31,10 +31,10 @@ from athrill_sim.bindings import BindingError
 V850_MACHINES = ("EM_V800", "EM_V850", 0x9080)  # pyelftools' names of athrill_sim.v850.elf's machines
 
 SHF_WRITE, SHF_ALLOC = 0x1, 0x2
-# Where an instruction's displacement field lies before the address it reaches (x86-64 RIP-relative: the
-# field, then up to 4 bytes of immediate, then the next instruction): a relocation against a section symbol
-# reaches S + A + one of these.
-_PC_REACH = (0, 4, 5, 6, 8)
+# What a relocation against a section symbol reaches, S + A + one of these: an absolute one S + A; an x86-64
+# RIP-relative one the end of its instruction, after the 4-byte displacement and up to 4 bytes of immediate.
+_X86_64_PC_RELATIVE = (2, 4, 9, 24, 41, 42)  # R_X86_64_PC32, PLT32, GOTPCREL, PC64, GOTPCRELX, REX_GOTPCRELX
+_PC_REACH, _ABSOLUTE_REACH = (4, 5, 6, 8), (0,)
 _NUMBER_ENCODINGS = {0x04: "f", 0x05: "i", 0x06: "i", 0x07: "u", 0x08: "u", 0x02: "u"}  # DW_ATE_*: float,
 # signed, signed char, unsigned, unsigned char, boolean
 FOLD_FIX = "make it a non-const global, e.g. float g_kp = 0.8f;"
@@ -153,7 +153,11 @@ def _referenced(elf: ELFFile, symtab: SymbolTableSection, index: int, sym) -> bo
             s = symtab.get_symbol(r["r_info_sym"])
             if s["st_info"]["type"] == "STT_SECTION" and s["st_shndx"] == sym["st_shndx"]:
                 base = s["st_value"] + r.entry.get("r_addend", 0)
-                if any(start <= base + d < end for d in _PC_REACH):
+                if elf.header["e_machine"] == "EM_X86_64":
+                    reach = _PC_REACH if r["r_info_type"] in _X86_64_PC_RELATIVE else _ABSOLUTE_REACH
+                else:
+                    reach = (*_ABSOLUTE_REACH, *_PC_REACH)
+                if any(start <= base + d < end for d in reach):
                     return True
     return False
 

@@ -39,6 +39,7 @@ BUILD_REPEATABLE_HINT = (f"build one with scripts/build_athrill2.sh --repeatable
                          "--sync hakoniwa: the unmodified protocol, whose results depend on the machine's load)")
 EMULATORS = ("native", "athrill2")  # what a C program runs on: compiled for this machine, or the real emulator
 REAL_SYNCS = {"repeatable": SyncMode.REPEATABLE, "hakoniwa": SyncMode.HAKONIWA}
+REAL_KINDS = ("image", "elf")  # the Recipe kinds the real emulator runs
 SYNC_WAIT_KEY = "DEBUG_FUNC_VDEV_MMAP_SYNC_WAIT"  # read by scripts/athrill-patches/01-*.patch
 
 # Athrill's memory map and device configuration for an EV3RT image in MMAP mode: the layout the TOPPERS

@@ -307,10 +307,10 @@ class Tuning:
         candidates = [f for f in self.files if f.name == g.decl_file] if g.decl_file else []
         for f in candidates:
             text = f.read_text(errors="replace")
-            lines = text.splitlines(keepends=True)
+            lines = text.split("\n")
             if g.decl_line is None or g.decl_line > len(lines):
                 continue
-            start = sum(len(line) for line in lines[:g.decl_line - 1])
+            start = sum(len(line) + 1 for line in lines[:g.decl_line - 1])
             m = pattern.search(text, start)
             if m is not None and text.count("\n", start, m.start()) <= 2:
                 group = 1 if m.group(1) is not None else 2

@@ -293,14 +293,13 @@ def check_bench(bench: BenchOptions):
 def repeatable_bench(bench: BenchOptions) -> bool:
     """Whether the bench runs the real emulator in the repeatable mode, where a set's tests without noise
     all give the same result."""
-    from athrill_sim.programs import ProgramError, resolve_program
-    from hakoniwa.wire.protocol import SyncMode
+    from athrill_sim.programs import REAL_KINDS, ProgramError, program_recipe
 
-    try:
-        return resolve_program(bench.app, athrill2=bench.athrill2, emulator=bench.emulator,
-                               sync=bench.sync).sync == SyncMode.REPEATABLE
+    try:  # what --app names, not built yet: a tuned program builds only with its parameters' values
+        recipe = program_recipe(bench.app, athrill2=bench.athrill2, emulator=bench.emulator, sync=bench.sync)
     except ProgramError as e:
         raise click.ClickException(str(e)) from None
+    return recipe.kind in REAL_KINDS and (bench.sync or "repeatable") == "repeatable"
 
 
 def default_benches() -> int:

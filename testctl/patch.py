@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import difflib
 import os
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -71,4 +72,5 @@ def unified_diff(old: str | None, new: str, rel: str) -> str:
 
 
 def _lines(text: str) -> list[str]:
-    return text.splitlines(keepends=True)
+    """Lines as git counts them: split at newlines only (str.splitlines also splits at \\x1c, \\x85, ...)."""
+    return re.findall(r"[^\n]*\n|[^\n]+$", text)
