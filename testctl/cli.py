@@ -68,6 +68,11 @@ def campaign(run_dir: Path, course: str, time_limit: float, **options) -> None:
     from testctl.session import run_campaign
 
     p = plan(**options, penalty_s=time_limit)
+    if p.config.space.bindings() is not None:
+        p.lock.release()
+        raise click.ClickException("--space: define, symbol, file and source parameters need a bench that knows "
+                                   "where they go, which this one was started without: run the campaign with "
+                                   "hako run")
     runner = connect(run_dir)
 
     def run_test(spec: TestSpec):

@@ -7,6 +7,7 @@ import math
 import shutil
 import struct
 import subprocess
+import sys
 from fractions import Fraction
 from pathlib import Path
 
@@ -277,3 +278,24 @@ def test_a_python_program_takes_only_offsets(tmp_path: Path) -> None:
     r = hako("run", "--app", "line_trace", "--space", str(PROGRAMS / "define.toml"), "--smoke", "--out",
              str(tmp_path / "out"))
     one_line_error(r, "a Python program reads its parameters at their offsets")
+
+
+def test_resume_refuses_a_campaign_whose_data_file_changed(tmp_path: Path) -> None:
+    """The journal's hash covers every file a kind reads or rewrites: here the data file's original."""
+    need_cc()
+    folder = tracers(tmp_path)
+    out = folder / "out"
+    r = hako("run", "--app", str(folder / "tracer_file"), "--space", str(folder / "file.toml"), "--smoke",
+             "--noise", "0", "--validate", "0", "--out", str(out), timeout=300)
+    assert r.returncode == 0, r.stderr
+    (folder / "tracer_file" / "sdcard" / "gains.csv").write_text("kp,ki,kd,power\n2,0,0,15\n")
+    one_line_error(hako("run", "--resume", str(out), "--trials", "3", timeout=300), "gains.csv changed")
+
+
+def test_a_bench_that_was_not_told_the_bindings_refuses_them(tmp_path: Path) -> None:
+    from conftest import run_module
+
+    controller = [sys.executable, "-m", "testctl.cli", "campaign", "--space", str(PROGRAMS / "define.toml"), "--smoke",
+                  "--out", str(tmp_path / "out")]
+    r = run_module("hakoniwa.physics.main", "--run-dir", str(tmp_path / "run"), "--", *controller, timeout=300)
+    assert r.returncode != 0 and "run the campaign with hako run" in r.stderr, r.stderr
