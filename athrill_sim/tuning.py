@@ -82,13 +82,15 @@ class Tuning:
         return self.variant(values, run_dir)
 
     def variant(self, values: dict[str, float], run_dir: Path | None = None) -> Program:
-        built = self._built({b.name: values[b.name] for b in self.bindings if b.kind in ("define", "source")})
+        built = self.built({b.name: values[b.name] for b in self.bindings if b.kind in ("define", "source")})
         symbols = [b for b in self.bindings if b.kind == "symbol"]
         if not symbols:
             return built
         assert built.image is not None
         found = self._symbols(built.image)
         patch = {found[b.target].file_offset: _encode(found[b.target].storage, values[b.name]) for b in symbols}
+        if self.recipe.kind != "native":  # an image in the run directory, which keeps only the latest
+            return built.with_image(self._patched(built, patch, run_dir))
         key = (built.image, tuple(sorted(patch.items())))
         if key not in self._variants:
             self._variants[key] = built.with_image(self._patched(built, patch, run_dir))
@@ -158,7 +160,7 @@ class Tuning:
     def _check_define(self, b: Binding) -> None:
         low = {x.name: x.low for x in self.bindings}
         high = {**low, b.name: b.high if b.high != b.low else b.low + 1}
-        images = [self._built(v).image for v in (low, high)]
+        images = [self.built(v).image for v in (low, high)]
         assert images[0] is not None and images[1] is not None
         if loaded_bytes(images[0]) == loaded_bytes(images[1]):
             texts = [self._texts(v)[b.name] for v in (low, high)]
@@ -185,7 +187,7 @@ class Tuning:
     def _texts(self, values: dict[str, float]) -> dict[str, str]:
         return {b.name: value_text(values[b.name], b.text_type) for b in self.bindings}
 
-    def _built(self, values: dict[str, float]) -> Program:
+    def built(self, values: dict[str, float]) -> Program:
         """The program built with these define and source values (cached here and on disk)."""
         texts = self._texts({**{b.name: b.low for b in self.bindings}, **values})
         defines = tuple(f"-D{b.target}={texts[b.name]}" for b in self.bindings if b.kind == "define")
@@ -236,6 +238,10 @@ class Tuning:
             tmp = image.with_name(image.name + f".{os.getpid()}.tmp")
             patched_copy(built.image, patch, tmp)
             tmp.replace(image)
+        if run_dir is not None:  # the emulator starts with its own test: no other test's image is in use
+            for old in folder.glob(TUNED_IMAGE.format(key="*")):
+                if old != image:
+                    old.unlink(missing_ok=True)
         return image
 
     def _rewritten(self, texts: dict[str, str]) -> Path:
@@ -385,7 +391,7 @@ def tune(recipe: Recipe, bindings: tuple[Binding, ...]) -> Program:
     folders = tuple(sorted({root, *(f.parent for f in files)}))
     tuning = Tuning(recipe, bindings, root, folders, everything)
     tuning.check()
-    base = tuning._built({})
+    base = tuning.built({})
     return replace(base, files=tuple(sorted({*base.files, *everything})), tuning=tuning)
 
 
