@@ -23,14 +23,14 @@ class AthrillLauncher:
     def __init__(self, run_dir: Path, program: Program) -> None:
         self.run_dir = run_dir
         self.program = program
-        self._spare: tuple[int, subprocess.Popen] | None = None
+        self._spare: tuple[int, Program, subprocess.Popen] | None = None
         self._log = open(run_dir / ATHRILL_LOG, "ab")
         self._write_lock = threading.Lock()
         self._outputs: dict[int, CappedOutput] = {}  # by pid, while the process or its output lasts
         program.prepare(run_dir)
 
-    def _spawn(self, seq: int) -> subprocess.Popen:
-        proc = self.program.spawn(self.run_dir, seq, subprocess.PIPE)
+    def _spawn(self, seq: int, program: Program) -> subprocess.Popen:
+        proc = program.spawn(self.run_dir, seq, subprocess.PIPE)
         self._outputs = {pid: out for pid, out in self._outputs.items() if out.running}
         self._outputs[proc.pid] = CappedOutput(proc.stdout, self._log, self._write_lock, f"the Athrill of test {seq}")
         return proc
@@ -40,27 +40,30 @@ class AthrillLauncher:
         out = self._outputs.get(proc.pid)
         return out.last_lines(n) if out is not None else []
 
-    def take(self, seq: int) -> subprocess.Popen:
-        """The process for test `seq` (OSError if it cannot be started)."""
+    def take(self, seq: int, program: Program | None = None) -> subprocess.Popen:
+        """The process for test `seq` (OSError if it cannot be started), running `program` (a variant of the
+        launcher's, made for this test's parameter values: `athrill_sim.tuning`). The process launched ahead
+        runs the variant of the test before: a test with other values discards it."""
+        program = program or self.program
         proc = None
         if self._spare is not None:
-            spare_seq, spare = self._spare
+            spare_seq, spare_program, spare = self._spare
             self._spare = None
-            if spare_seq == seq and spare.poll() is None:
+            if spare_seq == seq and spare_program == program and spare.poll() is None:
                 proc = spare
             else:
                 kill(spare)
-        proc = proc or self._spawn(seq)
-        if self.program.prelaunch:
+        proc = proc or self._spawn(seq, program)
+        if program.prelaunch:
             try:
-                self._spare = (seq + 1, self._spawn(seq + 1))
+                self._spare = (seq + 1, program, self._spawn(seq + 1, program))
             except OSError:  # the next test will try again, and fail on its own account if it must
                 self._spare = None
         return proc
 
     def close(self) -> None:
         if self._spare is not None:
-            kill(self._spare[1])
+            kill(self._spare[2])
             self._spare = None
         for out in self._outputs.values():
             out.join()

@@ -22,12 +22,14 @@ import os
 import shutil
 import subprocess
 import sys
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from hakoniwa.wire.processes import die_with_parent
 from hakoniwa.wire.protocol import ATHRILL_FILE, UNITY_FILE, SyncMode
+from hakoniwa.wire.rundir import SDCARD_DIR
 
 if TYPE_CHECKING:
     from athrill_sim.vdev_udp import UdpLink
@@ -68,6 +70,7 @@ ATHRILL_DEVICE = [
     ("DEVICE_CONFIG_SERIAL_FILFO_0_RD_INTNO", "57"), ("DEVICE_CONFIG_SERIAL_FILFO_0_WR_INTNO", "65"),
     ("DEVICE_CONFIG_SERIAL_FILFO_0_RD_INTOFF", "8"), ("DEVICE_CONFIG_SERIAL_FILFO_0_WR_INTOFF", "0"),
     ("DEVICE_CONFIG_SERIAL_FILFO_0_EXDEV_ENABLE", "1"), ("DEVICE_CONFIG_EV3_SERIAL_ID", "0"),
+    ("DEVICE_CONFIG_VIRTFS_TOP", SDCARD_DIR),  # the SD card's folder, as the native runtime's (default _ev3rtfs)
 ]
 # Over UDP: the same configuration without the two mapped files (athrill2 then keeps its VDEV window in its
 # own memory and exchanges it as packets), under the names of ET Robocon's; the physics side writes the device
@@ -94,10 +97,21 @@ class Program:
     check_argv: tuple[str, ...] = ()  # a command that exits non-zero, saying why, if the program cannot run
     files: tuple[Path, ...] = ()  # what the program is made of (its sources, its image), for a campaign's journal
     udp: UdpLink | None = None  # the real emulator over UDP: its endpoints (else the mapped files carry all)
+    image: Path | None = None  # the file argv runs: the native Athrill, or the v850 image athrill2 loads
+    sdcard: Path | None = None  # the program's own sdcard/ folder, copied onto the bench's SD card
+    tuning: Any = field(default=None, compare=False)  # athrill_sim.tuning.Tuning: the parameters' bindings
 
     def prepare(self, run_dir: Path) -> None:
         for name, text in self.config_files.items():
             (run_dir / name).write_text(text)
+        if self.sdcard is not None:
+            shutil.copytree(self.sdcard, run_dir / SDCARD_DIR, dirs_exist_ok=True)
+
+    def with_image(self, image: Path) -> Program:
+        """The same program run from another copy of its image (one with other initial values)."""
+        assert self.image is not None
+        return replace(self, argv=tuple(str(image) if a == str(self.image) else a for a in self.argv), image=image,
+                       tuning=None)
 
     def start_check(self) -> subprocess.Popen | None:
         """Start checking, in a process of its own exactly as a test would load it, that the program can
@@ -141,19 +155,32 @@ def python_program_files(spec: str) -> tuple[Path, ...]:
     return program_sources(BUILTIN.get(spec, spec).partition(":")[0])
 
 
-def native_program(source: Path) -> Program:
-    """A user's EV3RT C program (a .c file or a workspace folder), built now, before any test starts."""
+def native_program(source: Path, flags: tuple[str, ...] = ()) -> Program:
+    """A user's EV3RT C program (a .c file or a workspace folder), built now, before any test starts, with
+    the extra compiler `flags` (a tuned program's -D definitions)."""
     from athrill_sim.native import NativeBuildError
     from athrill_sim.native.build import build_app
     from athrill_sim.native.workspace import find_app
 
     try:
-        exe = build_app(source)
+        exe = build_app(source, flags=flags)
         files = tuple(f for f in find_app(source).hashed if not f.is_relative_to(NATIVE_DIR))  # the user's
     except NativeBuildError as e:
         raise ProgramError(str(e)) from None
+    card = program_sdcard(source)
     return Program(f"native C app {source}", SyncMode.LOCKSTEP, True,
-                   (str(exe), "--run-dir", "{run_dir}", "--test", "{test}"), files=files)
+                   (str(exe), "--run-dir", "{run_dir}", "--test", "{test}"), files=(*files, *card_files(card)),
+                   image=exe, sdcard=card)
+
+
+def program_sdcard(source: Path) -> Path | None:
+    """A C program's own SD card: the sdcard/ folder beside its sources, if it has one."""
+    folder = (source if source.is_dir() else source.parent) / SDCARD_DIR
+    return folder.resolve() if folder.is_dir() else None
+
+
+def card_files(card: Path | None) -> tuple[Path, ...]:
+    return tuple(sorted(f.resolve() for f in card.rglob("*") if f.is_file())) if card is not None else ()
 
 
 def athrill_config(sync: SyncMode) -> dict[str, str]:
@@ -206,7 +233,7 @@ def elf_program(image: Path, athrill2: str | None, sync: SyncMode = SyncMode.REP
         UDP_MEMORY_CONFIG: _memory_map([region for region in ATHRILL_MEMORY if region[0] != "MMAP"])}
     over = "" if udp is None else " over UDP"
     return Program(f"v850 image {image} on {exe}{over}", sync, False, athrill_argv(exe, image, udp is not None),
-                   in_run_dir=True, config_files=config, files=(image.resolve(),),
+                   in_run_dir=True, config_files=config, files=(image.resolve(),), image=image.resolve(),
                    check_argv=(sys.executable, "-m", "athrill_sim.v850.check", exe, str(image.resolve()),
                                sync.name.lower()), udp=udp)
 
@@ -244,13 +271,43 @@ def has_sync_patch(exe: Path) -> bool:
         return False
 
 
+@dataclass(frozen=True)
+class Recipe:
+    """How the program `--app` names is made: `make(path, flags)` builds it from `path` (its sources, or a
+    scratch copy of them) with extra compiler flags; a Python program or a v850 image is taken as it is."""
+
+    kind: str  # "python", "native" (C built for this machine), "image" (C built into a v850 image), "elf"
+    path: Path | None  # the C program (file or folder), or the v850 image
+    make: Callable[[Path | None, tuple[str, ...]], Program]
+    sync: SyncMode = SyncMode.LOCKSTEP  # how the program keeps time with physics
+
+
 def resolve_program(spec: str, *, athrill2: str | None = None, emulator: str | None = None,
-                    sync: str | None = None, transport: str | None = None,
-                    device_config: str | None = None) -> Program:
-    """The program `--app SPEC` names: a built-in or `module:function` Python program, an EV3RT C program
-    (a .c file, a workspace folder or a built-in C name), or a v850 ELF. `emulator` athrill2 builds a C
-    program into a v850 image; `sync` (repeatable, hakoniwa) is how a real emulator keeps time, `transport`
-    (mmap, udp) and `device_config` how its packets travel."""
+                    sync: str | None = None, transport: str | None = None, device_config: str | None = None,
+                    bindings: str | None = None) -> Program:
+    """The program `--app SPEC` names: a built-in or `module:function` Python program, an EV3RT C or C++
+    program (a .c or .cpp file, a workspace folder or a built-in C name), or a v850 ELF. `emulator` athrill2
+    builds a C or C++ program into a v850 image; `sync` (repeatable, hakoniwa) is how a real emulator keeps
+    time, `transport` (mmap, udp) and `device_config` how its packets travel. `bindings`
+    (JSON, `athrill_sim.bindings`) says how parameters of other kinds than `offset` reach the program: they
+    are checked against it now, and each test then runs the program as its values make it."""
+    recipe = program_recipe(spec, athrill2=athrill2, emulator=emulator, sync=sync, transport=transport,
+                            device_config=device_config)
+    if bindings:
+        from athrill_sim.bindings import BindingError, from_json
+        from athrill_sim.tuning import tune
+
+        try:
+            return tune(recipe, from_json(bindings))
+        except BindingError as e:
+            raise ProgramError(f"--space: {e}") from None
+    return recipe.make(recipe.path, ())
+
+
+def program_recipe(spec: str, *, athrill2: str | None = None, emulator: str | None = None,
+                   sync: str | None = None, transport: str | None = None,
+                   device_config: str | None = None) -> Recipe:
+    """How to make the program `--app SPEC` names (see `resolve_program`)."""
     from athrill_sim.apps import BUILTIN, C_BUILTIN
     from athrill_sim.native.workspace import SOURCE_SUFFIXES
     from athrill_sim.v850.elf import is_elf
@@ -272,14 +329,17 @@ def resolve_program(spec: str, *, athrill2: str | None = None, emulator: str | N
                            "device); over UDP athrill2 keeps TOPPERS' protocol: --sync hakoniwa")
     real_sync = REAL_SYNCS[sync or ("hakoniwa" if udp is not None else "repeatable")]
     if spec in BUILTIN and emulator != "athrill2":
-        return python_program(spec)
+        return Recipe("python", None, lambda _path, _flags: python_program(spec))
     if c_source is not None:
-        return image_program(c_source, athrill2, real_sync, udp) if real else native_program(c_source)
+        if real:
+            return Recipe("image", Path(c_source), lambda source, flags: image_program(source, athrill2, real_sync,
+                                                                                         udp, flags), real_sync)
+        return Recipe("native", Path(c_source), native_program)
     if path.is_file():
         if real:
             if emulator == "native":
                 raise ProgramError(f"--app {spec}: a v850 image runs only in the real emulator (--emulator athrill2)")
-            return elf_program(path, athrill2, real_sync, udp)
+            return Recipe("elf", path, lambda image, _flags: elf_program(image, athrill2, real_sync, udp), real_sync)
         raise ProgramError(f"--app {spec}: not a v850 ELF image, a C or C++ file (.c, .cpp), a built-in app ({builtins}) "
                            "or module:function")
     if emulator == "athrill2":
@@ -289,16 +349,20 @@ def resolve_program(spec: str, *, athrill2: str | None = None, emulator: str | N
     if not (module and func):
         raise ProgramError(f"--app {spec}: no such file or folder, and not a built-in app ({builtins}) "
                            "or module:function")
-    return python_program(spec)
+    return Recipe("python", None, lambda _path, _flags: python_program(spec))
 
 
-def image_program(source: Path, athrill2: str | None, sync: SyncMode, udp: UdpLink | None = None) -> Program:
-    """A user's EV3RT C program, built now into a v850 image (cached) and run in the real emulator."""
+def image_program(source: Path, athrill2: str | None, sync: SyncMode, udp: UdpLink | None = None,
+                  flags: tuple[str, ...] = ()) -> Program:
+    """A user's EV3RT C or C++ program, built now into a v850 image (cached) with the extra compiler `flags`,
+    and run in the real emulator."""
     from athrill_sim.v850 import ImageError
     from athrill_sim.v850.build import build_image
 
     try:
-        image = build_image(source)
+        image = build_image(source, flags=flags)
     except ImageError as e:
         raise ProgramError(str(e)) from None
-    return elf_program(image, athrill2, sync, udp)
+    card = program_sdcard(source)
+    program = elf_program(image, athrill2, sync, udp)
+    return replace(program, sdcard=card, files=(*program.files, *card_files(card)))

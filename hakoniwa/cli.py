@@ -162,8 +162,8 @@ def _run(benches: int | None, scheduler: str | None, validate: int | None, optio
     p = plan(**options, penalty_s=time_limit_s(given))
     if validate is None:
         validate = 1 if p.config.noise == 0 else SMOKE_DRAWS if options["smoke"] else DEFAULT_DRAWS
-    bench = _campaign_bench(p.bench, given)
-    check_bench(bench, benches=None if scheduler else n)
+    bench = dataclasses.replace(_campaign_bench(p.bench, given), bindings=p.config.space.bindings())
+    program = check_bench(bench, benches=None if scheduler else n)
     files = recorded_files(p.bench, bench)
     run_dir = p.out_dir / "run"
     from testctl.bench import Bench
@@ -178,7 +178,7 @@ def _run(benches: int | None, scheduler: str | None, validate: int | None, optio
     try:
         run_campaign(p, executor, bench_info={**bench_info(bench), FILES_KEY: files},
                      trial_once=lambda spec: (local.run(spec), run_dir), course_folder=Path(bench.course),
-                     failures=(ClusterError,), validate=validate)
+                     failures=(ClusterError,), validate=validate, write_patch=patch_writer(program))
     finally:
         local.close()
         executor.close()
@@ -261,10 +261,20 @@ def time_limit_s(bench: BenchOptions) -> float:
         raise click.ClickException(str(e)) from None
 
 
-def check_bench(bench: BenchOptions, benches: int | None = 1) -> None:
+def patch_writer(program):
+    """best.patch's writer for a program tuned as it is written; None for one that reads its parameters at
+    their offsets (nothing of it to patch)."""
+    if program.tuning is None:
+        return None
+    from testctl.patch import write_patch
+
+    return lambda path, values: write_patch(path, program.tuning, values)
+
+
+def check_bench(bench: BenchOptions, benches: int | None = 1):
     """Load the course and check the program here, once, so that a bad one is one line before any worker
-    starts (and a C program is built once, into the cache every local worker then hits). `benches` is how
-    many run on this machine at once (None: a cluster's, elsewhere)."""
+    starts (and a C program is built once, into the cache every local worker then hits); the program.
+    `benches` is how many run on this machine at once (None: a cluster's, elsewhere)."""
     from hakoniwa.physics.bench import load_bench
     from hakoniwa.physics.course import CourseError
     from hakoniwa.physics.robots import RobotError
@@ -285,18 +295,21 @@ def check_bench(bench: BenchOptions, benches: int | None = 1) -> None:
         program.finish_check(program.start_check())
     except (CourseError, RobotError, ScenarioError, ProgramError, LinkError) as e:
         raise click.ClickException(str(e)) from None
+    return program
 
 
 def repeatable_bench(bench: BenchOptions) -> bool:
     """Whether the bench runs the real emulator in the repeatable mode, where a set's tests without noise
     all give the same result."""
-    from athrill_sim.programs import ProgramError
+    from athrill_sim.programs import ProgramError, program_recipe
     from hakoniwa.wire.protocol import SyncMode
 
-    try:
-        return bench.program().sync == SyncMode.REPEATABLE
+    try:  # what --app names, not built yet: a tuned program builds only with its parameters' values
+        recipe = program_recipe(bench.app, athrill2=bench.athrill2, emulator=bench.emulator, sync=bench.sync,
+                                transport=bench.transport, device_config=bench.device_config)
     except ProgramError as e:
         raise click.ClickException(str(e)) from None
+    return recipe.sync == SyncMode.REPEATABLE
 
 
 def default_benches() -> int:

@@ -38,7 +38,8 @@ class Bench:
         that spoiled the test is restarted before the next, so that a broken bench is rebuilt."""
         runner = self.start()
         try:
-            result = runner.run_test(spec.params, noise_seed=spec.noise_seed, noise_scale=spec.noise_scale)
+            result = runner.run_test(spec.params, noise_seed=spec.noise_seed, noise_scale=spec.noise_scale,
+                                     slot_types=spec.slot_types)
         except PhysicsGone:
             self.close()
             raise

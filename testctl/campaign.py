@@ -306,19 +306,20 @@ class Campaign:
         for rep in range(first, first + needed):
             s.out.add(rep)
             self.executor.submit(TestSpec(s.index, rep, params, noise_seed(self.config.seed, s.index, rep),
-                                          self.config.noise))
+                                          self.config.noise, self._space.slot_types))
 
     # -- proposals ------------------------------------------------------------------------------------
     def _propose(self, round_index: int, indices: range) -> list[tuple[float, ...]]:
         if round_index == 0:  # each initial point drawn for its own set index, as journals of format 1 have it
             X, Y = np.empty((0, self._space.dim)), np.empty((0, 1))
-            return [self._init_sampler.suggest(self._space, X, Y, i) for i in indices]
+            return [self._space.snap(self._init_sampler.suggest(self._space, X, Y, i)) for i in indices]
         done = sorted((s for s in self._done if s.index < indices.start), key=lambda s: s.index)
         X = np.array([s.x for s in done], dtype=float).reshape(len(done), self._space.dim)
         Y = np.array([[s.value] for s in done], dtype=float).reshape(len(done), 1)
         # Always a whole batch, of which a last, short round runs the first points: so a campaign extended
         # on resume proposes what a longer one would have.
-        return self._bo_sampler.suggest_batch(self._space, X, Y, round_index, self.config.batch)[:len(indices)]
+        batch = self._bo_sampler.suggest_batch(self._space, X, Y, round_index, self.config.batch)[:len(indices)]
+        return [self._space.snap(x) for x in batch]  # an integer parameter is used, and recorded, rounded
 
     def _check_against_journal(self, indices: range, points: list[tuple[float, ...]],
                                by_set: dict[int, list[TestRecord]]) -> list[tuple[float, ...]]:

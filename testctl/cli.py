@@ -68,10 +68,16 @@ def campaign(run_dir: Path, course: str, time_limit: float, **options) -> None:
     from testctl.session import run_campaign
 
     p = plan(**options, penalty_s=time_limit)
+    if p.config.space.bindings() is not None:
+        p.lock.release()
+        raise click.ClickException("--space: define, symbol, file and source parameters need a bench that knows "
+                                   "where they go, which this one was started without: run the campaign with "
+                                   "hako run")
     runner = connect(run_dir)
 
     def run_test(spec: TestSpec):
-        return runner.run_test(spec.params, noise_seed=spec.noise_seed, noise_scale=spec.noise_scale)
+        return runner.run_test(spec.params, noise_seed=spec.noise_seed, noise_scale=spec.noise_scale,
+                               slot_types=spec.slot_types)
 
     try:
         run_campaign(p, SerialExecutor(run_test, name=str(run_dir)), bench_info={},

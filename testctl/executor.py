@@ -11,7 +11,7 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from collections import deque
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from testctl.result import TestResult
 
@@ -19,7 +19,8 @@ from testctl.result import TestResult
 @dataclass(frozen=True)
 class TestSpec:
     """One test to run: repetition `rep` (from 1) of set `set_index` (from 0) with its parameters
-    ({data offset: value}) and the noise draw it gets."""
+    ({slot offset: value}, each slot a float32 unless `slot_types` says otherwise) and the noise draw it
+    gets."""
 
     __test__ = False  # not a pytest class
 
@@ -28,6 +29,7 @@ class TestSpec:
     params: Mapping[int, float]
     noise_seed: int = 0
     noise_scale: float = 0.0
+    slot_types: Mapping[int, str] = field(default_factory=dict)
 
 
 class Executor(ABC):

@@ -1,5 +1,6 @@
-"""What a campaign's results depend on besides its options: the files of its program and of its course (the
-course folder holds the robot's wiring too), hashed into the journal's header.
+"""What a campaign's results depend on besides its options: the files of its program (with every file a
+parameter's kind reads or rewrites: a define's or a source match's header, a data file's template) and of its
+course (the course folder holds the robot's wiring too), hashed into the journal's header.
 
 A resume that runs another program gives sets measured with two programs under one name (the issue's case:
 sets 1-2 lapped at 37 s with the old app.c, sets 3-5 at 23 s with the new one), so `--resume` compares the
@@ -44,7 +45,8 @@ def fingerprint(bench: BenchOptions, fields: Iterable[str]) -> dict[str, dict[st
     for field in fields:
         value = getattr(bench, field)
         if field == "app":
-            files = list(resolve_program(value, athrill2=bench.athrill2).files)
+            files = list(resolve_program(value, athrill2=bench.athrill2, emulator=bench.emulator, sync=bench.sync,
+                                         bindings=bench.bindings).files)
         elif field == "course":
             files = folder_files(course_file(value).parent)
         elif isinstance(value, str) and Path(value).exists():

@@ -29,12 +29,12 @@ FIG9_PNG = "fig9.png"
 _PARAM_COLOURS = ("red", "blue", "green")
 
 
-def write_report(out_dir: Path, summary: CampaignSummary) -> list[Path]:
-    """Write all four files into `out_dir` and return their paths."""
+def write_report(out_dir: Path, summary: CampaignSummary, patch: dict[str, Any] | None = None) -> list[Path]:
+    """Write all four files into `out_dir` and return their paths; `patch` is what best.patch does."""
     out_dir = Path(out_dir)
     paths = [out_dir / RESULTS_CSV, out_dir / BEST_JSON, out_dir / FIG8_PNG, out_dir / FIG9_PNG]
     write_results_csv(paths[0], summary)
-    write_best_json(paths[1], summary)
+    write_best_json(paths[1], summary, patch=patch)
     plot_fig8(paths[2], summary)
     plot_fig9(paths[3], summary)
     return paths
@@ -68,13 +68,16 @@ def write_results_csv(path: Path, summary: CampaignSummary) -> None:
             )
 
 
-def write_best_json(path: Path, summary: CampaignSummary, validation: dict[str, Any] | None = None) -> None:
-    path.write_text(json.dumps(best_dict(summary, validation), indent=2) + "\n")
+def write_best_json(path: Path, summary: CampaignSummary, validation: dict[str, Any] | None = None,
+                    patch: dict[str, Any] | None = None) -> None:
+    path.write_text(json.dumps(best_dict(summary, validation, patch), indent=2) + "\n")
 
 
-def best_dict(summary: CampaignSummary, validation: dict[str, Any] | None = None) -> dict[str, Any]:
-    """best.json: the best set's parameters (searched and fixed, by name and by data offset) and lap, and how
-    it fared on fresh noise draws (`testctl.validate`) once it was validated."""
+def best_dict(summary: CampaignSummary, validation: dict[str, Any] | None = None,
+              patch: dict[str, Any] | None = None) -> dict[str, Any]:
+    """best.json: the best set's parameters (searched and fixed, by name and by slot offset) and lap, how
+    each reaches the program (`kinds`), how it fared on fresh noise draws (`testctl.validate`) once it was
+    validated, and what best.patch sets where."""
     space = summary.config.space
     best = summary.best
     return {
@@ -83,6 +86,7 @@ def best_dict(summary: CampaignSummary, validation: dict[str, Any] | None = None
         "params": space.to_named(best.x) if best else None,
         "fixed": {f.name: f.value for f in space.fixed},
         "offsets": {str(k): v for k, v in space.to_offsets(best.x).items()} if best else None,
+        "kinds": {p.name: p.to_dict() for p in space.every},
         "lap_time_s": best.value if best else None,
         "laps_s": list(best.verdict.laps) if best else None,
         "n_sets": len(summary.sets),
@@ -93,6 +97,7 @@ def best_dict(summary: CampaignSummary, validation: dict[str, Any] | None = None
         "batch": summary.config.batch,
         "noise": summary.config.noise,
         **({"validation": validation} if validation is not None else {}),
+        **({"patch": patch} if patch is not None else {}),
     }
 
 

@@ -15,7 +15,8 @@ import time
 from pathlib import Path
 from typing import Callable, Mapping
 
-from hakoniwa.wire.protocol import (MAX_NOISE_SCALE, PARAM_END, CrashKind, Event, MappedFile, ProtocolError, Rx, SyncMode, Tx,
+from hakoniwa.wire.params import SLOT_FORMATS, encode, fits_area
+from hakoniwa.wire.protocol import (MAX_NOISE_SCALE, CrashKind, Event, MappedFile, ProtocolError, Rx, SyncMode, Tx,
                                goal_time_from_words, open_athrill, open_unity)
 from hakoniwa.wire.rundir import PROGRAM_OUTPUT_FILE
 from hakoniwa.wire.waiting import pid_alive, wait_for
@@ -54,11 +55,13 @@ class TrialRunner:
         self.athrill: MappedFile = open_athrill(self.run_dir)
         self._physics_pid = self.unity.read_u32(Rx.PHYSICS_PID)
 
-    def write_params(self, params: Mapping[int, float]) -> None:
+    def write_params(self, params: Mapping[int, float], slot_types: Mapping[int, str] | None = None) -> None:
+        """Each value into its slot, as a float32 unless `slot_types` names the slot's type."""
         for offset, value in params.items():
-            if not (Rx.PARAMS <= offset <= PARAM_END - 4 and offset % 4 == 0):
-                raise ProtocolError(f"parameter offset {offset} is outside the parameter area")
-            self.unity.write_f32(offset, float(value))
+            kind = (slot_types or {}).get(offset, "f32")
+            if not fits_area(offset, kind):
+                raise ProtocolError(f"parameter offset {offset} ({kind}) is outside the parameter area")
+            self.unity.write(SLOT_FORMATS[kind], offset, encode(kind, float(value)))
 
     def write_noise(self, seed: int, scale: float) -> None:
         """The noise of the next test: `seed` (u32) picks the draw, `scale` multiplies the course's noise
@@ -70,14 +73,15 @@ class TrialRunner:
         self.unity.write_u32(Rx.NOISE_SEED, seed)
         self.unity.write_f32(Rx.NOISE_SCALE, float(scale))
 
-    def run_test(self, params: Mapping[int, float], *, noise_seed: int = 0, noise_scale: float = 0.0) -> TestResult:
-        """One test with `params` ({data offset: value}) and the noise draw `noise_seed` at `noise_scale`
-        (by default none); blocks until the physics process reports an event and has reset for the next
-        test."""
+    def run_test(self, params: Mapping[int, float], *, noise_seed: int = 0, noise_scale: float = 0.0,
+                 slot_types: Mapping[int, str] | None = None) -> TestResult:
+        """One test with `params` ({slot offset: value}, typed by `slot_types`: float32 by default) and the
+        noise draw `noise_seed` at `noise_scale` (by default none); blocks until the physics process reports
+        an event and has reset for the next test."""
         start = time.monotonic()
         u = self.unity
         self._wait(lambda: u.read_i32(Rx.EVENT) == Event.NONE, "reset before the test")
-        self.write_params(params)
+        self.write_params(params, slot_types)
         self.write_noise(noise_seed, noise_scale)
         self.athrill.write_i32(Tx.START, 1)
         self._wait(lambda: u.read_i32(Rx.EVENT) != Event.NONE, "an event")

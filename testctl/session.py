@@ -7,6 +7,7 @@ import sys
 from collections import Counter
 from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
@@ -19,9 +20,14 @@ from testctl.progress import ProgressLine
 from testctl.result import TestResult
 from testctl.runner import PhysicsGone
 
+if TYPE_CHECKING:
+    from testctl.patch import PatchInfo
+
 BEST_TRAJECTORY_PNG = "best_trajectory.png"
 # Runs one test on a local bench and returns its result and the run directory holding its trajectory.
 TrialOnce = Callable[[TestSpec], tuple[TestResult, Path]]
+# Writes best.patch for the best set's values ({name: value}) and says what it sets (testctl.patch.PatchInfo).
+PatchWriter = Callable[[Path, dict[str, float]], "PatchInfo"]
 
 
 def resume_hint(out_dir: Path) -> str:
@@ -29,10 +35,13 @@ def resume_hint(out_dir: Path) -> str:
 
 
 def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial_once: TrialOnce,
-                 course_folder: Path, failures: tuple[type[Exception], ...] = (), validate: int = 0) -> None:
-    """Run the campaign `p` on `executor`, write the report, validate the best set on `validate` fresh noise
-    draws, draw the best set, and print the summary. Every way it can stop short is a one-line error with a
-    non-zero exit and the command that continues it."""
+                 course_folder: Path, failures: tuple[type[Exception], ...] = (), validate: int = 0,
+                 write_patch: PatchWriter | None = None) -> None:
+    """Run the campaign `p` on `executor`, write the report (and, with `write_patch`, best.patch: the best
+    values in the program's own files), validate the best set on `validate` fresh noise draws, draw the
+    best set, and print the summary. Every way it can stop short is a one-line error with a non-zero exit
+    and the command that continues it."""
+    from testctl.patch import BEST_PATCH
     from testctl.report import BEST_JSON, format_summary, write_best_json, write_report
     from testctl.suite_run import BenchFault
     from testctl.validate import VALIDATION_PNG, draw_validation, validate_best
@@ -45,12 +54,20 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
             plain = None if sys.stderr.isatty() else lambda line: click.echo(f"{label}: {line}", err=True)
             summary = Campaign(p.config, p.out_dir, executor, on_progress=ProgressLine(bar, plain=plain),
                                resume=p.resume, bench_info=bench_info).run()
-        files = write_report(p.out_dir, summary)
+        patch = None
+        if summary.best is not None and write_patch is not None:
+            space = summary.config.space
+            patch = write_patch(p.out_dir / BEST_PATCH, {**space.to_named(summary.best.x),
+                                                         **{f.name: f.value for f in space.fixed}})
+        files = write_report(p.out_dir, summary, patch.to_dict() if patch is not None else None)
+        if patch is not None:
+            files.append(p.out_dir / BEST_PATCH)
         if summary.best is not None and validate:
             with click.progressbar(length=validate, label=f"validating the best set on {validate} fresh draws",
                                    file=sys.stderr) as bar:
                 validation = validate_best(summary, executor, validate, lambda spec, result: bar.update(1))
-            write_best_json(p.out_dir / BEST_JSON, summary, validation.to_dict())
+            write_best_json(p.out_dir / BEST_JSON, summary, validation.to_dict(),
+                            patch.to_dict() if patch is not None else None)
             files.append(draw_validation(p.out_dir / VALIDATION_PNG, summary, validation))
         if summary.best is not None:
             files.append(draw_best(summary, trial_once, course_folder, p.out_dir / BEST_TRAJECTORY_PNG))
@@ -69,6 +86,8 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
         click.echo(f"note: the campaign already has {len(summary.sets)} sets, more than the "
                    f"{p.config.total_sets} its options ask for; nothing was run, the report was rewritten", err=True)
     click.echo(format_summary(summary))
+    if patch is not None:
+        click.echo(patch.describe(p.out_dir / BEST_PATCH))
     if validation is not None:
         click.echo(validation.describe())
     click.echo("wrote " + ", ".join(str(f) for f in files))
@@ -95,8 +114,9 @@ def best_spec(summary: CampaignSummary) -> TestSpec:
     best = summary.best
     assert best is not None
     first = next(t for t in best.tests if t.result.success)
-    return TestSpec(best.index, first.rep, summary.config.space.to_offsets(best.x), first.noise_seed,
-                    summary.config.noise)
+    space = summary.config.space
+    return TestSpec(best.index, first.rep, space.to_offsets(best.x), first.noise_seed, summary.config.noise,
+                    space.slot_types)
 
 
 def draw_best(summary: CampaignSummary, trial_once: TrialOnce, course_folder: Path, out: Path) -> Path:

@@ -10,9 +10,14 @@ whole before any test runs, so that a typo is one line at once rather than a red
     expect = ["GOAL", "lap_s < 60", "p90 < 58", "success >= 0.9"]
 
     [case.tuned]
-    from = "runs/paper"             # the best set of that campaign (its best.json, named by its journal's space)
-    seeds = [0, 7, 42]              # these noise seeds; a count draws that many
+    from = "runs/paper"             # the best set of that campaign (its best.json, named by its journal's space,
+    seeds = [0, 7, 42]              # each value reaching the program as its kind says); a count draws that many
     expect = ["not HIT_WALL"]
+
+    [case.patched]
+    app = "my_app"                  # a program best.patch set the tuned values in: it reads no parameter
+    params = {}
+    expect = ["GOAL"]
 
 A case's bench keys are the fields of `BenchOptions` a test file may fix, read through the very click
 options of the command line (so `time_limit_s = 0` is refused with the command line's words); a bench field
@@ -43,8 +48,9 @@ from testctl.space import ParameterSpace, SpaceError
 
 DEFAULT_FILE = "hako-tests.toml"
 MACHINE_FIELDS = ("athrill2", "athrill_timeout_s")  # the machine's business: command line only
+SPACE_FIELDS = ("bindings",)  # made from the case's space, never given
 _DECLARED = {p.name: p for p in bench_options(click.Command("bench")).params}
-_BENCH_PARAMS = {name: _DECLARED[name] for name in BENCH_FIELDS if name not in MACHINE_FIELDS}
+_BENCH_PARAMS = {name: _DECLARED[name] for name in BENCH_FIELDS if name not in (*MACHINE_FIELDS, *SPACE_FIELDS)}
 CASE_KEYS = (*_BENCH_PARAMS, "params", "from", "space", "seeds", "noise", "expect")
 DEFAULT_SEEDS = 5
 DEFAULT_NOISE = 1.0  # the course's own noise levels: a test sees the bench a campaign tunes on
@@ -60,12 +66,13 @@ class Case:
     runs with (one test each) and what every one of them, or all of them together, must show."""
 
     name: str
-    bench: BenchOptions
-    params: Mapping[int, float]  # {data offset: value}, what the bench writes
+    bench: BenchOptions  # with the space's bindings: how parameters of other kinds reach the program
+    params: Mapping[int, float]  # {slot offset: value}, what the bench writes
     named: Mapping[str, float]  # the same by name, for people
     seeds: tuple[int, ...]
     noise: float
     expect: tuple[Expectation, ...]
+    slot_types: Mapping[int, str] = dataclasses.field(default_factory=dict)  # slots that are not float32
 
 
 def drawn_seeds(count: int) -> tuple[int, ...]:
@@ -127,9 +134,11 @@ def _case(name: str, keys: dict[str, Any], base: BenchOptions, folder: Path) -> 
         expectations = tuple(parse_expectation(e) for e in expect)
     except ExpectationError as e:
         raise SuiteError(f"expect: {e}") from None
-    named, offsets = _params(keys, folder)
+    named, offsets, space = _params(keys, folder)
+    bench = dataclasses.replace(bench, bindings=space.bindings() if space is not None else None)
     return Case(name, bench, offsets, named, _seeds(keys.get("seeds", DEFAULT_SEEDS)),
-                _convert(NOISE_SCALE, keys.get("noise", DEFAULT_NOISE), "noise"), expectations)
+                _convert(NOISE_SCALE, keys.get("noise", DEFAULT_NOISE), "noise"), expectations,
+                space.slot_types if space is not None else {})
 
 
 def _bench_value(key: str, value: Any, folder: Path) -> Any:
@@ -162,12 +171,16 @@ def _seeds(value: Any) -> tuple[int, ...]:
     return tuple(value)
 
 
-def _params(keys: Mapping[str, Any], folder: Path) -> tuple[dict[str, float], dict[int, float]]:
-    """The case's parameters by name and by offset: a campaign's best set (`from`) or the fixed values of
-    the space, with `params` on top; every parameter of the space needs a value."""
+def _params(keys: Mapping[str, Any], folder: Path
+            ) -> tuple[dict[str, float], dict[int, float], ParameterSpace | None]:
+    """The case's parameters by name and by slot, and their space: a campaign's best set (`from`) or the
+    fixed values of the space, with `params` on top; every parameter of the space needs a value. An empty
+    `params` with neither is a program that reads no parameter (one best.patch set its values in)."""
     given = _table(keys.get("params", {}), "params")
     if "from" in keys and "space" in keys:
         raise SuiteError("give either from (a campaign folder, whose journal names the parameters) or space")
+    if "params" in keys and not given and "from" not in keys and "space" not in keys:
+        return {}, {}, None
     values: dict[str, float] = {}
     try:
         if "from" in keys:
@@ -189,7 +202,10 @@ def _params(keys: Mapping[str, Any], folder: Path) -> tuple[dict[str, float], di
     missing = [p.name for p in every if p.name not in values]
     if missing:
         raise SuiteError(f"params: no value for {', '.join(missing)}")
-    return {p.name: values[p.name] for p in every}, {p.offset: values[p.name] for p in every}
+    for p in every:
+        if p.integer and values[p.name] != int(values[p.name]):
+            raise SuiteError(f"params: {p.name} = {values[p.name]!r} is an integer parameter")
+    return ({p.name: values[p.name] for p in every}, {space.slots[p.name]: values[p.name] for p in every}, space)
 
 
 def _best_set(campaign: Path) -> tuple[ParameterSpace, dict[str, float]]:

@@ -89,7 +89,8 @@ def run_specs(executor: Executor, specs: Iterable[TestSpec],
 
 
 def case_specs(index: int, case: Case) -> list[TestSpec]:
-    return [TestSpec(index, rep, case.params, seed, case.noise) for rep, seed in enumerate(case.seeds, 1)]
+    return [TestSpec(index, rep, case.params, seed, case.noise, case.slot_types)
+            for rep, seed in enumerate(case.seeds, 1)]
 
 
 def run_cases(cases: Sequence[Case], open_executor: Callable[[BenchOptions], AbstractContextManager[Executor]],
@@ -132,4 +133,4 @@ def rerun_worst(run: CaseRun, run_dir: Path) -> tuple[TestResult, Path]:
     worst = run.worst_run()
     rep = run.runs.index(worst) + 1
     with Bench(run.case.bench, run_dir) as bench:
-        return bench.run(TestSpec(0, rep, run.case.params, worst.seed, run.case.noise)), run_dir
+        return bench.run(TestSpec(0, rep, run.case.params, worst.seed, run.case.noise, run.case.slot_types)), run_dir

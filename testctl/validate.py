@@ -54,7 +54,8 @@ def validation_specs(summary: CampaignSummary, draws: int) -> list[TestSpec]:
     assert best is not None
     params = config.space.to_offsets(best.x)
     reps = range(config.repeats + 1, config.repeats + 1 + draws)
-    return [TestSpec(best.index, rep, params, noise_seed(config.seed, best.index, rep), config.noise) for rep in reps]
+    return [TestSpec(best.index, rep, params, noise_seed(config.seed, best.index, rep), config.noise,
+                     config.space.slot_types) for rep in reps]
 
 
 def validate_best(summary: CampaignSummary, executor: Executor, draws: int,

@@ -21,6 +21,7 @@ which define it); natively that name is the C runtime's, so the program's is ren
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import re
 import shutil
@@ -86,9 +87,11 @@ class Compilers:
         return "\n".join(f"{c}\n{_compiler_identity(c)}" for c in (self.cc, self.cxx) if c is not None)
 
 
-def build_app(path: Path) -> Path:
-    """The native Athrill for the program at `path`, built now unless the cache holds it."""
+def build_app(path: Path, *, flags: tuple[str, ...] = ()) -> Path:
+    """The native Athrill for the program at `path`, built now unless the cache holds it. `flags` are extra
+    compiler flags after the program's own (a tuned program's -DNAME=value, athrill_sim.tuning)."""
     app = find_app(path)
+    app = dataclasses.replace(app, defines=(*app.defines, *flags)) if flags else app
     compilers = Compilers(app)
     generated = headers.generated_headers()
     return cached_build(cache_root() / "native" / cache_key(app, compilers, generated), EXECUTABLE,
@@ -123,6 +126,15 @@ def _cxx_flags(app: AppSources) -> tuple[str, ...]:
     return (app.cxx_std or CXX_STD, *STRICT_FLAGS, *CXX_FLAGS)
 
 
+def _compile_flags(app: AppSources) -> list[str]:
+    """The program's -D/-U, and extra flags (a tuned program's); of those, the linker's (-Wl,) go to the link."""
+    return [f for f in app.defines if not f.startswith("-Wl,")]
+
+
+def _link_flags(app: AppSources) -> list[str]:
+    return [f for f in app.defines if f.startswith("-Wl,")]
+
+
 def _compiler_identity(cc: Path) -> str:
     try:
         out = subprocess.run([str(cc), "--version"], capture_output=True, text=True, timeout=60, env=_compiler_env())
@@ -147,7 +159,8 @@ def _build(app: AppSources, compilers: Compilers, generated: dict[str, str], bui
     includes = _include_flags(app, build_dir)
 
     def preprocess(cfg: Path) -> str:
-        cmd = [str(compilers.cc), "-E", "-P", "-x", "c", "-DTOPPERS_MACRO_ONLY", *includes, *app.defines, str(cfg)]
+        cmd = [str(compilers.cc), "-E", "-P", "-x", "c", "-DTOPPERS_MACRO_ONLY", *includes, *_compile_flags(app),
+               str(cfg)]
         return _run(cmd, app.root, build_dir, f"{cfg.name} does not preprocess")
 
     config = kernel_config(app.cfg, preprocess)
@@ -162,8 +175,8 @@ def _build(app: AppSources, compilers: Compilers, generated: dict[str, str], bui
         _run(["ar", "rcs", str(archive[0]), *map(str, objects[len(sources):])], app.root, build_dir, failure)
     linker = compilers.cxx or compilers.cc
     entries = {t.entry for t in config.tasks} | {c.handler for c in config.cyclics if c.handler}
-    _run([str(linker), *map(str, objects[:len(sources)]), *map(str, archive), "-o", str(build_dir / EXECUTABLE),
-          *app.libs, *LIBS], app.root, build_dir, failure, entries, cxx=app.cxx)
+    _run([str(linker), *_link_flags(app), *map(str, objects[:len(sources)]), *map(str, archive), "-o",
+          str(build_dir / EXECUTABLE), *app.libs, *LIBS], app.root, build_dir, failure, entries, cxx=app.cxx)
     shutil.rmtree(build_dir / OBJECTS)
 
 
@@ -178,7 +191,7 @@ def _compile_all(app: AppSources, compilers: Compilers, includes: list[str], sou
             cmd = [str(compilers.cxx), *_cxx_flags(app)]
         else:
             cmd = [str(compilers.cc), *_c_flags(app)]
-        cmd += [*includes, *app.defines, "-c", _shown(source, app.root), "-o", str(obj)]
+        cmd += [*includes, *_compile_flags(app), "-c", _shown(source, app.root), "-o", str(obj)]
         return _compile(cmd, app.root)
 
     with ThreadPoolExecutor(max_workers=max(2, os.cpu_count() or 1)) as pool:

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import os
 import re
+import shlex
 import shutil
 import subprocess
 from pathlib import Path
@@ -69,19 +70,21 @@ _MAKE_SUMMARY = re.compile(r"^make(\[\d+\])?: \*\*\* .*Error \d+")
 
 
 def build_image(app: Path, *, sdk: Path | None = None, toolchain: Path | None = None,
-                announce: Callable[[str], None] | None = None) -> Path:
+                announce: Callable[[str], None] | None = None, flags: tuple[str, ...] = ()) -> Path:
     """The v850 image of the program at `app` (an app.c or a workspace folder), built now unless cached;
-    `announce` hears what is being built before a build starts (it takes seconds)."""
+    `announce` hears what is being built before a build starts (it takes seconds). `flags` are extra
+    compiler flags for the program (a tuned program's -DNAME=value, athrill_sim.tuning), added to its
+    Makefile.inc's COPTS in the scratch copy."""
     tools = find_tools(sdk, toolchain)
     root, files, lone = app_files(Path(app))
-    entry = cache_root() / "v850" / cache_key(root, files, lone, tools)
+    entry = cache_root() / "v850" / cache_key(root, files, lone, tools, flags)
     if (entry / IMAGE).is_file():
         return entry / IMAGE
     check_build_tools()
     cxx = is_cxx(root, files, lone)
     if announce is not None:
         announce(f"building {root} with the EV3RT SDK at {tools.sdk} and {tools.gcc}")
-    return cached_build(entry, IMAGE, lambda scratch: _build(root, files, lone, tools, scratch, cxx))
+    return cached_build(entry, IMAGE, lambda scratch: _build(root, files, lone, tools, scratch, cxx, flags))
 
 
 def app_files(app: Path) -> tuple[Path, list[Path], bool]:
@@ -118,9 +121,11 @@ def is_cxx(root: Path, files: list[Path], lone: bool) -> bool:
         raise ImageError(str(e)) from None
 
 
-def cache_key(root: Path, files: list[Path], lone: bool, tools: Tools) -> str:
+def cache_key(root: Path, files: list[Path], lone: bool, tools: Tools, flags: tuple[str, ...] = ()) -> str:
     key = CacheKey()
     add = key.add
+    if flags:
+        add("flags", "\0".join(flags).encode())
     add("compiler", f"{tools.gcc}\n{_run([str(tools.gcc), '--version'], root, 'cannot run ' + str(tools.gcc))}".encode())
     add("make", "\0".join(MAKE).encode())
     add("builder", Path(__file__).read_bytes())
@@ -136,8 +141,9 @@ def cache_key(root: Path, files: list[Path], lone: bool, tools: Tools) -> str:
     return key.name()
 
 
-def _build(root: Path, files: list[Path], lone: bool, tools: Tools, scratch: Path, cxx: bool) -> None:
-    _make_image(root, files, lone, tools, scratch)
+def _build(root: Path, files: list[Path], lone: bool, tools: Tools, scratch: Path, cxx: bool,
+           flags: tuple[str, ...]) -> None:
+    _make_image(root, files, lone, tools, scratch, flags)
     if cxx:
         shutil.copyfile(scratch / IMAGE, scratch / DEBUG_IMAGE)
         strip = tools.gcc.with_name(tools.gcc.name.replace("gcc", "strip"))
@@ -148,7 +154,8 @@ def _build(root: Path, files: list[Path], lone: bool, tools: Tools, scratch: Pat
             raise ImageError(f"{root}: cannot strip the C++ debug information athrill2 cannot read: {e}") from None
 
 
-def _make_image(root: Path, files: list[Path], lone: bool, tools: Tools, scratch: Path) -> None:
+def _make_image(root: Path, files: list[Path], lone: bool, tools: Tools, scratch: Path,
+                flags: tuple[str, ...]) -> None:
     sdk = scratch / tools.sdk.name
     shutil.copytree(tools.sdk, sdk, symlinks=True)
     for d, _, names in os.walk(sdk):  # a read-only source tree copies read-only
@@ -175,6 +182,9 @@ def _make_image(root: Path, files: list[Path], lone: bool, tools: Tools, scratch
             target = staged / f.relative_to(root)
             target.parent.mkdir(parents=True, exist_ok=True)
             shutil.copyfile(f, target)
+    if flags:
+        with open(staged / "Makefile.inc", "a") as inc:
+            inc.write("\nCOPTS += " + " ".join(shlex.quote(f).replace("$", "$$") for f in flags) + "\n")
     env = {**os.environ, "LC_ALL": "C.UTF-8", "PWD": str(workspace),  # Ruby reads the SDK's UTF-8; make $(PWD)
            "PATH": f"{tools.gcc.parent}{os.pathsep}{os.environ.get('PATH', '')}", **_etrobo_env(scratch)}
     try:

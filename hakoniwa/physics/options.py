@@ -41,6 +41,7 @@ class BenchOptions:
     time_limit_s: float | None = None  # None: the course's own limit
     robot: str | None = None  # None: the default robot, with the course's wheel ports
     scenario: str | None = None  # a scenario TOML applied to every test
+    bindings: str | None = None  # JSON: how parameters other than `offset` reach the program (from the space)
 
     def physics_command(self, run_dir: Path, controller: list[str]) -> list[str]:
         cmd = [sys.executable, "-m", "hakoniwa.physics.main", "--run-dir", str(run_dir)]
@@ -55,7 +56,7 @@ class BenchOptions:
         from athrill_sim.programs import resolve_program
 
         return resolve_program(self.app, athrill2=self.athrill2, emulator=self.emulator, sync=self.sync,
-                               transport=self.transport, device_config=self.device_config)
+                               transport=self.transport, device_config=self.device_config, bindings=self.bindings)
 
     def time_limit_us(self, course_limit_us: int) -> int:
         """The simulated time a test may take: the override if one was given, else the course's. A campaign
@@ -69,11 +70,12 @@ class _Option:
     flag: str
     help: str
     type: click.ParamType | None = None
+    hidden: bool = False
 
     def declare(self) -> Callable:
         default = next(f.default for f in dataclasses.fields(BenchOptions) if f.name == self.field)
         return click.option(self.flag, self.field, type=self.type, default=default,
-                            show_default=default is not None, help=self.help)
+                            show_default=default is not None, help=self.help, hidden=self.hidden)
 
 
 _OPTIONS = [
@@ -104,6 +106,8 @@ _OPTIONS = [
             "times, the same in every test."),
     _Option("time_limit_s", "--time-limit", "Simulated seconds before a test ends as TIME_OVER; a campaign "
             "scores a failed test as this many seconds [default: the course's time_limit_s].", SECONDS),
+    _Option("bindings", "--bindings", "How the parameters of kinds other than offset (define, symbol, file, "
+            "source) reach the program, as JSON; the controller makes it from the --space file.", hidden=True),
 ]
 
 bench_options = option_group([o.declare() for o in _OPTIONS])

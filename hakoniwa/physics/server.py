@@ -27,6 +27,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from athrill_sim.bindings import BindingError
 from athrill_sim.launcher import AthrillLauncher, kill
 from athrill_sim.programs import Program
 from hakoniwa.physics.course import Course
@@ -135,7 +136,7 @@ class PhysicsServer:
             return None
         return NoiseDraw(self.course.noise, seed, scale)
 
-    def _start_test(self, seq: int) -> NoiseDraw | None:
+    def _start_test(self, seq: int) -> tuple[NoiseDraw | None, Program | AthrillCrash]:
         self.check_files()
         forget_screen(self.run_dir)
         (self.run_dir / PROGRAM_OUTPUT_FILE).unlink(missing_ok=True)
@@ -144,22 +145,42 @@ class PhysicsServer:
         self._max_diff_us = 0
         self.answer_before_start = self.slots.begin(self.program.sync, self.course.info)
         self.publish_sensors()
+        program = self._tuned_program()  # before the announcement: a waiting Athrill reads its files after it
         self.slots.announce(seq)
-        return noise
+        return noise, program
+
+    def _tuned_program(self) -> Program | AthrillCrash:
+        """The program this test's parameter values make (the program itself unless it is tuned by kinds
+        other than `offset`), with its data files written. A value the program does not build with is the
+        program's failure; a file that cannot be written, the bench's."""
+        tuning = self.program.tuning
+        if tuning is None:
+            return self.program
+        values = tuning.values(self.slots.unity)
+        try:
+            return tuning.for_test(self.run_dir, values)
+        except BindingError as e:
+            self._write_program_output([str(e)])
+            return AthrillCrash(CrashKind.PROGRAM, 0, str(e))
+        except OSError as e:
+            return AthrillCrash(CrashKind.BENCH, 0, f"cannot prepare the program for {values}: {e}")
 
     def run_test(self) -> TestOutcome:
         wall_start = time.monotonic()
         seq = self.tests_run + 1
-        noise = self._start_test(seq)
-        crash: AthrillCrash | None = None
+        noise, program = self._start_test(seq)
+        crash: AthrillCrash | None = program if isinstance(program, AthrillCrash) else None
+        proc = None
         try:
-            self.transport.launching()
-            proc = self._athrill_proc = self.launcher.take(seq)
+            if crash is None:
+                self.transport.launching()
+                proc = self._athrill_proc = self.launcher.take(seq, program)  # type: ignore[arg-type]
         except OSError as e:
             crash = AthrillCrash(CrashKind.BENCH, 0, f"cannot start athrill: {e}")
         else:
             try:
-                SYNC_LOOPS[self.program.sync](self, proc)
+                if proc is not None:
+                    SYNC_LOOPS[self.program.sync](self, proc)
             except AthrillCrash as e:
                 crash = e
         env = self.env
@@ -169,7 +190,7 @@ class PhysicsServer:
                         crash.kind if crash else CrashKind.NONE, crash.detail if crash else 0)
         outcome = TestOutcome(seq, report, time.monotonic() - wall_start)
         draw_screen(self.run_dir)  # before the report: whoever sees the event sees the screen
-        if crash is not None and crash.kind == CrashKind.PROGRAM and proc.poll() is not None:
+        if crash is not None and crash.kind == CrashKind.PROGRAM and proc is not None and proc.poll() is not None:
             self._write_program_output(self.launcher.last_lines(proc, PROGRAM_OUTPUT_LINES))
         self.slots.report(report)
         self._write_trajectory()
