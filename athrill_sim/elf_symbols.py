@@ -31,6 +31,7 @@ from athrill_sim.bindings import BindingError
 V850_MACHINES = ("EM_V800", "EM_V850", 0x9080)  # pyelftools' names of athrill_sim.v850.elf's machines
 
 SHF_WRITE, SHF_ALLOC = 0x1, 0x2
+DEBUG_SUFFIX = ".debug"  # athrill_sim.v850.build's DEBUG_IMAGE is IMAGE + this
 # What a relocation against a section symbol reaches, S + A + one of these: an absolute one S + A; an x86-64
 # RIP-relative one the end of its instruction, after the 4-byte displacement and up to 4 bytes of immediate.
 _X86_64_PC_RELATIVE = (2, 4, 9, 24, 41, 42)  # R_X86_64_PC32, PLT32, GOTPCREL, PC64, GOTPCRELX, REX_GOTPCRELX
@@ -55,16 +56,19 @@ class Global:
 
 def find_global(image: Path, name: str, *, need_reads: bool) -> Global:
     """The global `name` of `image` (C++: its qualified name, `ns::Pid::kp`), or a BindingError saying why it
-    cannot be set, with the fix. `need_reads`: refuse one no relocation refers to (the image kept them)."""
-    with open(image, "rb") as f:
+    cannot be set, with the fix. `need_reads`: refuse one no relocation refers to (the image kept them). The
+    types come from the image's debug information, or from the unstripped copy beside a C++ image that `hako
+    build` stripped of it (`asp.debug`)."""
+    debug = image.with_name(image.name + DEBUG_SUFFIX)
+    with open(image, "rb") as f, open(debug if debug.is_file() else image, "rb") as d:
         try:
-            elf = ELFFile(f)
+            elf, typed = ELFFile(f), ELFFile(d)
         except ELFError as e:
             raise BindingError(f"symbol {name}: {image} is not an ELF image: {e}") from None
         symtab = elf.get_section_by_name(".symtab")
         if not isinstance(symtab, SymbolTableSection):
             raise BindingError(f"symbol {name}: {image} has no symbol table (stripped?); build it without -s")
-        variables = _variables(elf) if elf.has_dwarf_info() else {}
+        variables = _variables(typed) if typed.has_dwarf_info() else {}
         prefix = "_" if elf.header["e_machine"] in V850_MACHINES else ""  # the v850 ABI's C names begin with _
         found = [(i, s) for i, s in _named(symtab, name, prefix) if s["st_info"]["type"] in ("STT_OBJECT", "STT_NOTYPE")]
         if not found:
@@ -94,7 +98,7 @@ def find_global(image: Path, name: str, *, need_reads: bool) -> Global:
         if need_reads and not _referenced(elf, symtab, index, sym):
             raise BindingError(f"symbol {name}: nothing in the program reads it (no instruction or data refers "
                                "to it): tune a global the program uses")
-        storage, decl = (_storage(die), _decl(elf, die)) if die is not None else (None, (None, None))
+        storage, decl = (_storage(die), _decl(typed, die)) if die is not None else (None, (None, None))
         return Global(name, sym["st_value"], sym["st_size"],
                       section["sh_offset"] + sym["st_value"] - section["sh_addr"], storage, *decl)
 

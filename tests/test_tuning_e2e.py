@@ -1,7 +1,8 @@
 """The Fig. 7 tracer tuned as it is written: each of tests/programs/tracer_* (a #define, globals, a data file
-on the SD card, constants in a header) against the offset version, campaign for campaign; best.patch
-applied to a copy; the patched program with no parameters at all; and a global's value exact to the bit,
-natively and in the real emulator."""
+on the SD card, constants in a header, constexpr constants of a C++ header) against the offset version,
+campaign for campaign; best.patch applied to a copy; the patched program with no parameters at all; a
+global's value exact to the bit, natively and in the real emulator, in C and C++ (qualified names); and the
+ET Robocon-style C++ tracer tuned without an edit by hand."""
 
 from __future__ import annotations
 
@@ -26,7 +27,7 @@ from testctl.journal import JOURNAL_FILE, read_journal
 from testctl.space import ParameterSpace
 
 PROGRAMS = Path(__file__).resolve().parent / "programs"
-KINDS = ("define", "symbol", "file", "source")
+KINDS = ("define", "symbol", "file", "source", "constexpr")  # constexpr: a C++ header's, by source parameters
 CAMPAIGN = ("--noise", "0", "--repeats", "1", "--seed", "0", "--init-points", "5", "--trials", "15",
             "--validate", "0")
 
@@ -192,3 +193,101 @@ def test_a_global_of_a_v850_image_is_set_exactly_in_the_real_emulator(repeatable
     assert (f, i, s) == (as_float32(F), 42, -7)
     d = struct.unpack_from("<d" if double_size == 8 else "<f", raw, 8)[0]  # an EV3RT double may be 32 bits
     assert d == (D if double_size == 8 else as_float32(D))
+
+
+CPP_REPORTER = r"""
+// Reports what it reads, as REPORTER does, of globals a C++ program keeps in a namespace and a class.
+#include "ev3api.h"
+
+namespace tuning {
+float kp = 1.0f;
+}
+struct Gains {
+    static double kd;
+    static int power;
+};
+double Gains::kd = 1.0;
+int Gains::power = 1;
+
+#define TX(offset, type) (*(volatile type *)(0x090F1000 + (offset)))
+
+extern "C" void main_task(intptr_t unused)
+{
+    TX(600, float) = tuning::kp;
+    TX(604, unsigned) = sizeof(double);
+    TX(608, double) = Gains::kd;
+    TX(616, int) = Gains::power;
+    for (;;)
+        tslp_tsk(100000);
+}
+"""
+CPP_SPACE = """
+[[param]]
+name = "kp"
+symbol = "tuning::kp"
+low = 0.0
+high = 5.0
+[[param]]
+name = "kd"
+symbol = "Gains::kd"
+low = 0.0
+high = 5.0
+[[fixed]]
+name = "power"
+symbol = "Gains::power"
+type = "int"
+value = 23
+"""
+
+
+def cpp_report(tmp_path: Path, **bench) -> tuple:
+    (tmp_path / "app").mkdir()
+    (tmp_path / "app" / "app.cpp").write_text(CPP_REPORTER)
+    space = ParameterSpace.from_dict(__import__("tomllib").loads(CPP_SPACE))
+    options = BenchOptions(app=str(tmp_path / "app" / "app.cpp"), bindings=space.bindings(), time_limit_s=0.5,
+                           **bench)
+    with Bench(options, tmp_path / "run") as b:
+        result = b.run(TestSpec(0, 1, space.to_offsets((F, D)), 0, 0.0, space.slot_types))
+        assert result.event.name == "TIME_OVER", result
+        with open_athrill(tmp_path / "run") as tx:
+            raw = bytes(tx.read("B", 600 + i) for i in range(20))
+    f, double_size = struct.unpack_from("<fI", raw)
+    d = struct.unpack_from("<d" if double_size == 8 else "<f", raw, 8)[0]
+    return f, d if double_size == 8 else None, struct.unpack_from("<i", raw, 16)[0]
+
+
+def test_a_cpp_programs_qualified_globals_hold_exactly_the_proposal(tmp_path):
+    need_cc()
+    assert cpp_report(tmp_path) == (as_float32(F), D, 23)
+
+
+@pytest.mark.slow
+def test_a_cpp_images_qualified_globals_are_set_exactly_in_the_real_emulator(repeatable_athrill2, tmp_path):  # noqa: F811
+    """hako build strips a C++ image's debug information; the types come from its asp.debug."""
+    need_v850_tools()
+    f, d, power = cpp_report(tmp_path, emulator="athrill2", athrill2=str(repeatable_athrill2))
+    assert (f, power) == (as_float32(F), 23) and d in (D, None)
+
+
+@pytest.mark.slow
+def test_the_et_robocon_style_cpp_tracer_is_tuned_as_its_team_wrote_it(tmp_path):
+    """Its constexpr gains in unit/Pid.h, reached by source parameters: the campaign, best.patch applied to a
+    copy with git apply, and the patched copy lapping as the best set did."""
+    need_cc()
+    team = PROGRAMS / "etrobo_cpp_tracer"
+    press = tmp_path / "press.toml"
+    press.write_text('[[press]]\nsensor = "touch"\nport = 4\nat_s = 1.0\nfor_s = 0.2\n')
+    out = tmp_path / "campaign"
+    r = hako("run", "--app", str(team), "--space", str(PROGRAMS / "etrobo_cpp.toml"), "--scenario", str(press),
+             "--smoke", "--noise", "0", "--validate", "0", "--out", str(out), timeout=1200)
+    assert r.returncode == 0, r.stderr
+    assert "unit/Pid.h" in r.stdout and (out / "best.patch").is_file()
+    copy = tmp_path / "team"
+    shutil.copytree(team, copy)
+    applied = subprocess.run(["git", "apply", str(out / "best.patch")], cwd=copy, capture_output=True, text=True)
+    assert applied.returncode == 0, applied.stderr
+    assert (copy / "unit" / "Pid.h").read_text() != (team / "unit" / "Pid.h").read_text()
+    trial = hako("trial", "--app", str(copy), "--scenario", str(press), "--noise", "0", "--json", "--run-dir",
+                 str(tmp_path / "patched"), timeout=300)
+    assert trial.returncode == 0, trial.stderr
+    assert json.loads(trial.stdout)["lap_time_s"] == json.loads((out / "best.json").read_text())["lap_time_s"]

@@ -31,6 +31,7 @@ from pathlib import Path
 from typing import Callable
 
 from athrill_sim.build_cache import CacheKey, cache_root, cached_build
+from athrill_sim.elf_symbols import DEBUG_SUFFIX
 from athrill_sim.native import NativeBuildError
 from athrill_sim.native.headers import LAYOUT_HEADER
 from athrill_sim.native.makefile import ETROBO_VARIABLES, ETROBOC_COMMON, evaluate
@@ -41,7 +42,7 @@ from hakoniwa.wire.protocol import c_header
 
 APP_NAME = "hako_app"  # the workspace folder the program is built as (no SDK sample has this name)
 IMAGE = "asp"
-DEBUG_IMAGE = "asp.debug"  # the image before --strip-debug, for a person's debugger
+DEBUG_IMAGE = IMAGE + DEBUG_SUFFIX  # the image before --strip-debug: for a debugger, and a global's type
 ETROBO_FOLDER = "etrobo"
 ETROBOC_EXT = ETROBOC_COMMON / "etroboc_ext.h"
 BUILD_LOG = "build.log"
