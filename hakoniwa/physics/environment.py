@@ -27,7 +27,7 @@ class Environment:
     def __init__(self, course: Course, time_limit_us: int, robot: Robot = DEFAULT_ROBOT,
                  scenario: Scenario = Scenario()) -> None:
         self.course = course
-        self.world = World(course)
+        self.world = World(course, robot.body, imu=robot.spike)
         self.task = LapTask(course, time_limit_us)
         self.sensors = SensorModel(course, robot, scenario)
         self.scheduler = Scheduler(PHYSICS_STEP_US)

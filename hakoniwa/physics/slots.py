@@ -14,7 +14,7 @@ from pathlib import Path
 
 from hakoniwa.physics.course import CourseInfo
 from hakoniwa.physics.sensors import Sensors
-from hakoniwa.wire.protocol import (ETROBOC_EXT, MOTOR_PORTS, TOUCH_PRESSED, CrashKind, Event, Header,
+from hakoniwa.wire.protocol import (ETROBOC_EXT, MOTOR_PORTS, CrashKind, Event, Header,
                                     MappedFile, Rx, SyncMode, Tx, goal_time_words, open_athrill, open_unity)
 from hakoniwa.wire.waiting import futex_wake
 
@@ -94,10 +94,17 @@ class Slots:
         u.write_i32s(Rx.GYRO_ANGLE, [s.gyro_angle_deg, s.gyro_rate_dps])
         u.write_i32(Rx.ULTRASONIC_MM, s.ultrasonic_mm)
         u.write_i32(Rx.BUTTONS, s.buttons)
-        u.write_i32(Rx.TOUCH0, TOUCH_PRESSED if s.touch[0] else 0)
-        u.write_i32(Rx.TOUCH1, TOUCH_PRESSED if s.touch[1] else 0)
+        u.write_i32(Rx.TOUCH0, s.touch[0])
+        u.write_i32(Rx.TOUCH1, s.touch[1])
         for port, angle in s.motor_angles_deg.items():
             u.write_i32(Rx.MOTOR_ANGLE + 4 * port, angle)
+        if s.imu is not None:  # only a SPIKE robot's: an EV3 robot's files stay as they were
+            for offset, value in zip((Rx.SPIKE_IMU_ACCEL_X, Rx.SPIKE_IMU_ACCEL_Y, Rx.SPIKE_IMU_ACCEL_Z,
+                                      Rx.SPIKE_IMU_ANGVEL_X, Rx.SPIKE_IMU_ANGVEL_Y, Rx.SPIKE_IMU_ANGVEL_Z),
+                                     (*s.imu.acceleration_mm_s2, *s.imu.angular_velocity_dps)):
+                u.write_f32(offset, value)
+        if s.hsv is not None:
+            u.write_i32s(Rx.SPIKE_HSV_H, list(s.hsv))
         u.unity_time_us = unity_time_us
         futex_wake(self._unity_time_address)
 
