@@ -91,6 +91,9 @@ class Rx:
     SPIKE_HSV_S = 300  # i32, 0..100 [%]
     SPIKE_HSV_V = 304  # i32, 0..100 [%]
     # Our extension (unused by the real layout): lockstep and test reports.
+    OBJECTIVE = 428  # u32, Objective of the bench: what ends and scores its tests
+    COMPLETED_TIME_HI = 432  # u32: when ETRoboc_notifyCompletedToSimulator() came [us], upper 32 bits (0: never)
+    COMPLETED_TIME_LO = 436  # u32, lower 32 bits
     TEST_SEQ = 448  # u32: the test in progress; a pre-launched Athrill waits for its own number
     PHYSICS_PID = 452  # u32: so an orphaned Athrill can notice the physics process is gone
     SYNC_MODE = 456  # u32, SyncMode of the test in progress
@@ -178,6 +181,14 @@ class SyncMode(enum.IntEnum):
     LOCKSTEP = 0  # ours: the program's wake-ups drive physics; deterministic to the microsecond
     HAKONIWA = 1  # the real protocol: physics runs at most ALLOWED_TIME_DIFF ahead of Athrill's clock
     REPEATABLE = 2  # the real emulator, patched to wait at each sync point: deterministic to the microsecond
+
+
+class Objective(enum.IntEnum):
+    """What a bench's tests end at and are scored by (`--objective`), at RX OBJECTIVE."""
+
+    LAP = 0  # the paper's: GOAL at the course's last checkpoint, scored by the lap time
+    COMPLETED = 1  # ET Robocon's: the program's ETRoboc_notifyCompletedToSimulator(), scored by its time; the
+    # goal line does not end the test (a competition program ends its whole run that way)
 
 
 class ColorId(enum.IntEnum):
@@ -379,7 +390,8 @@ def c_header() -> str:
                                                                           ("ATHRILL", ATHRILL_MAGIC))]
     for prefix, cls in (("HDR", Header), ("RX", Rx), ("TX", Tx)):
         lines += [f"#define HAKO_{prefix}_{k} {v}" for k, v in vars(cls).items() if isinstance(v, int)]
-    for prefix, enum_cls in (("EVENT", Event), ("CRASH", CrashKind), ("SYNC", SyncMode), ("COLOR", ColorId)):
+    for prefix, enum_cls in (("EVENT", Event), ("CRASH", CrashKind), ("SYNC", SyncMode), ("COLOR", ColorId),
+                             ("OBJECTIVE", Objective)):
         lines += [f"#define HAKO_{prefix}_{m.name} {m.value}" for m in enum_cls]
     lines.append("#endif")
     return "\n".join(lines) + "\n"
