@@ -7,6 +7,7 @@ import struct
 
 import pytest
 
+from conftest import hako, one_line_error
 from hakoniwa.physics.bench import load_bench
 from hakoniwa.physics.course import load_course
 from hakoniwa.physics.environment import Environment
@@ -174,3 +175,9 @@ def test_only_a_spike_robot_gets_the_spike_slots_written(tmp_path):
             assert abs(accel_z - G_MM_S2) < 50 and struct.unpack_from("<3i", body, 296) == env.read_sensors().hsv
         slots.unity.close()
         slots.athrill.close()
+
+
+def test_hako_trial_refuses_a_port_letter_a_hub_lacks_in_one_line(tmp_path):
+    robot = tmp_path / "robot.toml"
+    robot.write_text('hub = "spike"\n[[sensor]]\nport = "G"\nkind = "color"\n')
+    one_line_error(hako("trial", "--robot", str(robot), timeout=60), "robot.toml sensor 1", "port 'G' does not exist")
