@@ -112,8 +112,9 @@ def _trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: floa
     else:
         lap = f"{result['lap_time_s']:.3f} s" if result["lap_time_s"] is not None else "-"
         why = f" ({result['crash_reason']})" if result.get("crash_reason") else ""
+        done = f"  completed at: {result['completed_time_us'] / 1e6:.3f} s" if "completed_time_us" in result else ""
         click.echo(f"event: {result['event']}{why}  lap time: {lap}  distance: {result['distance_m']:.2f} m  "
-                   f"checkpoints: {result['checkpoints']}")
+                   f"checkpoints: {result['checkpoints']}{done}")
 
 
 benches_options = option_group([
@@ -142,7 +143,8 @@ def run(benches: int | None, scheduler: str | None, validate: int | None, **opti
     """Search the robot program's parameters by Bayesian optimization, as in the paper: 5 random sets, then
     --trials sets proposed by GPyOpt (EI), --batch at a time; each set tested until 3 successes or 3
     failures (one test with --noise 0 on the real emulator's repeatable mode, where every test of a set is
-    the same); the objective is the mean lap time (the time limit for a failure). Tests run on --benches
+    the same); the objective is the mean lap time (the time limit for a failure; with --objective completed,
+    the mean time the program notified its completion). Tests run on --benches
     benches at once; then the best set is tested on --validate fresh noise draws.
     Every test is journaled; kill and --resume at any time."""
     from testctl.interrupts import sigterm_interrupts, stopped_by
@@ -318,7 +320,7 @@ def default_benches() -> int:
 
 # What the journal records of the bench: what decides results (not where athrill2 lives).
 RECORDED_BENCH = ("course", "app", "emulator", "sync", "transport", "device_config", "time_limit_s", "robot",
-                  "scenario")
+                  "scenario", "objective")
 
 
 def bench_info(bench: BenchOptions) -> dict:

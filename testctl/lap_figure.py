@@ -28,7 +28,7 @@ def lap_figure(results: Sequence[TestResult], title: str, estimate_s: float | No
     ax = fig.subplots()
     if stats.laps_s:
         ax.hist(stats.laps_s, bins=min(20, max(5, len(stats.laps_s) // 2)), color="steelblue", alpha=0.8,
-                label=f"lap of a run that reached GOAL ({stats.successes} of {stats.runs})")
+                label=f"lap of a run that reached {stats.reached} ({stats.successes} of {stats.runs})")
     for (p, q), style in zip(stats.quantiles_s.items(), (":", "--")):
         if q is not None:
             ax.axvline(q, color="black", ls=style, lw=1.2, label=f"p{p} of all runs: {q:.2f} s")

@@ -37,8 +37,9 @@ def success_rate(results: Sequence[TestResult]) -> float:
 class LapStats:
     runs: int
     successes: int
-    laps_s: tuple[float, ...]  # the laps of the runs that reached GOAL, in run order
+    laps_s: tuple[float, ...]  # the laps of the runs that succeeded (`TestResult.lap_time_s`), in run order
     quantiles_s: dict[int, float | None]  # None: more than that share of the runs did not finish
+    reached: str = "GOAL"  # the event a run succeeds on (COMPLETED under the completed objective)
 
     @classmethod
     def of(cls, results: Sequence[TestResult]) -> LapStats:
@@ -46,7 +47,7 @@ class LapStats:
         quantiles = {p: percentile(everyone, p) for p in REPORTED_PERCENTILES}
         return cls(len(results), sum(r.success for r in results),
                    tuple(r.lap_time_s for r in results if r.lap_time_s is not None),
-                   {p: None if math.isinf(q) else q for p, q in quantiles.items()})
+                   {p: None if math.isinf(q) else q for p, q in quantiles.items()}, results[0].success_event.name)
 
     @property
     def success(self) -> float:
@@ -59,4 +60,4 @@ class LapStats:
     def describe(self) -> str:
         """One line for a person."""
         quantiles = ", ".join(f"p{p} {'no lap' if q is None else f'{q:.2f} s'}" for p, q in self.quantiles_s.items())
-        return f"{self.successes}/{self.runs} reached GOAL (success {self.success:.2f}), lap {quantiles}"
+        return f"{self.successes}/{self.runs} reached {self.reached} (success {self.success:.2f}), lap {quantiles}"

@@ -27,9 +27,11 @@ from hakoniwa.wire.protocol import Event
 from testctl.result import TestResult
 
 LEGACY_PENALTY_S = 60.0  # what journals written before the penalty was recorded scored a failure: their time limit
-# COMPLETED is the program's own end of its run (ET Robocon's completion notice) before any lap: it ends the
-# test early, as a program that stops driving ends it at the time limit, and scores as that would: a failure.
-_FAILURES = (Event.TIME_OVER, Event.HIT_WALL, Event.COMPLETED)
+# Under the lap objective, COMPLETED is the program's own end of its run (ET Robocon's completion notice)
+# before any lap: it ends the test early, as a program that stops driving ends it at the time limit, and
+# scores as that would: a failure. Under the completed objective it is the success (`TestResult.success`),
+# and a test that ends without it fails.
+_OUTCOMES = (Event.GOAL, Event.TIME_OVER, Event.HIT_WALL, Event.COMPLETED)
 
 
 @dataclass(frozen=True)
@@ -82,14 +84,14 @@ class RepetitionRule:
         for r in results:
             if r.bench_fault:
                 continue
-            if r.event == Event.GOAL:
+            if r.event == Event.CRASH:
+                crashes += 1
+                failures += crashes > self.max_crashes
+            elif r.success:
                 assert r.lap_time_s is not None
                 successes += 1
                 laps.append(r.lap_time_s)
-            elif r.event == Event.CRASH:
-                crashes += 1
-                failures += crashes > self.max_crashes
-            elif r.event in _FAILURES:
+            elif r.event in _OUTCOMES:
                 failures += 1
             else:
                 raise ValueError(f"{r.event.name} is not the outcome of a finished test")

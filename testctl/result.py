@@ -4,14 +4,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from hakoniwa.wire.protocol import CrashKind, Event, SyncMode
+from hakoniwa.wire.protocol import CrashKind, Event, Objective, SyncMode
 
 
 @dataclass(frozen=True)
 class TestResult:
     """One test: the event the physics process reported and, for GOAL, the goal time.
 
-    `goal_time_us` is 0 for every event but GOAL. `wall_s` is how long the test took in wall-clock time,
+    `goal_time_us` is 0 for every event but GOAL; `completed_time_us` is when the program's completion notice
+    (ET Robocon's `ETRoboc_notifyCompletedToSimulator()`) came, 0 if it never did. The bench's `objective`
+    says what the test is scored by: under `Objective.COMPLETED` it succeeds on COMPLETED and its
+    `lap_time_s`, the time every score, quantile and lap bound reads, is the completion's time. `wall_s` is how long the test took in wall-clock time,
     which is informative only: in the lockstep the event and goal time never depend on it. For a CRASH,
     `crash_kind` says whose fault it may have been and `crash_detail` the Athrill's exit status (negative:
     the signal that killed it); `program_output` holds the last lines a program that crashed printed (its
@@ -30,10 +33,17 @@ class TestResult:
     crash_kind: CrashKind = CrashKind.NONE
     crash_detail: int = 0
     program_output: str = ""
+    completed_time_us: int = 0
+    objective: Objective = Objective.LAP
+
+    @property
+    def success_event(self) -> Event:
+        """The event that makes the test a success under its objective."""
+        return Event.COMPLETED if self.objective == Objective.COMPLETED else Event.GOAL
 
     @property
     def success(self) -> bool:
-        return self.event == Event.GOAL
+        return self.event == self.success_event
 
     @property
     def bench_fault(self) -> bool:
@@ -42,7 +52,10 @@ class TestResult:
 
     @property
     def lap_time_s(self) -> float | None:
-        return self.goal_time_us / 1e6 if self.success else None
+        """The scored time of a successful test: the lap, or (objective completed) when the program ended."""
+        if not self.success:
+            return None
+        return (self.completed_time_us if self.objective == Objective.COMPLETED else self.goal_time_us) / 1e6
 
     @property
     def distance_m(self) -> float:
@@ -68,6 +81,10 @@ class TestResult:
             d.update(crash=self.crash_kind.name.lower(), crash_detail=self.crash_detail, crash_reason=self.crash_reason())
         if self.program_output:
             d["program_output"] = self.program_output
+        if self.completed_time_us:
+            d["completed_time_us"] = self.completed_time_us
+        if self.objective != Objective.LAP:
+            d["objective"] = self.objective.name.lower()
         return d
 
     @classmethod
@@ -79,4 +96,5 @@ class TestResult:
                    round(float(d.get("distance_m", 0.0)) * 1000), int(d.get("max_time_diff_us", 0)),
                    SyncMode[d.get("sync", "lockstep").upper()],
                    CrashKind[crash.upper()] if crash else CrashKind.NONE, int(d.get("crash_detail", 0)),
-                   str(d.get("program_output", "")))
+                   str(d.get("program_output", "")), int(d.get("completed_time_us", 0)),
+                   Objective[d.get("objective", "lap").upper()])

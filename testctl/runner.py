@@ -16,8 +16,9 @@ from pathlib import Path
 from typing import Callable, Mapping
 
 from hakoniwa.wire.params import SLOT_FORMATS, encode, fits_area
-from hakoniwa.wire.protocol import (MAX_NOISE_SCALE, CrashKind, Event, MappedFile, ProtocolError, Rx, SyncMode, Tx,
-                               goal_time_from_words, open_athrill, open_unity)
+from hakoniwa.wire.protocol import (MAX_NOISE_SCALE, CrashKind, Event, MappedFile, Objective, ProtocolError, Rx,
+                                    SyncMode, Tx,
+                                    goal_time_from_words, open_athrill, open_unity)
 from hakoniwa.wire.rundir import PROGRAM_OUTPUT_FILE
 from hakoniwa.wire.waiting import pid_alive, wait_for
 from testctl.result import TestResult
@@ -90,7 +91,9 @@ class TrialRunner:
         result = TestResult(event, goal_us if event == Event.GOAL else 0, 0.0, u.read_u32(Rx.CHECKPOINTS),
                             u.read_u32(Rx.DISTANCE_MM), u.read_u32(Rx.MAX_TIME_DIFF_US),
                             SyncMode(u.read_u32(Rx.SYNC_MODE)), CrashKind(u.read_i32(Rx.CRASH_KIND)),
-                            u.read_i32(Rx.CRASH_DETAIL), self._program_output() if event == Event.CRASH else "")
+                            u.read_i32(Rx.CRASH_DETAIL), self._program_output() if event == Event.CRASH else "",
+                            goal_time_from_words(u.read_u32(Rx.COMPLETED_TIME_HI), u.read_u32(Rx.COMPLETED_TIME_LO)),
+                            Objective(u.read_u32(Rx.OBJECTIVE)))
         self.athrill.write_i32(Tx.START, 0)
         self._wait(lambda: u.read_i32(Rx.EVENT) == Event.NONE, "the reset after the test")
         return dataclasses.replace(result, wall_s=time.monotonic() - start)

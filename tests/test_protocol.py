@@ -28,6 +28,12 @@ REAL_TX = {"led": 0, "motor_power": 4, "motor_brake": 20, "motor_reset_angle": 3
 # base + 512 - 32 + n: the course info it reads and the completion flag it writes.
 REAL_ETROBOC_RX = {"course_card_number": 512 - 32, "course_block_number": 516 - 32, "course_block_pos": 520 - 32}
 REAL_ETROBOC_TX = {"completed": 512 - 32}
+# ET Robocon's SPIKE SDK, raspike-athrill-v850e2m target/v850_gcc/pil/include/ev3_vdev_common.h:
+# SPIKE_SENSOR_IMU_OFF 272 + 4 * (ACCELARATION_X 0, _Y 1, _Z 2, VELOCITY_X 3, _Y 4, _Z 5) and
+# SPIKE_SENSOR_HSV_OFF 296 + 4 * (H 0, S 1, V 2); raspike_hub.c reads the IMU words as float bits.
+REAL_SPIKE_RX = {"spike_imu_accel_x": 272, "spike_imu_accel_y": 276, "spike_imu_accel_z": 280,
+                 "spike_imu_angvel_x": 284, "spike_imu_angvel_y": 288, "spike_imu_angvel_z": 292,
+                 "spike_hsv_h": 296, "spike_hsv_s": 300, "spike_hsv_v": 304}
 
 
 def test_header_offsets_are_the_real_ones():
@@ -47,12 +53,24 @@ def test_et_robocons_extension_is_where_its_header_looks():
     assert Rx.COURSE_BLOCK_POS + COURSE_BLOCK_POSITIONS <= 512
 
 
+def test_the_spike_sdks_slots_are_where_its_header_looks():
+    assert {k: getattr(Rx, k.upper()) for k in REAL_SPIKE_RX} == REAL_SPIKE_RX
+    assert "#define HAKO_RX_SPIKE_IMU_ANGVEL_Z 292\n" in c_header()
+
+
+def test_the_spike_slots_leave_our_extension_and_et_robocons_alone():
+    spike = {b for o in REAL_SPIKE_RX.values() for b in range(o, o + 4)}
+    assert spike == set(range(272, 308))  # nine words, no gap
+    assert not spike & set(range(448, 480)) and not spike & set(range(480, 512))
+
+
 def test_our_extension_stays_in_bytes_the_real_layouts_leave_unused():
-    """Below ET Robocon's 480..511 in both files, and clear of every real RX slot."""
+    """Below ET Robocon's 480..511 in both files, and clear of every real RX slot (the SPIKE SDK's too)."""
     real_rx = [(o, o + 4) for o in REAL_RX.values() if o < 512] + [(16, 28), (140, 152), (256, 272), (36, 88),
-                                                                    (96, 124)]
+                                                                    (96, 124), (272, 308)]
     ours_rx = [(k, v) for k, v in vars(Rx).items() if isinstance(v, int) and k.lower() not in REAL_RX
-               and k.lower() not in REAL_ETROBOC_RX and k not in ("COLOR0_RGB", "COLOR1_RGB")]
+               and k.lower() not in REAL_ETROBOC_RX and k.lower() not in REAL_SPIKE_RX
+               and k not in ("COLOR0_RGB", "COLOR1_RGB")]
     ours_tx = [(k, v) for k, v in vars(Tx).items() if isinstance(v, int) and k.lower() not in REAL_TX
                and k.lower() not in REAL_ETROBOC_TX]
     assert ours_rx and ours_tx

@@ -11,8 +11,8 @@ from hakoniwa.physics.scenario import ScenarioError, parse_scenario
 def test_a_touch_press_and_a_button_press_hold_for_their_time():
     s = parse_scenario('[[press]]\nsensor = "touch"\nport = 1\nat_s = 1.0\nfor_s = 0.5\n'
                        '[[press]]\nbutton = "enter"\nat_s = 0\n[[serial]]\nat_s = 2\ntext = "1"\n')
-    assert s.touch_ports_pressed(999_999) == set() and s.touch_ports_pressed(1_000_000) == {0}
-    assert s.touch_ports_pressed(1_500_000) == set()
+    assert s.sensor_presses(999_999) == [] and [p.port for p in s.sensor_presses(1_000_000)] == ["1"]
+    assert s.sensor_presses(1_500_000) == []
     assert s.buttons(0) == 1 << 4 and s.buttons(100_000) == 0  # for_s defaults to 0.1 s
     assert s.serial_lines() == "2000000 bt 31\n"
 
@@ -32,8 +32,8 @@ def test_bad_scenarios_say_what_is_wrong(text, words):
 def test_hackev_is_ets_wiring():
     r = BUILT_IN["hackev"]
     assert (r.wiring.left, r.wiring.right) == (2, 1)  # C, B
-    assert dict(r.sensors) == {0: "touch", 1: "color", 2: "ultrasonic", 3: "gyro"}
-    assert r.touch_slot(0) == 0 and r.touch_slot(1) is None
+    assert dict(r.sensors) == {"1": "touch", "2": "color", "3": "ultrasonic", "4": "gyro"}
+    assert r.touch_slot("1") == 0 and r.touch_slot("2") is None
 
 
 def test_two_devices_on_one_port_are_refused():
@@ -63,7 +63,7 @@ def test_any_press_table_is_a_press_or_one_scenario_error(pairs):
     except ScenarioError as e:
         assert "\n" not in str(e)
     else:
-        assert press.at_us >= 0 and press.for_us > 0 and (press.sensor_port is None) != (press.button is None)
+        assert press.at_us >= 0 and press.for_us > 0 and (press.sensor is None) != (press.button is None)
 
 
 @given(st.text(max_size=200))

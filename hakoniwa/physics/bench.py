@@ -19,7 +19,8 @@ def load_bench(options: BenchOptions) -> tuple[Course, Robot, Scenario]:
     if robot.wiring is not None:
         course = dataclasses.replace(course, wiring=robot.wiring)
     for press in scenario.presses:
-        if press.sensor_port is not None and robot.touch_slot(press.sensor_port) is None:
-            raise ScenarioError(f"scenario: robot {robot.name!r} has no touch sensor on port "
-                                f"{press.sensor_port + 1} to press")
+        if press.sensor is not None and robot.press_slot(press.sensor, press.port) is None:
+            where = "" if press.port is None else f" on port {press.port}"
+            what = "touch or force" if press.sensor == "touch" and robot.spike else press.sensor
+            raise ScenarioError(f"scenario: robot {robot.name!r} has no {what} sensor{where} to press")
     return course, robot, scenario

@@ -17,7 +17,7 @@ from hakoniwa.physics.scenario import Scenario
 from hakoniwa.physics.sensors import SensorModel, Sensors
 from hakoniwa.physics.task import LapTask
 from hakoniwa.physics.world import World
-from hakoniwa.wire.protocol import Event
+from hakoniwa.wire.protocol import Event, Objective
 from hakoniwa.wire.timebase import EVENT_CHECK_PERIOD_US, PHYSICS_STEP_US, TRACE_PERIOD_US, Scheduler
 
 Pose = tuple[int, float, float, float]  # time [us], x, y [m], yaw [rad]
@@ -25,10 +25,11 @@ Pose = tuple[int, float, float, float]  # time [us], x, y [m], yaw [rad]
 
 class Environment:
     def __init__(self, course: Course, time_limit_us: int, robot: Robot = DEFAULT_ROBOT,
-                 scenario: Scenario = Scenario()) -> None:
+                 scenario: Scenario = Scenario(), objective: Objective = Objective.LAP) -> None:
         self.course = course
-        self.world = World(course)
-        self.task = LapTask(course, time_limit_us)
+        self.world = World(course, robot.body, imu=robot.spike)
+        # Under the completed objective the goal line is one more checkpoint: the program's notice ends the run.
+        self.task = LapTask(course, time_limit_us, ends_at_goal=objective == Objective.LAP)
         self.sensors = SensorModel(course, robot, scenario)
         self.scheduler = Scheduler(PHYSICS_STEP_US)
         self.scheduler.add("event-check", EVENT_CHECK_PERIOD_US, self._check_events)
@@ -38,7 +39,7 @@ class Environment:
     def _clear(self, noise: NoiseDraw | None) -> None:
         self.now_us = 0
         self.event, self.event_us = Event.NONE, 0
-        self.completed = False
+        self.completed_us: int | None = None
         self.sensors.begin(noise)
         self.trajectory: list[Pose] = []
 
@@ -68,9 +69,10 @@ class Environment:
         self.event, self.event_us = event, self.now_us
 
     def complete(self) -> None:
-        """The program said its run is over (ET Robocon's completion notice): the next event check ends the
-        test as COMPLETED, unless the lap task raises its own event at that very check."""
-        self.completed = True
+        """The program said its run is over (ET Robocon's completion notice), now: the next event check ends
+        the test as COMPLETED, unless the lap task raises its own event at that very check."""
+        if self.completed_us is None:
+            self.completed_us = self.now_us
 
     def read_sensors(self) -> Sensors:
         return self.sensors.read(self.world, self.now_us)
@@ -87,7 +89,7 @@ class Environment:
     def _check_events(self, now_us: int) -> None:
         if self.event == Event.NONE:
             self.event = self.task.check(self.world, now_us)
-            if self.event == Event.NONE and self.completed:
+            if self.event == Event.NONE and self.completed_us is not None:
                 self.event = Event.COMPLETED
             self.event_us = now_us
 

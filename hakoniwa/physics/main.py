@@ -47,7 +47,7 @@ def main(run_dir: Path, controller: tuple[str, ...], **bench) -> None:
 
         server = PhysicsServer(run_dir, world_course, program, athrill_timeout_s=options.athrill_timeout_s,
                                time_limit_us=options.time_limit_us(world_course.time_limit_us), robot=robot,
-                               scenario=scenario)
+                               scenario=scenario, objective=options.scored_by)
         program.finish_check(check)
         code = serve(server, run_dir, world_course.folder, controller)
     except (ProgramError, LinkError) as e:

@@ -17,6 +17,7 @@ import click
 
 from athrill_sim.programs import EMULATORS, REAL_SYNCS, REPEATABLE_DIR, TRANSPORTS, UDP_DEVICE_CONFIG
 from hakoniwa.clickutil import SECONDS, option_group
+from hakoniwa.wire.protocol import Objective
 from hakoniwa.wire.timebase import US_PER_S
 
 if TYPE_CHECKING:
@@ -42,6 +43,12 @@ class BenchOptions:
     robot: str | None = None  # None: the default robot, with the course's wheel ports
     scenario: str | None = None  # a scenario TOML applied to every test
     bindings: str | None = None  # JSON: how parameters other than `offset` reach the program (from the space)
+    objective: str | None = Objective.LAP.name.lower()  # what ends and scores a test: an `Objective`, by name
+
+    @property
+    def scored_by(self) -> Objective:
+        """The bench's objective; a journal from before objectives were recorded names none: the lap."""
+        return Objective.LAP if self.objective is None else Objective[self.objective.upper()]
 
     def physics_command(self, run_dir: Path, controller: list[str]) -> list[str]:
         cmd = [sys.executable, "-m", "hakoniwa.physics.main", "--run-dir", str(run_dir)]
@@ -108,6 +115,11 @@ _OPTIONS = [
             "scores a failed test as this many seconds [default: the course's time_limit_s].", SECONDS),
     _Option("bindings", "--bindings", "How the parameters of kinds other than offset (define, symbol, file, "
             "source) reach the program, as JSON; the controller makes it from the --space file.", hidden=True),
+    _Option("objective", "--objective", "What ends and scores a test: lap (GOAL at the course's last "
+            "checkpoint, scored by the lap time) or completed (the program's ETRoboc_notifyCompletedToSimulator(), "
+            "as an ET Robocon competition program ends its run, scored by when it came; the goal line does not "
+            "end the test, and a test it never comes to fails).",
+            click.Choice([o.name.lower() for o in Objective])),
 ]
 
 bench_options = option_group([o.declare() for o in _OPTIONS])

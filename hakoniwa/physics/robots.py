@@ -1,12 +1,32 @@
-"""Robots described by their wiring (`--robot NAME|FILE`): which motor ports drive the wheels and which sensor
-sits on which port. The wiring decides what the program's ports mean: the wheel ports' encoders and powers,
-and which touch slot a pressed touch sensor reads (EV3RT numbers touch sensors in port order). A robot file
-is TOML: `left_motor = "C"`, `right_motor = "B"`, `bumper = true|false` (the first touch sensor reads wall
-contact), and `[[sensor]] port = 1, kind = "touch"`, one per device.
+"""Robots described by their hub, wiring and body (`--robot NAME|FILE`): which motor ports drive the wheels and
+how each motor is mounted, which sensor sits on which port, and the body the world builds. The wiring decides
+what the program's ports mean: the wheel ports' encoders and powers, and which touch slot a pressed touch or
+force sensor reads.
+
+A robot file is TOML:
+
+    name = "my-robot"
+    hub = "ev3"                    # or "spike": the brick the program runs on (default ev3)
+    left_motor = "C"               # motor ports A..D (the wire has four motor slots)
+    right_motor = "B"
+    left_motor_forward = "negative"   # the power sign that drives the robot forward ("positive" by default):
+                                      # "negative" for a motor mounted mirror-wise
+    bumper = false                 # the first touch (or the force) sensor reads wall contact
+    body = "ev3"                   # or "hackspi" [default: ev3 on an EV3, hackspi on a SPIKE hub]
+    [[sensor]]
+    port = 2                       # an EV3's sensor ports are 1..4; a SPIKE hub's are "A".."F"
+    kind = "color"                 # EV3: color, ultrasonic, gyro, touch; SPIKE: color, ultrasonic, force
+
+The hub decides the port names: an EV3 brick has motor ports A..D and sensor ports 1..4; a SPIKE hub has
+six ports A..F that take a motor or a sensor each (a SPIKE robot's motor and sensor ports must differ). A
+SPIKE hub always has its IMU. ET Robocon's SDK reads every SPIKE sensor of a kind from one slot whatever its
+port (`raspike_color.c` reads colour slot 0, `raspike_forcesensor.c` touch slot 0), so a SPIKE robot has at
+most one sensor of each kind.
 
 Built in: `default`, the TOPPERS samples' robot (wheels A/B; colour 1, ultrasonic 2, touch 3 as the bumper,
-touch 4), whose wheel ports a course's `[robot]` table may change; and `hackev`, ET Robocon's HackEV
-(wheels C left, B right; touch 1, colour 2, ultrasonic 3, gyro 4).
+touch 4), whose wheel ports a course's `[robot]` table may change; `hackev`, ET Robocon's HackEV (wheels C
+left, B right; touch 1, colour 2, ultrasonic 3, gyro 4); and `hackspi`, ET Robocon's HackSPi (SPIKE hub: left
+wheel B mounted mirror-wise, right A; force D, colour E, ultrasonic F).
 """
 
 from __future__ import annotations
@@ -15,11 +35,15 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
-from hakoniwa.physics.robot import DEFAULT_WIRING, Wiring
+from hakoniwa.physics.robot import DEFAULT_WIRING, EV3_BODY, HACKSPI_BODY, Body, Wiring
 
-SENSOR_KINDS = ("color", "ultrasonic", "gyro", "touch")
-PORT_LETTERS = "ABCD"
-SENSOR_PORTS = 4
+EV3, SPIKE = "ev3", "spike"
+HUB_PORTS = {EV3: ("1", "2", "3", "4"), SPIKE: ("A", "B", "C", "D", "E", "F")}  # sensor ports, by hub
+HUB_SENSORS = {EV3: ("color", "ultrasonic", "gyro", "touch"), SPIKE: ("color", "ultrasonic", "force")}
+MOTOR_LETTERS = "ABCD"
+BODIES = {"ev3": EV3_BODY, "hackspi": HACKSPI_BODY}
+DEFAULT_BODY = {EV3: "ev3", SPIKE: "hackspi"}
+FORWARD = {"positive": 1, "negative": -1}
 
 
 class RobotError(ValueError):
@@ -30,19 +54,72 @@ class RobotError(ValueError):
 class Robot:
     name: str
     wiring: Wiring | None  # None: the course's [robot] wheel ports
-    sensors: tuple[tuple[int, str], ...]  # (0-based port, kind), in port order
-    bumper: bool  # the first touch sensor reads the robot's contact with a wall
+    sensors: tuple[tuple[str, str], ...]  # (port name, kind), in port order: "1".."4" on an EV3, "A".."F" on SPIKE
+    bumper: bool  # the first touch sensor (a SPIKE robot's force sensor) reads the robot's contact with a wall
+    hub: str = EV3
+    body: Body = EV3_BODY
 
-    def touch_slot(self, port: int) -> int | None:
-        """The touch slot (0 or 1) the sensor on `port` reads, or None if no touch sensor is there."""
+    @property
+    def spike(self) -> bool:
+        """A SPIKE hub: its IMU, and its sensors' SPIKE responses (`sensors.py`)."""
+        return self.hub == SPIKE
+
+    def has(self, kind: str) -> bool:
+        return any(k == kind for _, k in self.sensors)
+
+    def kind_at(self, port: str) -> str | None:
+        return dict(self.sensors).get(port)
+
+    def touch_slot(self, port: str) -> int | None:
+        """The touch slot (0 or 1) the touch or force sensor on `port` reads, or None if neither is there.
+        EV3RT numbers touch sensors in port order; ET Robocon's SDK reads the force sensor from slot 0."""
+        if self.kind_at(port) == "force":
+            return 0
         touches = [p for p, kind in self.sensors if kind == "touch"]
         return touches.index(port) if port in touches[:2] else None
 
+    def press_slot(self, sensor: str, port: str | None) -> int | None:
+        """The touch slot a scenario's press of `sensor` ("touch" or "force") on `port` (None: the robot's
+        force sensor, wherever it is) holds down, or None if the robot has no such sensor there."""
+        if sensor == "force":
+            force = next((p for p, kind in self.sensors if kind == "force"), None)
+            return 0 if force is not None and port in (None, force) else None
+        return None if port is None else self.touch_slot(port)
 
-DEFAULT_ROBOT = Robot("default", None, ((0, "color"), (1, "ultrasonic"), (2, "touch"), (3, "touch")), True)
+
+DEFAULT_ROBOT = Robot("default", None, (("1", "color"), ("2", "ultrasonic"), ("3", "touch"), ("4", "touch")), True)
+# HackSPi as ET Robocon's official sample_c5_spike wires it (app.c: colour E, left motor B, right motor A,
+# force D; LineTracer.c sets the left motor PUP_DIRECTION_COUNTERCLOCKWISE: it is mounted mirror-wise). The
+# ultrasonic sensor is on F in ET Robocon's libraspike-art test program (sample/raspike_test) and in teams'
+# RasPike-ART programs; the samples do not use one (docs/DESIGN-NOTES.md).
+HACKSPI = Robot("hackspi", Wiring(left=1, right=0, left_forward=-1),
+                (("D", "force"), ("E", "color"), ("F", "ultrasonic")), False, SPIKE, HACKSPI_BODY)
 BUILT_IN = {"default": DEFAULT_ROBOT,
             "hackev": Robot("hackev", Wiring(left=2, right=1),
-                            ((0, "touch"), (1, "color"), (2, "ultrasonic"), (3, "gyro")), False)}
+                            (("1", "touch"), ("2", "color"), ("3", "ultrasonic"), ("4", "gyro")), False),
+            "hackspi": HACKSPI}
+
+
+def sensor_port(value: object, hub: str) -> str:
+    """The port name `value` means on `hub` (an EV3's 1..4, a SPIKE hub's "A".."F"), or RobotError."""
+    ports = HUB_PORTS[hub]
+    if hub == SPIKE:
+        if not isinstance(value, str) or len(value) != 1 or not value.isalpha():
+            raise RobotError(f"a SPIKE hub's ports are letters A..F, got {value!r}")
+        if value.upper() not in ports:
+            raise RobotError(f"port {value!r} does not exist on a SPIKE hub (ports A..F)")
+        return value.upper()
+    if isinstance(value, bool) or not isinstance(value, int) or str(value) not in ports:
+        hint = ' (ports A..F are a SPIKE hub\'s: hub = "spike")' if isinstance(value, str) else ""
+        raise RobotError(f"an EV3's sensor ports are 1..4, got {value!r}{hint}")
+    return str(value)
+
+
+def _choice(spec: dict, key: str, choices: dict | tuple, default: str, where: str) -> str:
+    value = spec.get(key, default)
+    if value not in choices:
+        raise RobotError(f"{where}: {key} must be one of {', '.join(choices)}, got {value!r}")
+    return value
 
 
 def parse_robot(text: str, where: str) -> Robot:
@@ -50,19 +127,26 @@ def parse_robot(text: str, where: str) -> Robot:
         spec = tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
         raise RobotError(f"{where}: not valid TOML: {e}") from None
-    unknown = sorted(set(spec) - {"name", "left_motor", "right_motor", "bumper", "sensor"})
+    unknown = sorted(set(spec) - {"name", "hub", "body", "left_motor", "right_motor", "left_motor_forward",
+                                  "right_motor_forward", "bumper", "sensor"})
     if unknown:
         raise RobotError(f"{where}: unknown key {unknown[0]!r}")
-    ports = {}
+    hub = _choice(spec, "hub", HUB_PORTS, EV3, where)
+    body = BODIES[_choice(spec, "body", BODIES, DEFAULT_BODY[hub], where)]
+    ports, forward = {}, {}
     for key in ("left_motor", "right_motor"):
-        letter = str(spec.get(key, PORT_LETTERS[getattr(DEFAULT_WIRING, key.removesuffix("_motor"))])).upper()
-        if len(letter) != 1 or letter not in PORT_LETTERS:
-            raise RobotError(f"{where}: {key} must be a motor port A..D, got {spec.get(key)!r}")
-        ports[key] = PORT_LETTERS.index(letter)
+        letter = spec.get(key, MOTOR_LETTERS[getattr(DEFAULT_WIRING, key.removesuffix("_motor"))])
+        if not isinstance(letter, str) or len(letter) != 1 or letter.upper() not in MOTOR_LETTERS:
+            raise RobotError(f"{where}: {key} must be a motor port A..D (the wire has four motor slots), "
+                             f"got {letter!r}")
+        ports[key] = MOTOR_LETTERS.index(letter.upper())
+        forward[key] = FORWARD[_choice(spec, f"{key}_forward", FORWARD, "positive", where)]
     if ports["left_motor"] == ports["right_motor"]:
-        raise RobotError(f"{where}: two devices on motor port {PORT_LETTERS[ports['left_motor']]}: "
+        raise RobotError(f"{where}: two devices on motor port {MOTOR_LETTERS[ports['left_motor']]}: "
                          "left_motor and right_motor")
-    sensors: dict[int, str] = {}
+    # On a SPIKE hub the motors take two of the six ports the sensors share.
+    taken = {MOTOR_LETTERS[p]: key for key, p in ports.items()} if hub == SPIKE else {}
+    sensors: dict[str, str] = {}
     entries = spec.get("sensor", [])
     if not isinstance(entries, list):
         raise RobotError(f"{where}: 'sensor' must be an array of tables ([[sensor]])")
@@ -70,19 +154,31 @@ def parse_robot(text: str, where: str) -> Robot:
         at = f"{where} sensor {i + 1}"
         if not isinstance(entry, dict) or set(entry) - {"port", "kind"}:
             raise RobotError(f"{at}: needs exactly port and kind")
-        port, kind = entry.get("port"), entry.get("kind")
-        if isinstance(port, bool) or not isinstance(port, int) or not 1 <= port <= SENSOR_PORTS:
-            raise RobotError(f"{at}: port must be 1..{SENSOR_PORTS}, got {port!r}")
-        if kind not in SENSOR_KINDS:
-            raise RobotError(f"{at}: kind must be one of {', '.join(SENSOR_KINDS)}, got {kind!r}")
-        if port - 1 in sensors:
-            raise RobotError(f"{where}: two devices on sensor port {port}: {sensors[port - 1]} and {kind}")
-        sensors[port - 1] = kind
+        try:
+            port = sensor_port(entry.get("port"), hub)
+        except RobotError as e:
+            raise RobotError(f"{at}: {e}") from None
+        kind = entry.get("kind")
+        if kind not in HUB_SENSORS[hub]:
+            raise RobotError(f"{at}: kind must be one of {', '.join(HUB_SENSORS[hub])} on {hub_name(hub)}, "
+                             f"got {kind!r}")
+        if port in sensors or port in taken:
+            raise RobotError(f"{where}: two devices on {'' if hub == SPIKE else 'sensor '}port {port}: "
+                             f"{sensors.get(port) or taken[port]} and {kind}")
+        if hub == SPIKE and kind in sensors.values():
+            other = next(p for p, k in sensors.items() if k == kind)
+            raise RobotError(f"{where}: two {kind} sensors (ports {other} and {port}): ET Robocon's SDK reads "
+                             "every SPIKE sensor of a kind from one slot")
+        sensors[port] = kind
     bumper = spec.get("bumper", False)
     if not isinstance(bumper, bool):
         raise RobotError(f"{where}: bumper must be true or false")
-    return Robot(str(spec.get("name", where)), Wiring(ports["left_motor"], ports["right_motor"]),
-                 tuple(sorted(sensors.items())), bumper)
+    wiring = Wiring(ports["left_motor"], ports["right_motor"], forward["left_motor"], forward["right_motor"])
+    return Robot(str(spec.get("name", where)), wiring, tuple(sorted(sensors.items())), bumper, hub, body)
+
+
+def hub_name(hub: str) -> str:
+    return "an EV3" if hub == EV3 else "a SPIKE hub"
 
 
 def load_robot(name_or_path: str | None) -> Robot:

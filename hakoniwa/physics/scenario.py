@@ -1,6 +1,7 @@
 """A test scenario beside the course (`--scenario FILE`, TOML): stimuli at simulated times, the same in every
-test of a campaign. `[[press]]` presses a touch sensor (`sensor = "touch"`, `port` 1..4) or an EV3 button
-(`button = "ENTER"`, ...) at `at_s` for `for_s` seconds; `[[serial]]` makes `text` arrive on a serial port
+test of a campaign. `[[press]]` presses a touch sensor (`sensor = "touch"`, `port` 1..4 on an EV3, or a SPIKE
+port "A".."F", where it presses the force sensor), a SPIKE force sensor (`sensor = "force"`, `port` optional:
+the robot has one) or an EV3 button (`button = "ENTER"`, ...) at `at_s` for `for_s` seconds; `[[serial]]` makes `text` arrive on a serial port
 (`port` "bt" by default, or "uart", "default") at `at_s`. A program that waits for a touch or a remote start
 then starts by itself."""
 
@@ -15,7 +16,9 @@ from hakoniwa.wire.rundir import SERIAL_PORTS
 from hakoniwa.wire.timebase import US_PER_S
 
 BUTTONS = ("LEFT", "RIGHT", "UP", "DOWN", "ENTER", "BACK")  # button_t order: the bit in RX BUTTONS
-SENSOR_PORTS = 4
+PRESSABLE = ("touch", "force")
+EV3_PORTS = 4
+SPIKE_PORTS = "ABCDEF"
 
 
 class ScenarioError(ValueError):
@@ -24,7 +27,8 @@ class ScenarioError(ValueError):
 
 @dataclass(frozen=True)
 class Press:
-    sensor_port: int | None  # 0-based touch sensor port, or None for a button
+    sensor: str | None  # "touch" or "force", or None for a button
+    port: str | None  # the sensor's port name as the robot names it ("1".."4", "A".."F"); None: the robot's one
     button: int | None
     at_us: int
     for_us: int
@@ -45,8 +49,9 @@ class Scenario:
     presses: tuple[Press, ...] = ()
     serial: tuple[SerialInput, ...] = ()
 
-    def touch_ports_pressed(self, now_us: int) -> set[int]:
-        return {p.sensor_port for p in self.presses if p.sensor_port is not None and p.active(now_us)}
+    def sensor_presses(self, now_us: int) -> list[Press]:
+        """The sensor presses held at `now_us` (the robot says which slot each presses)."""
+        return [p for p in self.presses if p.sensor is not None and p.active(now_us)]
 
     def buttons(self, now_us: int) -> int:
         """The RX buttons bitmask at `now_us`."""
@@ -78,16 +83,27 @@ def _press(table: object, where: str) -> Press:
     if ("sensor" in table) == ("button" in table):
         raise ScenarioError(f"{where}: give either sensor = \"touch\" or button = \"ENTER\" (one of them)")
     if "sensor" in table:
-        if table["sensor"] != "touch":
-            raise ScenarioError(f"{where}: sensor {table['sensor']!r} cannot be pressed (only \"touch\")")
-        port = table.get("port")
-        if isinstance(port, bool) or not isinstance(port, int) or not 1 <= port <= SENSOR_PORTS:
-            raise ScenarioError(f"{where}: a touch press needs port = 1..{SENSOR_PORTS}, got {port!r}")
-        return Press(port - 1, None, at, length)
+        sensor = table["sensor"]
+        if sensor not in PRESSABLE:
+            raise ScenarioError(f"{where}: sensor {sensor!r} cannot be pressed (only \"touch\" or \"force\")")
+        if "port" not in table and sensor == "touch":
+            raise ScenarioError(f"{where}: a touch press needs port = 1..{EV3_PORTS} (an EV3's) or "
+                                f"\"A\"..\"F\" (a SPIKE hub's)")
+        return Press(sensor, None if "port" not in table else _port(table["port"], where), None, at, length)
     name = str(table["button"]).upper()
     if name not in BUTTONS:
         raise ScenarioError(f"{where}: button {table['button']!r} is not one of {', '.join(BUTTONS)}")
-    return Press(None, BUTTONS.index(name), at, length)
+    return Press(None, None, BUTTONS.index(name), at, length)
+
+
+def _port(value: object, where: str) -> str:
+    """A sensor port as the robot names it: an EV3's 1..4, or a SPIKE hub's letter A..F."""
+    if isinstance(value, int) and not isinstance(value, bool) and 1 <= value <= EV3_PORTS:
+        return str(value)
+    if isinstance(value, str) and len(value) == 1 and value.upper() in SPIKE_PORTS:
+        return value.upper()
+    raise ScenarioError(f"{where}: port must be 1..{EV3_PORTS} (an EV3's) or \"A\"..\"F\" (a SPIKE hub's), "
+                        f"got {value!r}")
 
 
 def _serial(table: object, where: str) -> SerialInput:

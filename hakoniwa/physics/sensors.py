@@ -1,16 +1,23 @@
 """The robot's sensors and motors as the program sees them: the one owner of a test's noise and of every
 piece of sensor state.
 
-The world (`world.py`) measures the truth; this model turns it into what EV3RT's drivers report. It adds the
-test's seeded noise (`noise.py`) to the readings and the motor commands, derives the colour id and raw RGB
-from the noisy reflect (so the three agree, as on a real sensor), counts the gyro's whole turns and its drift,
-and keeps the zeros that `ev3_motor_reset_counts` and `ev3_gyro_sensor_reset` set. Nothing else in the
-physics side touches a `NoiseDraw`, so a test's draws happen in one fixed order: sensor readings at each
-snapshot, motor factors at each command.
+The world (`world.py`) measures the truth; this model turns it into what EV3RT's drivers (or ET Robocon's
+SPIKE SDK) report. It adds the test's seeded noise (`noise.py`) to the readings and the motor commands,
+derives the colour id and raw RGB from the noisy reflect (so the three agree, as on a real sensor), counts the
+gyro's whole turns and its drift, and keeps the zeros that `ev3_motor_reset_counts` and
+`ev3_gyro_sensor_reset` set. Nothing else in the physics side touches a `NoiseDraw`, so a test's draws happen
+in one fixed order: sensor readings at each snapshot, motor factors at each command.
+
+A robot's sensors have the response of their kind. The floor's brightness is the EV3 colour sensor's reflect
+(the course file gives it on white and black); a SPIKE colour sensor maps the same floor onto what it reads
+on ET Robocon's course, `SPIKE_REFLECT_WHITE` and `SPIKE_REFLECT_BLACK`. A SPIKE robot also gets its hub
+IMU, the colour sensor's HSV, its force sensor in touch slot 0 and the SPIKE ultrasonic sensor's range; an
+EV3 robot's readings are what they always were.
 """
 
 from __future__ import annotations
 
+import colorsys
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -18,8 +25,16 @@ from hakoniwa.physics.course import Course
 from hakoniwa.physics.noise import NoiseDraw
 from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
 from hakoniwa.physics.scenario import Scenario
-from hakoniwa.physics.world import World
-from hakoniwa.wire.protocol import MOTOR_PORTS, ColorId
+from hakoniwa.physics.world import Inertial, World
+from hakoniwa.wire.protocol import FORCE_PRESSED_N, MOTOR_PORTS, TOUCH_PRESSED, ColorId
+
+# What the SPIKE colour sensor reads on ET Robocon's course, white and black: the official sample's calibration
+# (RasPike-ART sample_c5_spike, LineTracer/LineTracer.h: WHITE_BRIGHTNESS 40, BLACK_BRIGHTNESS 10).
+SPIKE_REFLECT_WHITE = 40
+SPIKE_REFLECT_BLACK = 10
+# The SPIKE ultrasonic sensor's reading with nothing in range (Pybricks' UltrasonicSensor.distance: 2000 mm);
+# ET Robocon's SDK hands the slot's mm on unchanged (raspike_ultrasonicsensor.c).
+SPIKE_ULTRASONIC_MAX_MM = 2000
 
 
 @dataclass(frozen=True)
@@ -33,9 +48,12 @@ class Sensors:
     ultrasonic_mm: int
     gyro_angle_deg: int  # whole turns counted, clockwise positive seen from above, from the last reset
     gyro_rate_dps: int
-    touch: tuple[bool, bool]  # touch slots 0 and 1: the bumper touching a wall, or the scenario pressing
+    touch: tuple[int, int]  # touch slots 0 and 1 (the bumper touching a wall, or the scenario pressing): 0,
+    # TOUCH_PRESSED for an EV3 touch sensor, FORCE_PRESSED_N for a SPIKE force sensor
     buttons: int  # the EV3 buttons the scenario holds down, as RX BUTTONS' bitmask
     motor_angles_deg: dict[int, int]  # the wheel ports' encoders, from their last reset
+    hsv: tuple[int, int, int] | None = None  # a SPIKE colour sensor's h 0..359, s and v 0..100
+    imu: Inertial | None = None  # a SPIKE hub's IMU
 
 
 class SensorModel:
@@ -59,34 +77,56 @@ class SensorModel:
             reflect, rate_dps, ultrasonic_mm = self.noise.reading(reflect, rate_dps, ultrasonic_mm)
         color, rgb = self.course.color_at(*truth.sensor_xy, reflect)
         wiring = self.course.wiring
-        wheels = ((wiring.left, truth.wheel_angles_deg[0]), (wiring.right, truth.wheel_angles_deg[1]))
+        wheels = ((wiring.left, wiring.left_forward, truth.wheel_angles_deg[0]),
+                  (wiring.right, wiring.right_forward, truth.wheel_angles_deg[1]))
+        spike = self.robot.spike
         return Sensors(
-            reflect=round(reflect),
+            reflect=self._spike_reflect(reflect) if spike else round(reflect),
             ambient=0,
             color=color,
             rgb=rgb,
-            ultrasonic_mm=ultrasonic_mm,
+            ultrasonic_mm=min(ultrasonic_mm, SPIKE_ULTRASONIC_MAX_MM) if spike else ultrasonic_mm,
             gyro_angle_deg=round(self._gyro_reading(truth.gyro_angle_deg, now_us) - self._gyro_zero),
             gyro_rate_dps=round(rate_dps),
             touch=self._touch(truth.touch, now_us),
             buttons=self.scenario.buttons(now_us),
-            motor_angles_deg={port: round(angle - self._angle_zero[port]) for port, angle in wheels},
+            motor_angles_deg={port: round(forward * (angle - self._angle_zero[port]))
+                              for port, forward, angle in wheels},
+            hsv=hsv_of(rgb) if spike and self.robot.has("color") else None,
+            # The z rate is the gyro's (counter-clockwise positive, as the IMU's right-handed z), noise and all.
+            imu=self._imu(world, -rate_dps) if spike else None,
         )
 
-    def _touch(self, bumped: bool, now_us: int) -> tuple[bool, bool]:
+    def _spike_reflect(self, reflect: float) -> int:
+        """What a SPIKE colour sensor reads where an EV3 one reads `reflect`: the course's black and white
+        mapped onto the SPIKE sensor's."""
+        c = self.course
+        f = (reflect - c.reflect_black) / (c.reflect_white - c.reflect_black)
+        return min(max(round(SPIKE_REFLECT_BLACK + (SPIKE_REFLECT_WHITE - SPIKE_REFLECT_BLACK) * f), 0), 100)
+
+    @staticmethod
+    def _imu(world: World, yaw_rate_dps: float) -> Inertial:
+        true = world.inertial()
+        wx, wy, _ = true.angular_velocity_dps
+        return Inertial((wx, wy, yaw_rate_dps), true.acceleration_mm_s2)
+
+    def _touch(self, bumped: bool, now_us: int) -> tuple[int, int]:
         slots = [False, False]
         if self.robot.bumper:
             slots[0] = bumped
-        for port in self.scenario.touch_ports_pressed(now_us):
-            if (slot := self.robot.touch_slot(port)) is not None:
+        for press in self.scenario.sensor_presses(now_us):
+            if (slot := self.robot.press_slot(press.sensor, press.port)) is not None:
                 slots[slot] = True
-        return slots[0], slots[1]
+        first = FORCE_PRESSED_N if self.robot.spike else TOUCH_PRESSED  # the SDK reads slot 0 as the force
+        return first if slots[0] else 0, TOUCH_PRESSED if slots[1] else 0
 
     def drive(self, world: World, powers: Sequence[int]) -> None:
-        """Apply the motor powers of all ports: the wheel ports drive the wheels, with this command's noise."""
+        """Apply the motor powers of all ports: the wheel ports drive the wheels, each the way its motor is
+        mounted, with this command's noise."""
         wiring = self.course.wiring
         gains = None if self.noise is None else self.noise.motor_factors()
-        world.set_motor_power(powers[wiring.left], powers[wiring.right], gains)
+        world.set_motor_power(wiring.left_forward * powers[wiring.left], wiring.right_forward * powers[wiring.right],
+                              gains)
 
     def reset_motor_angle(self, world: World, port: int) -> None:
         left, right = world.wheel_angles_deg()
@@ -102,3 +142,10 @@ class SensorModel:
         total += (wrapped_deg - last + 180.0) % 360.0 - 180.0
         self._yaw = (wrapped_deg, total)
         return total if self.noise is None else total + self.noise.gyro_drift_deg(now_us)
+
+
+def hsv_of(rgb: tuple[int, int, int]) -> tuple[int, int, int]:
+    """HSV as SPIKE-RT's `pbio_color_hsv_t` holds it (h 0..359 degrees, s and v 0..100 percent), of the raw
+    RGB (0..255) the same snapshot reports, so that `pup_color_sensor_hsv` and `pup_color_sensor_rgb` agree."""
+    h, s, v = colorsys.rgb_to_hsv(*(c / 255 for c in rgb))
+    return round(h * 360) % 360, round(s * 100), round(v * 100)

@@ -39,7 +39,7 @@ from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
 from hakoniwa.physics.scenario import Scenario
 from hakoniwa.physics.slots import Report, Slots
 from hakoniwa.physics.sync import SYNC_LOOPS, AthrillCrash, unity_time_us
-from hakoniwa.wire.protocol import CrashKind, Event, Tx
+from hakoniwa.wire.protocol import CrashKind, Event, Objective, Tx
 from hakoniwa.wire.rundir import PHYSICS_LOG, PROGRAM_OUTPUT_FILE, SERIAL_INPUT, TRAJECTORY_FILE
 from hakoniwa.wire.timebase import Scheduler
 
@@ -64,12 +64,14 @@ class TestOutcome:
 
 class PhysicsServer:
     def __init__(self, run_dir: Path, course: Course, program: Program, *, athrill_timeout_s: float,
-                 time_limit_us: int, robot: Robot = DEFAULT_ROBOT, scenario: Scenario = Scenario()) -> None:
+                 time_limit_us: int, robot: Robot = DEFAULT_ROBOT, scenario: Scenario = Scenario(),
+                 objective: Objective = Objective.LAP) -> None:
         self.run_dir = Path(run_dir)
         self.course = course
         self.program = program
         self.athrill_timeout_s = athrill_timeout_s
-        self.env = Environment(course, time_limit_us, robot, scenario)
+        self.objective = objective
+        self.env = Environment(course, time_limit_us, robot, scenario, objective)
         (self.run_dir / SERIAL_INPUT).write_text(scenario.serial_lines())
         self.slots = Slots(self.run_dir)
         self.athrill = self.slots.athrill
@@ -143,7 +145,7 @@ class PhysicsServer:
         noise = self._read_noise()
         self.env.begin(noise)
         self._max_diff_us = 0
-        self.answer_before_start = self.slots.begin(self.program.sync, self.course.info)
+        self.answer_before_start = self.slots.begin(self.program.sync, self.course.info, self.objective)
         self.publish_sensors()
         program = self._tuned_program()  # before the announcement: a waiting Athrill reads its files after it
         self.slots.announce(seq)
@@ -187,7 +189,7 @@ class PhysicsServer:
         if crash is not None:
             env.end(Event.CRASH)
         report = Report(env.event, env.event_us, env.task.passed, env.task.distance_mm, self._max_diff_us,
-                        crash.kind if crash else CrashKind.NONE, crash.detail if crash else 0)
+                        crash.kind if crash else CrashKind.NONE, crash.detail if crash else 0, env.completed_us)
         outcome = TestOutcome(seq, report, time.monotonic() - wall_start)
         draw_screen(self.run_dir)  # before the report: whoever sees the event sees the screen
         if crash is not None and crash.kind == CrashKind.PROGRAM and proc is not None and proc.poll() is not None:
@@ -200,7 +202,9 @@ class PhysicsServer:
             self._log.write(f"test {seq}: {noise.describe()}\n")
         self._log.write(f"test {seq}: {report.event.name}{why} at {report.time_us} us, "
                         f"{report.checkpoints} checkpoints, {report.distance_mm} mm, "
-                        f"max time diff {report.max_time_diff_us} us, wall {outcome.wall_s:.3f} s\n")
+                        f"max time diff {report.max_time_diff_us} us, wall {outcome.wall_s:.3f} s"
+                        + ("" if report.completed_us is None else f", completed at {report.completed_us} us")
+                        + "\n")
         self._log.flush()
         return outcome
 

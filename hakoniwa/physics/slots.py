@@ -14,7 +14,7 @@ from pathlib import Path
 
 from hakoniwa.physics.course import CourseInfo
 from hakoniwa.physics.sensors import Sensors
-from hakoniwa.wire.protocol import (ETROBOC_EXT, MOTOR_PORTS, TOUCH_PRESSED, CrashKind, Event, Header,
+from hakoniwa.wire.protocol import (ETROBOC_EXT, MOTOR_PORTS, CrashKind, Event, Header, Objective,
                                     MappedFile, Rx, SyncMode, Tx, goal_time_words, open_athrill, open_unity)
 from hakoniwa.wire.waiting import futex_wake
 
@@ -37,6 +37,7 @@ class Report:
     max_time_diff_us: int
     crash_kind: CrashKind
     crash_detail: int
+    completed_us: int | None = None  # when the program's completion notice came, if it did
 
 
 @dataclass(frozen=True)
@@ -65,7 +66,7 @@ class Slots:
         """The (seed, scale) the controller wrote for this test."""
         return self.unity.read_u32(Rx.NOISE_SEED), self.unity.read_f32(Rx.NOISE_SCALE)
 
-    def begin(self, sync: SyncMode, info: CourseInfo) -> int:
+    def begin(self, sync: SyncMode, info: CourseInfo, objective: Objective = Objective.LAP) -> int:
         """Clear what a new test starts without, and write the course's information; returns Athrill's answer
         counter before the test."""
         a = self.athrill
@@ -75,6 +76,7 @@ class Slots:
         self.unity.clear(*OUR_EXT)
         self.unity.write_u32(Rx.PHYSICS_PID, os.getpid())
         self.unity.write_u32(Rx.SYNC_MODE, int(sync))
+        self.unity.write_u32(Rx.OBJECTIVE, int(objective))
         self.unity.write_i32(Rx.BATTERY_CURRENT, BATTERY_MA)
         self.unity.write_i32(Rx.BATTERY_VOLTAGE, BATTERY_MV)
         self.unity.write_u32(Rx.COURSE_CARD_NUMBER, info.card_number)
@@ -94,10 +96,17 @@ class Slots:
         u.write_i32s(Rx.GYRO_ANGLE, [s.gyro_angle_deg, s.gyro_rate_dps])
         u.write_i32(Rx.ULTRASONIC_MM, s.ultrasonic_mm)
         u.write_i32(Rx.BUTTONS, s.buttons)
-        u.write_i32(Rx.TOUCH0, TOUCH_PRESSED if s.touch[0] else 0)
-        u.write_i32(Rx.TOUCH1, TOUCH_PRESSED if s.touch[1] else 0)
+        u.write_i32(Rx.TOUCH0, s.touch[0])
+        u.write_i32(Rx.TOUCH1, s.touch[1])
         for port, angle in s.motor_angles_deg.items():
             u.write_i32(Rx.MOTOR_ANGLE + 4 * port, angle)
+        if s.imu is not None:  # only a SPIKE robot's: an EV3 robot's files stay as they were
+            for offset, value in zip((Rx.SPIKE_IMU_ACCEL_X, Rx.SPIKE_IMU_ACCEL_Y, Rx.SPIKE_IMU_ACCEL_Z,
+                                      Rx.SPIKE_IMU_ANGVEL_X, Rx.SPIKE_IMU_ANGVEL_Y, Rx.SPIKE_IMU_ANGVEL_Z),
+                                     (*s.imu.acceleration_mm_s2, *s.imu.angular_velocity_dps)):
+                u.write_f32(offset, value)
+        if s.hsv is not None:
+            u.write_i32s(Rx.SPIKE_HSV_H, list(s.hsv))
         u.unity_time_us = unity_time_us
         futex_wake(self._unity_time_address)
 
@@ -119,6 +128,9 @@ class Slots:
         u.write_u32(Rx.MAX_TIME_DIFF_US, r.max_time_diff_us)
         u.write_i32(Rx.CRASH_KIND, int(r.crash_kind))
         u.write_i32(Rx.CRASH_DETAIL, r.crash_detail)
+        hi, lo = goal_time_words(r.completed_us or 0)
+        u.write_u32(Rx.COMPLETED_TIME_HI, hi)
+        u.write_u32(Rx.COMPLETED_TIME_LO, lo)
         self.publish_event(r.event, r.time_us)
 
     def publish_event(self, event: Event, time_us: int) -> None:

@@ -20,6 +20,7 @@ from hakoniwa.physics.world import World
 class LapTask:
     course: Course
     time_limit_us: int
+    ends_at_goal: bool = True  # False: passing the last checkpoint starts the next lap, and no GOAL is raised
     next_checkpoint: int = 0
     passed_us: list[int] = field(default_factory=list)
     distance_m: float = 0.0
@@ -57,7 +58,9 @@ class LapTask:
             self.passed_us.append(time_us)
             self.next_checkpoint += 1
             if self.next_checkpoint == len(checkpoints):
-                return Event.GOAL
+                if self.ends_at_goal:
+                    return Event.GOAL
+                self.next_checkpoint = 0
         if time_us >= self.time_limit_us:
             return Event.TIME_OVER
         return Event.NONE

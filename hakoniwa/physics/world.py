@@ -18,8 +18,10 @@ from hakoniwa.physics.course import Course
 from hakoniwa.physics.noise import StartOffset
 from hakoniwa.wire.timebase import PHYSICS_STEP_US, US_PER_S
 
+SETTLE_STEPS = 200  # physics steps a robot with an IMU rests on the floor before its saved start state
 
-def build_mjcf(course: Course) -> str:
+
+def build_mjcf(course: Course, body: robot.Body = robot.EV3_BODY, imu: bool = False) -> str:
     xmin, xmax, ymin, ymax = course.extent
     cx, cy = (xmin + xmax) / 2, (ymin + ymax) / 2
     hz = course.wall_height / 2
@@ -45,14 +47,22 @@ def build_mjcf(course: Course) -> str:
     {walls}
     </body>
     {checkpoints}
-    {robot.robot_mjcf(s.x, s.y, s.yaw_deg)}
+    {robot.robot_mjcf(s.x, s.y, s.yaw_deg, body, imu)}
   </worldbody>
-  <actuator>{robot.actuators_mjcf()}
+  <actuator>{robot.actuators_mjcf(body)}
   </actuator>
   <sensor>
-    <contact name="wall_contact" subtree1="robot" body2="walls" data="found" reduce="mindist"/>
+    <contact name="wall_contact" subtree1="robot" body2="walls" data="found" reduce="mindist"/>{robot.imu_sensor_mjcf() if imu else ""}
   </sensor>
 </mujoco>"""
+
+
+@dataclass(frozen=True)
+class Inertial:
+    """What a hub IMU fixed in the robot would measure, in the robot's frame (x forward, y left, z up)."""
+
+    angular_velocity_dps: tuple[float, float, float]  # right-handed about x, y, z: z counter-clockwise from above
+    acceleration_mm_s2: tuple[float, float, float]  # specific force: at rest (0, 0, +g)
 
 
 @dataclass(frozen=True)
@@ -70,9 +80,11 @@ class Measurement:
 
 
 class World:
-    def __init__(self, course: Course) -> None:
+    def __init__(self, course: Course, body: robot.Body = robot.EV3_BODY, imu: bool = False) -> None:
+        """`imu`: give the robot a hub IMU (`inertial`); only a robot that has one pays for its sensor."""
         self.course = course
-        self.model = mujoco.MjModel.from_xml_string(build_mjcf(course))
+        self.body = body
+        self.model = mujoco.MjModel.from_xml_string(build_mjcf(course, body, imu))
         self.data = mujoco.MjData(self.model)
         m = self.model
         self._robot_body = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "robot")
@@ -81,7 +93,10 @@ class World:
         self._wheel_qpos = [m.jnt_qposadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, n)]
                             for n in ("wheel_left", "wheel_right")]
         self._wall_contact = m.sensor_adr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SENSOR, "wall_contact")]
+        self._accel = m.sensor_adr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SENSOR, "imu_accel")] if imu else None
         mujoco.mj_forward(m, self.data)
+        if imu:  # settled on its wheels before the test starts: at t = 0 an IMU reads a robot at rest, not one
+            self.step(SETTLE_STEPS)  # put down in free fall (for an EV3 robot nothing reads it; left as it was)
         self._initial = self._snapshot()
 
     # -- state ---------------------------------------------------------------------------------------
@@ -104,7 +119,7 @@ class World:
     def set_motor_power(self, left: int, right: int, gains: tuple[float, float] | None = None) -> None:
         """Motor power in percent, -100..100, as EV3RT takes it; `gains` (noise) multiply the wheel speeds
         the powers command."""
-        scale = robot.MAX_WHEEL_SPEED / 100.0
+        scale = self.body.max_wheel_speed / 100.0
         self.data.ctrl[0] = max(-100, min(100, left)) * scale
         self.data.ctrl[1] = max(-100, min(100, right)) * scale
         if gains is not None:
@@ -155,6 +170,15 @@ class World:
             touch=self.touching_wall(),
             wheel_angles_deg=self.wheel_angles_deg(),
         )
+
+    def inertial(self) -> Inertial:
+        """The hub IMU's reading: the free joint's angular velocity, which MuJoCo gives in the body's own
+        frame, and the accelerometer's specific force (as of the last step, which computed it)."""
+        assert self._accel is not None, "this world's robot has no IMU"
+        d = self.data
+        wx, wy, wz = (math.degrees(float(v)) for v in d.qvel[3:6])
+        ax, ay, az = (float(v) * 1000.0 for v in d.sensordata[self._accel:self._accel + 3])
+        return Inertial((wx, wy, wz), (ax, ay, az))
 
     def wheel_angles_deg(self) -> tuple[float, float]:
         left, right = (math.degrees(self.data.qpos[a]) for a in self._wheel_qpos)

@@ -80,7 +80,21 @@ class Rx:
     COLOR1_REFLECT = 136
     COLOR1_RGB = 140
     MOTOR_ANGLE = 256  # + 4 p: encoder of motor port p (A = 0 .. D = 3) [deg], i32
+    # ET Robocon's SPIKE SDK (raspike-athrill-v850e2m: ev3_vdev_common.h, read by spikeapi's raspike_hub.c and
+    # raspike_color.c), written only for a robot with a SPIKE hub (the IMU) and a SPIKE colour sensor (HSV).
+    SPIKE_IMU_ACCEL_X = 272  # f32 bits [mm/s^2]: hub_imu_get_acceleration() x, y, z at 272, 276, 280
+    SPIKE_IMU_ACCEL_Y = 276
+    SPIKE_IMU_ACCEL_Z = 280
+    SPIKE_IMU_ANGVEL_X = 284  # f32 bits [deg/s]: hub_imu_get_angular_velocity() x, y, z at 284, 288, 292
+    SPIKE_IMU_ANGVEL_Y = 288
+    SPIKE_IMU_ANGVEL_Z = 292
+    SPIKE_HSV_H = 296  # i32, 0..359 [deg]: pup_color_sensor_hsv() h, s, v at 296, 300, 304
+    SPIKE_HSV_S = 300  # i32, 0..100 [%]
+    SPIKE_HSV_V = 304  # i32, 0..100 [%]
     # Our extension (unused by the real layout): lockstep and test reports.
+    OBJECTIVE = 428  # u32, Objective of the bench: what ends and scores its tests
+    COMPLETED_TIME_HI = 432  # u32: when ETRoboc_notifyCompletedToSimulator() came [us], upper 32 bits (0: never)
+    COMPLETED_TIME_LO = 436  # u32, lower 32 bits
     TEST_SEQ = 448  # u32: the test in progress; a pre-launched Athrill waits for its own number
     PHYSICS_PID = 452  # u32: so an orphaned Athrill can notice the physics process is gone
     SYNC_MODE = 456  # u32, SyncMode of the test in progress
@@ -133,6 +147,10 @@ MOTOR_PORTS = 4
 PARAM_END = PACKET_SIZE
 NEVER_WAKES = (1 << 63) - 1
 TOUCH_PRESSED = 4095
+# A pressed SPIKE force sensor in RX TOUCH0, where ET Robocon's SDK reads it (raspike_forcesensor.c): its
+# pup_force_sensor_force() is the slot's value as a float in newtons, touched() is the slot > 0. The SPIKE
+# force sensor measures up to 10 N, so a press reads as a full press.
+FORCE_PRESSED_N = 10
 
 
 class Event(enum.IntEnum):
@@ -164,6 +182,14 @@ class SyncMode(enum.IntEnum):
     LOCKSTEP = 0  # ours: the program's wake-ups drive physics; deterministic to the microsecond
     HAKONIWA = 1  # the real protocol: physics runs at most ALLOWED_TIME_DIFF ahead of Athrill's clock
     REPEATABLE = 2  # the real emulator, patched to wait at each sync point: deterministic to the microsecond
+
+
+class Objective(enum.IntEnum):
+    """What a bench's tests end at and are scored by (`--objective`), at RX OBJECTIVE."""
+
+    LAP = 0  # the paper's: GOAL at the course's last checkpoint, scored by the lap time
+    COMPLETED = 1  # ET Robocon's: the program's ETRoboc_notifyCompletedToSimulator(), scored by its time; the
+    # goal line does not end the test (a competition program ends its whole run that way)
 
 
 class ColorId(enum.IntEnum):
@@ -364,7 +390,8 @@ def c_header() -> str:
     scalars = {"FILE_SIZE": FILE_SIZE, "HEADER_SIZE": HEADER_SIZE, "PACKET_SIZE": PACKET_SIZE,
                "WINDOW_SIZE": WINDOW_SIZE, "LAYOUT_VERSION": LAYOUT_VERSION, "EXT_OFF": EXT_OFF,
                "EXT_SIZE": EXT_SIZE, "RX_GUEST_BASE": RX_GUEST_BASE, "TX_GUEST_BASE": TX_GUEST_BASE,
-               "MOTOR_PORTS": MOTOR_PORTS, "TOUCH_PRESSED": TOUCH_PRESSED, "EXIT_BENCH_FAULT": EXIT_BENCH_FAULT,
+               "MOTOR_PORTS": MOTOR_PORTS, "TOUCH_PRESSED": TOUCH_PRESSED, "FORCE_PRESSED_N": FORCE_PRESSED_N,
+               "EXIT_BENCH_FAULT": EXIT_BENCH_FAULT,
                "COURSE_BLOCK_POSITIONS": COURSE_BLOCK_POSITIONS}
     lines += [f"#define HAKO_{k} 0x{v:X}u" for k, v in scalars.items()]
     lines.append("#define HAKO_NEVER_WAKES 0x7FFFFFFFFFFFFFFFll")
@@ -374,7 +401,8 @@ def c_header() -> str:
                                                                           ("ATHRILL", ATHRILL_MAGIC))]
     for prefix, cls in (("HDR", Header), ("RX", Rx), ("TX", Tx)):
         lines += [f"#define HAKO_{prefix}_{k} {v}" for k, v in vars(cls).items() if isinstance(v, int)]
-    for prefix, enum_cls in (("EVENT", Event), ("CRASH", CrashKind), ("SYNC", SyncMode), ("COLOR", ColorId)):
+    for prefix, enum_cls in (("EVENT", Event), ("CRASH", CrashKind), ("SYNC", SyncMode), ("COLOR", ColorId),
+                             ("OBJECTIVE", Objective)):
         lines += [f"#define HAKO_{prefix}_{m.name} {m.value}" for m in enum_cls]
     lines.append("#endif")
     return "\n".join(lines) + "\n"
