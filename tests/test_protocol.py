@@ -1,6 +1,7 @@
 """The wire layout, pinned byte for byte against the real Hakoniwa tables (../shared/third_party/athrill/README.md,
 read from EV3RT's athrill drivers and Athrill's VDEV device)."""
 
+import re
 import struct
 
 import pytest
@@ -18,6 +19,10 @@ REAL_RX = {"buttons": 0, "color0_ambient": 4, "color0_color": 8, "color0_reflect
            # ev3_vdev_common.h: EV3_SENSOR_OFF 4 + 4 * EV3_BATTERY_INX_CURRENT (28) / _VOLTAGE (29)
            "battery_current": 116, "battery_voltage": 120,
            "color1_ambient": 128, "color1_color": 132, "color1_reflect": 136, "color1_rgb": 140, "motor_angle": 256,
+           # ET Robocon's SPIKE SDK (raspike-athrill-v850e2m's ev3_vdev_common.h): SPIKE_SENSOR_IMU_OFF 272 + 4 *
+           # INX (ACCELARATION_X 0 .., VELOCITY_X 3 ..), SPIKE_SENSOR_HSV_OFF 296 + 4 * INX (H 0, S 1, V 2)
+           "spike_imu": 272, "spike_imu_acceleration": 272, "spike_imu_angular_velocity": 284,
+           "spike_hsv": 296, "spike_hsv_h": 296, "spike_hsv_s": 300, "spike_hsv_v": 304,
            "event": 528, "goal_time_hi": 532, "goal_time_lo": 536, "params": 540, "kp": 540, "ki": 544, "kd": 548,
            "motor_power": 552}
 REAL_TX = {"led": 0, "motor_power": 4, "motor_brake": 20, "motor_reset_angle": 36, "gyro_reset": 52, "start": 512,
@@ -48,7 +53,7 @@ def test_et_robocons_extension_is_where_its_header_looks():
 def test_our_extension_stays_in_bytes_the_real_layouts_leave_unused():
     """Below ET Robocon's 480..511 in both files, and clear of every real RX slot."""
     real_rx = [(o, o + 4) for o in REAL_RX.values() if o < 512] + [(16, 28), (140, 152), (256, 272), (36, 88),
-                                                                    (96, 124)]
+                                                                    (96, 124), (272, 308)]
     ours_rx = [(k, v) for k, v in vars(Rx).items() if isinstance(v, int) and k.lower() not in REAL_RX
                and k.lower() not in REAL_ETROBOC_RX and k not in ("COLOR0_RGB", "COLOR1_RGB")]
     ours_tx = [(k, v) for k, v in vars(Tx).items() if isinstance(v, int) and k.lower() not in REAL_TX
@@ -200,3 +205,20 @@ def test_the_c_header_is_generated_from_this_layout():
     assert "#define HAKO_RX_ULTRASONIC_MM 88\n" in text
     assert "#define HAKO_RX_GUEST_BASE 0x90F0000u\n" in text
     assert "#define HAKO_EVENT_CRASH 4\n" in text
+
+
+def test_the_spike_slots_are_where_the_sdks_header_puts_them():
+    """raspike-athrill-v850e2m's ev3_vdev_common.h, read from ../shared: each slot is OFF + 4 * INX."""
+    from raspike_sdk import NEEDS_RASPIKE, VDEV_HEADER
+
+    if not VDEV_HEADER.is_file():
+        pytest.skip(NEEDS_RASPIKE)
+    defines = {name: int(value) for name, value in
+               re.findall(r"#define\s+(SPIKE_SENSOR_\w+)\s+\((\d+)U\)", VDEV_HEADER.read_text())}
+    imu, hsv = defines["SPIKE_SENSOR_IMU_OFF"], defines["SPIKE_SENSOR_HSV_OFF"]
+    assert Rx.SPIKE_IMU == imu and Rx.SPIKE_HSV == hsv
+    assert Rx.SPIKE_IMU_ACCELERATION == imu + 4 * defines["SPIKE_SENSOR_IMU_INX_ACCELARATION_X"]
+    assert Rx.SPIKE_IMU_ANGULAR_VELOCITY == imu + 4 * defines["SPIKE_SENSOR_IMU_INX_VELOCITY_X"]
+    assert defines["SPIKE_SENSOR_IMU_INX_VELOCITY_Z"] == defines["SPIKE_SENSOR_IMU_INX_VELOCITY_X"] + 2
+    for axis in "HSV":
+        assert getattr(Rx, f"SPIKE_HSV_{axis}") == hsv + 4 * defines[f"SPIKE_SENSOR_HSV_INX_{axis}"]

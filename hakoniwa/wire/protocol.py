@@ -79,6 +79,15 @@ class Rx:
     COLOR1_REFLECT = 136
     COLOR1_RGB = 140
     MOTOR_ANGLE = 256  # + 4 p: encoder of motor port p (A = 0 .. D = 3) [deg], i32
+    # ET Robocon's SPIKE SDK for Athrill (raspike-athrill-v850e2m, target/v850_gcc/pil/include/ev3_vdev_common.h
+    # SPIKE_SENSOR_IMU_OFF / _HSV_OFF), read by its raspike_hub.c and raspike_color.c.
+    SPIKE_IMU = 272  # the hub IMU: six f32 words, acceleration then angular velocity
+    SPIKE_IMU_ACCELERATION = SPIKE_IMU  # x, y, z at 272, 276, 280 [mm/s^2] (SPIKE-RT's hub/imu.h), f32
+    SPIKE_IMU_ANGULAR_VELOCITY = SPIKE_IMU + 12  # x, y, z at 284, 288, 292 [deg/s], f32
+    SPIKE_HSV = 296  # the colour sensor's HSV: three u32 words
+    SPIKE_HSV_H = SPIKE_HSV  # hue, 0..359 [deg]
+    SPIKE_HSV_S = SPIKE_HSV + 4  # saturation, 0..100 [%]
+    SPIKE_HSV_V = SPIKE_HSV + 8  # value, 0..100 [%]
     # Our extension (unused by the real layout): lockstep and test reports.
     TEST_SEQ = 448  # u32: the test in progress; a pre-launched Athrill waits for its own number
     PHYSICS_PID = 452  # u32: so an orphaned Athrill can notice the physics process is gone
