@@ -174,6 +174,16 @@ class SyncMode(enum.IntEnum):
     REPEATABLE = 2  # the real emulator, patched to wait at each sync point: deterministic to the microsecond
 
 
+class LedBit(enum.IntFlag):
+    """The bits of the TX LED byte (ev3_vdev_common.h, EV3_GPIO_LED_BITS_*): EV3RT sets RED and GREEN, ET
+    Robocon's SPIKE SDK any one of the four (`hub_light_on_color`)."""
+
+    RED = 1
+    GREEN = 2
+    YELLOW = 4
+    BLUE = 8
+
+
 class ColorId(enum.IntEnum):
     """EV3RT's colorid_t."""
 
@@ -372,7 +382,8 @@ def c_header() -> str:
                                                                           ("ATHRILL", ATHRILL_MAGIC))]
     for prefix, cls in (("HDR", Header), ("RX", Rx), ("TX", Tx)):
         lines += [f"#define HAKO_{prefix}_{k} {v}" for k, v in vars(cls).items() if isinstance(v, int)]
-    for prefix, enum_cls in (("EVENT", Event), ("CRASH", CrashKind), ("SYNC", SyncMode), ("COLOR", ColorId)):
+    for prefix, enum_cls in (("EVENT", Event), ("CRASH", CrashKind), ("SYNC", SyncMode), ("COLOR", ColorId),
+                             ("LED", LedBit)):
         lines += [f"#define HAKO_{prefix}_{m.name} {m.value}" for m in enum_cls]
     lines.append("#endif")
     return "\n".join(lines) + "\n"
