@@ -25,6 +25,9 @@
 #define TNFY_WUPTSK 0x04U
 
 #ifndef TOPPERS_MACRO_ONLY
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 ER act_tsk(ID tskid);
 ER ext_tsk(void);
@@ -62,5 +65,8 @@ ER snd_dtq(ID dtqid, intptr_t data);
 ER rcv_dtq(ID dtqid, intptr_t *p_data);
 ER ext_ker(void);
 
+#ifdef __cplusplus
+}
+#endif
 #endif /* TOPPERS_MACRO_ONLY */
 #endif /* HAKO_KERNEL_H */

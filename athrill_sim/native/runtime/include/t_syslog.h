@@ -14,7 +14,13 @@
 #define LOG_DEBUG 7U
 
 #ifndef TOPPERS_MACRO_ONLY
+#ifdef __cplusplus
+extern "C" {
+#endif
 void syslog(uint_t prio, const char *format, ...) __attribute__((format(printf, 2, 3)));
+#ifdef __cplusplus
+}
+#endif
 #endif
 
 #endif /* HAKO_T_SYSLOG_H */
