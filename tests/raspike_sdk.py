@@ -14,3 +14,4 @@ VDEV_HEADER = SDK / "target" / "v850_gcc" / "pil" / "include" / "ev3_vdev_common
 SDK_SAMPLES = SDK / "sdk" / "workspace"
 ART_SAMPLES = RASPIKE / "raspike-art-samples"
 NEEDS_RASPIKE = f"needs ET Robocon's SPIKE SDK at {RASPIKE} (../shared)"
+LIBCPP_SPIKE = SDK / "sdk" / "common" / "library" / "libcpp-spike"

@@ -22,14 +22,15 @@ from collections.abc import Collection
 from pathlib import Path
 
 from athrill_sim.build_cache import CacheKey, cache_root, cached_build
-from athrill_sim.native import NativeBuildError, appcfg, headers, workspace
+from athrill_sim.native import NativeBuildError, appcfg, headers, spike, workspace
 from athrill_sim.native.appcfg import KERNEL_CFG_C, KERNEL_CFG_H, kernel_config
 from athrill_sim.native.workspace import AppSources, find_app
 
 RUNTIME = Path(__file__).with_name("runtime")
 RUNTIME_INCLUDE = RUNTIME / "include"
 RUNTIME_SRC = RUNTIME / "src"
-GENERATORS = (Path(__file__), Path(appcfg.__file__), Path(headers.__file__), Path(workspace.__file__))
+GENERATORS = (Path(__file__), Path(appcfg.__file__), Path(headers.__file__), Path(workspace.__file__),
+              Path(spike.__file__))
 CFLAGS = ("-std=gnu11", "-O2", "-ffp-contract=off", "-fno-fast-math", "-fno-strict-aliasing", "-Wall",
           "-Wno-int-to-pointer-cast")
 LIBS = ("-lm",)
@@ -92,7 +93,8 @@ def _compiler_env() -> dict[str, str]:
 
 def _include_flags(app: AppSources, build_dir: Path) -> list[str]:
     """Ours first: a stray kernel_cfg.h from a real EV3RT build in the program's folder must not win."""
-    return [f"-I{d}" for d in (build_dir, RUNTIME_INCLUDE, app.root, *app.include_dirs)]
+    ours = (RUNTIME_INCLUDE, *(spike.INCLUDE_DIRS if app.spike else ()))
+    return [f"-I{d}" for d in (build_dir, *ours, app.root, *app.include_dirs)]
 
 
 def _build(app: AppSources, cc: Path, generated: dict[str, str], build_dir: Path) -> None:
@@ -108,13 +110,16 @@ def _build(app: AppSources, cc: Path, generated: dict[str, str], build_dir: Path
     (build_dir / KERNEL_CFG_H).write_text(config.header())
     (build_dir / KERNEL_CFG_C).write_text(config.source())
     sources = [os.path.relpath(s, app.root) for s in app.sources]
+    runtime = [*sorted(RUNTIME_SRC.glob("*.c")), *(spike.sources() if app.spike else ())]
     cmd = [str(cc), *CFLAGS, *includes, *app.defines, *sources, str(build_dir / KERNEL_CFG_C),
-           *(str(s) for s in sorted(RUNTIME_SRC.glob("*.c"))), "-o", str(build_dir / EXECUTABLE), *LIBS]
+           *(str(s) for s in runtime), "-o", str(build_dir / EXECUTABLE), *LIBS]
     entries = {t.entry for t in config.tasks} | {c.handler for c in config.cyclics if c.handler}
-    _run(cmd, app.root, build_dir, f"{app.sources[0].name} does not build", entries)
+    _run(cmd, app.root, build_dir, f"{app.sources[0].name} does not build", entries,
+         "SPIKE-RT and EV3RT subsets" if app.spike else "EV3RT subset")
 
 
-def _run(cmd: list[str], cwd: Path, build_dir: Path, failure: str, entries: Collection[str] = ()) -> str:
+def _run(cmd: list[str], cwd: Path, build_dir: Path, failure: str, entries: Collection[str] = (),
+         subset: str = "EV3RT subset") -> str:
     try:
         out = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=COMPILE_TIMEOUT_S,
                              env=_compiler_env())
@@ -123,11 +128,11 @@ def _run(cmd: list[str], cwd: Path, build_dir: Path, failure: str, entries: Coll
     with open(build_dir / BUILD_LOG, "a") as log:
         log.write(" ".join(cmd) + "\n" + out.stderr)
     if out.returncode != 0:
-        raise NativeBuildError(f"{failure}: {first_error(out.stderr, entries)}")
+        raise NativeBuildError(f"{failure}: {first_error(out.stderr, entries, subset)}")
     return out.stdout
 
 
-def first_error(output: str, entries: Collection[str] = ()) -> str:
+def first_error(output: str, entries: Collection[str] = (), subset: str = "EV3RT subset") -> str:
     """The compiler's (or linker's) first error as one line. A missing function is either one of the program's
     own entry points (`entries`: the task and handler functions app.cfg names, main_task without one), which
     the program failed to define, or an API function not in the subset. The compiler driver's closing summary
@@ -142,5 +147,5 @@ def first_error(output: str, entries: Collection[str] = ()) -> str:
         line = (f"the program defines no function {missing.group(1)}, a task or handler function that app.cfg "
                 "names (a program without app.cfg needs main_task)")
     elif missing:
-        line += " (not in the native mock's EV3RT subset, see docs/NATIVE.md)"
+        line += f" (not in the native mock's {subset}, see docs/NATIVE.md)"
     return line

@@ -17,7 +17,7 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from athrill_sim.native import NativeBuildError
+from athrill_sim.native import NativeBuildError, spike
 
 APP_SOURCE = "app.c"
 APP_CFG = "app.cfg"
@@ -38,6 +38,7 @@ class AppSources:
     include_dirs: tuple[Path, ...]  # besides `root`
     defines: tuple[str, ...]  # -D / -U flags
     hashed: tuple[Path, ...]  # the files whose content makes the cache key
+    spike: bool = False  # a SPIKE program: built with the SPIKE-RT headers and runtime too (native/spike.py)
 
 
 def find_app(path: Path) -> AppSources:
@@ -47,7 +48,9 @@ def find_app(path: Path) -> AppSources:
         if path.suffix != ".c":
             raise NativeBuildError(f"{path}: not a C source file (.c)")
         root = path.parent
-        return AppSources(root, (path,), None, (), (), (path, *sorted(root.glob("*.h"))))
+        hashed = (path, *sorted(root.glob("*.h")))
+        is_spike = spike.is_spike_program({}, hashed)
+        return AppSources(root, (path,), None, (), spike.DEFINES if is_spike else (), hashed, is_spike)
     root = path if path.is_dir() else path.parent
     if not (root / APP_SOURCE).is_file():
         raise NativeBuildError(f"{root}: no {APP_SOURCE}; an EV3RT workspace folder holds app.c, app.h, app.cfg "
@@ -64,7 +67,9 @@ def find_app(path: Path) -> AppSources:
     sources = [root / APP_SOURCE] + [_source_of(obj, dirs, root) for obj in make.get("APPL_COBJS", [])]
     cfg = root / APP_CFG if (root / APP_CFG).is_file() else None
     hashed = sorted({f for d in (*dirs, *includes) for f in d.iterdir() if f.is_file() and f.suffix in HASHED_SUFFIXES})
-    return AppSources(root, tuple(dict.fromkeys(sources)), cfg, includes, defines, tuple(hashed))
+    is_spike = spike.is_spike_program(make, hashed)
+    defines = (*spike.DEFINES, *defines) if is_spike else defines
+    return AppSources(root, tuple(dict.fromkeys(sources)), cfg, includes, defines, tuple(hashed), is_spike)
 
 
 def _folder(root: Path, name: str, variable: str) -> Path:

@@ -1,0 +1,263 @@
+/*
+ * SPIKE-RT's motors on the EV3 motor slots, as ET Robocon's SDK writes them (raspike_motor.c): port index i
+ * (A = 0) has its power at TX MOTOR_POWER + 4 i, its brake flag at TX MOTOR_BRAKE + 4 i, its encoder reset at
+ * TX MOTOR_RESET_ANGLE + 4 i and its count at RX MOTOR_ANGLE + 4 i (the bench has encoders on A..D only; the
+ * SDK's E and F land on the next slots, and so do ours). The power is negated for a motor set up
+ * counter-clockwise; the count is the encoder's own, not negated.
+ *
+ * Where the SDK is incomplete, SPIKE-RT's meaning (Pybricks' control), on the bench's snapshots:
+ * - every CONTROL_PERIOD_US (Pybricks' control loop) while the program has a motor, the kernel wakes and the
+ *   counts are sampled; get_speed is the count's change over SPEED_WINDOW_US (Pybricks' differentiator
+ *   window), in degrees per second;
+ * - set_speed and hold are regulated at each sample: the angle follows a reference that moves at the speed
+ *   asked (hold: stands still), power = POSITION_GAIN per degree behind it, within the duty limit; while the
+ *   power is at the limit the reference waits for the motor, as Pybricks' trajectory does when it stalls;
+ * - is_stalled: driven (a power set, or a regulated motor at its limit) and slower than STALL_SPEED_DPS for
+ *   STALL_TIME_US (Pybricks' stall tolerances);
+ * - set_duty_limit caps the power written (a percentage; SPIKE-RT returns a voltage, an opaque value that
+ *   restore_duty_limit takes back, as here).
+ */
+#include <stddef.h>
+#include <stdlib.h>
+
+#include "spike.h"
+#include "spike/pup/motor.h"
+
+#define CONTROL_PERIOD_US 5000 /* PBIO_CONFIG_CONTROL_LOOP_TIME_MS */
+#define SPEED_WINDOW_US 100000 /* PBIO_CONFIG_DIFFERENTIATOR_WINDOW_MS */
+#define HISTORY (SPEED_WINDOW_US / CONTROL_PERIOD_US + 1)
+#define STALL_SPEED_DPS 20 /* Pybricks' stall_speed_limit */
+#define STALL_TIME_US 200000 /* Pybricks' stall_time */
+#define POSITION_GAIN 2.0 /* power per degree behind the reference (ours: settles in about 50 ms on the bench) */
+#define FULL_DUTY 100
+
+typedef struct {
+    bool taken;
+    bool regulated; /* set_speed or hold */
+    int32_t speed; /* deg/s in the program's direction, while regulated */
+    double ref_angle; /* the reference, in the program's direction, at ref_time */
+    int64_t ref_time;
+    int duty_limit;
+    bool at_limit; /* the regulator's power was at the duty limit at the last sample */
+    int64_t slow_since; /* driven and slower than the stall speed since then; -1: not */
+} motor_state;
+
+static motor_state states[SPIKE_PORTS];
+static bool any_motor;
+static int32_t counts[HISTORY][SPIKE_PORTS]; /* ring of samples, one per control period */
+static int64_t sampled_at[HISTORY];
+static int samples, newest;
+
+static pup_device_t *device(pup_motor_t *motor, const char *caller)
+{
+    if (motor == NULL) { /* the SDK dereferences it: a crash there too */
+        hako_log("%s(): the motor is NULL (pup_motor_get_device found no free port)", caller);
+        abort();
+    }
+    return (pup_device_t *)motor;
+}
+
+static motor_state *state(const pup_device_t *pdev) { return &states[pdev->port_id]; }
+static int sign(const pup_device_t *pdev) { return pdev->direction == PUP_DIRECTION_COUNTERCLOCKWISE ? -1 : 1; }
+static int32_t raw_count(int index) { return (int32_t)spike_read_u32(HAKO_RX_MOTOR_ANGLE + 4 * index); }
+static double angle(const pup_device_t *pdev) { return (double)sign(pdev) * raw_count(pdev->port_id); }
+
+static int limited(const motor_state *s, int power)
+{
+    return power > s->duty_limit ? s->duty_limit : power < -s->duty_limit ? -s->duty_limit : power;
+}
+
+/* The SDK's power write: negated for a counter-clockwise motor, and the brake flag raised on a 0 (never
+ * lowered again). A duty limit below 100 caps it; without one the power goes out as set, as the SDK's. */
+static void write_power(pup_device_t *pdev, int power)
+{
+    motor_state *s = state(pdev);
+    if (s->duty_limit < FULL_DUTY)
+        power = limited(s, power);
+    int out = sign(pdev) * power;
+    spike_write_u32(HAKO_TX_MOTOR_POWER + 4 * pdev->port_id, (uint32_t)out);
+    if (out == 0)
+        spike_write_u32(HAKO_TX_MOTOR_BRAKE + 4 * pdev->port_id, 1);
+}
+
+pup_motor_t *pup_motor_get_device(pbio_port_id_t port)
+{
+    pup_device_t *pdev = spike_take_port(port, DEVICE_MOTOR, __func__);
+    if (pdev != NULL) {
+        *state(pdev) = (motor_state){.taken = true, .duty_limit = FULL_DUTY, .slow_since = -1};
+        any_motor = true;
+    }
+    return (pup_motor_t *)pdev;
+}
+
+pbio_error_t pup_motor_setup(pup_motor_t *motor, pup_direction_t positive_direction, bool reset_count)
+{
+    pup_device_t *pdev = device(motor, __func__);
+    pdev->direction = (unsigned char)positive_direction;
+    return reset_count ? pup_motor_reset_count(motor) : PBIO_SUCCESS;
+}
+
+/* The SDK's: power 0 (which stops a regulated motor too) and the reset flag; the physics process zeroes the
+ * encoder and clears the flag. The samples are moved along, so that the speed does not see the jump. */
+pbio_error_t pup_motor_reset_count(pup_motor_t *motor)
+{
+    pup_device_t *pdev = device(motor, __func__);
+    int index = pdev->port_id;
+    int32_t before = raw_count(index);
+    for (int k = 0; k < samples; k++)
+        counts[k][index] -= before;
+    state(pdev)->regulated = false;
+    spike_write_u32(HAKO_TX_MOTOR_POWER + 4 * index, 0);
+    spike_write_u32(HAKO_TX_MOTOR_RESET_ANGLE + 4 * index, 1);
+    return PBIO_SUCCESS;
+}
+
+int32_t pup_motor_get_count(pup_motor_t *motor) { return raw_count(device(motor, __func__)->port_id); }
+
+/* The count's change per second over the last SPEED_WINDOW_US of samples (fewer at first; 0 before two). */
+static int32_t measured_speed(int index)
+{
+    if (samples < 2)
+        return 0;
+    int oldest = (newest - (samples - 1) + HISTORY) % HISTORY;
+    int64_t dt = sampled_at[newest] - sampled_at[oldest];
+    return (int32_t)((int64_t)(counts[newest][index] - counts[oldest][index]) * 1000000 / dt);
+}
+
+int32_t pup_motor_get_speed(pup_motor_t *motor) { return measured_speed(device(motor, __func__)->port_id); }
+
+int32_t pup_motor_get_power(pup_motor_t *motor) { return device(motor, __func__)->power; }
+
+pbio_error_t pup_motor_set_power(pup_motor_t *motor, int power)
+{
+    pup_device_t *pdev = device(motor, __func__);
+    state(pdev)->regulated = false;
+    pdev->power = power;
+    write_power(pdev, power);
+    return PBIO_SUCCESS;
+}
+
+/* The reference keeps moving on through a change of speed, so a program that sets the same speed every
+ * period is regulated as one that set it once. */
+static void regulate(pup_device_t *pdev, int32_t speed, bool from_here)
+{
+    motor_state *s = state(pdev);
+    int64_t now = hako_now();
+    if (from_here || !s->regulated)
+        s->ref_angle = angle(pdev);
+    else
+        s->ref_angle += (double)s->speed * (double)(now - s->ref_time) / 1e6;
+    s->ref_time = now;
+    s->speed = speed;
+    s->regulated = true;
+}
+
+pbio_error_t pup_motor_set_speed(pup_motor_t *motor, int speed)
+{
+    pup_device_t *pdev = device(motor, __func__);
+    if (!state(pdev)->regulated || state(pdev)->speed != speed)
+        regulate(pdev, speed, false);
+    return PBIO_SUCCESS;
+}
+
+/* The SDK's stop: power 0 and the brake flag. The bench's motors are speed servos, so a power of 0 holds the
+ * wheel still, as SPIKE-RT's brake does; SPIKE-RT's stop lets it coast. */
+pbio_error_t pup_motor_stop(pup_motor_t *motor)
+{
+    pup_device_t *pdev = device(motor, __func__);
+    state(pdev)->regulated = false;
+    pdev->power = 0;
+    write_power(pdev, 0);
+    return PBIO_SUCCESS;
+}
+
+pbio_error_t pup_motor_brake(pup_motor_t *motor) { return pup_motor_stop(motor); }
+
+pbio_error_t pup_motor_hold(pup_motor_t *motor)
+{
+    regulate(device(motor, __func__), 0, true);
+    return PBIO_SUCCESS;
+}
+
+bool pup_motor_is_stalled(pup_motor_t *motor)
+{
+    const motor_state *s = state(device(motor, __func__));
+    return s->slow_since >= 0 && hako_now() - s->slow_since >= STALL_TIME_US;
+}
+
+int32_t pup_motor_set_duty_limit(pup_motor_t *motor, int duty_limit)
+{
+    motor_state *s = state(device(motor, __func__));
+    int32_t old = s->duty_limit;
+    s->duty_limit = duty_limit < 0 ? 0 : duty_limit > FULL_DUTY ? FULL_DUTY : duty_limit;
+    return old;
+}
+
+void pup_motor_restore_duty_limit(pup_motor_t *motor, int old_value) { pup_motor_set_duty_limit(motor, old_value); }
+
+void spike_motors_off(void)
+{
+    for (int i = 0; i < SPIKE_PORTS; i++)
+        if (states[i].taken) {
+            states[i].regulated = false;
+            spike_write_u32(HAKO_TX_MOTOR_POWER + 4 * i, 0);
+        }
+}
+
+/* -- the control period: sampling, regulation, stall detection ---------------------------------------- */
+
+static void regulate_step(pup_device_t *pdev, int64_t now)
+{
+    motor_state *s = state(pdev);
+    double target = s->ref_angle + (double)s->speed * (double)(now - s->ref_time) / 1e6;
+    double behind = target - angle(pdev);
+    double reach = s->duty_limit / POSITION_GAIN;
+    s->at_limit = behind >= reach || behind <= -reach;
+    if (s->at_limit) { /* the reference waits where the motor can follow it */
+        s->ref_angle = angle(pdev) + (behind > 0 ? reach : -reach);
+        s->ref_time = now;
+        behind = behind > 0 ? reach : -reach;
+    }
+    pdev->power = (int32_t)(behind * POSITION_GAIN);
+    write_power(pdev, pdev->power);
+}
+
+static void sample(int64_t now)
+{
+    newest = (newest + 1) % HISTORY;
+    if (samples < HISTORY)
+        samples++;
+    sampled_at[newest] = now;
+    for (int i = 0; i < SPIKE_PORTS; i++)
+        counts[newest][i] = raw_count(i);
+}
+
+/* Called by the kernel (it links it weakly: EV3 programs have no SPIKE runtime) at each snapshot, before any
+ * task runs at that instant. */
+void hako_spike_serve(void)
+{
+    int64_t now = hako_now();
+    if (!any_motor || now % CONTROL_PERIOD_US != 0)
+        return;
+    sample(now);
+    for (int i = 0; i < SPIKE_PORTS; i++) {
+        motor_state *s = &states[i];
+        if (!s->taken)
+            continue;
+        pup_device_t *pdev = spike_port(i);
+        if (s->regulated)
+            regulate_step(pdev, now);
+        bool driven = s->regulated ? s->at_limit : pdev->power != 0 && s->duty_limit > 0;
+        int32_t speed = measured_speed(i);
+        if (!driven || speed >= STALL_SPEED_DPS || speed <= -STALL_SPEED_DPS)
+            s->slow_since = -1;
+        else if (s->slow_since < 0)
+            s->slow_since = now;
+    }
+}
+
+/* When the kernel must wake next for the motors: every control period once the program has one. */
+int64_t hako_spike_next_due(int64_t now_us)
+{
+    return any_motor ? (now_us / CONTROL_PERIOD_US + 1) * CONTROL_PERIOD_US : HAKO_NEVER_WAKES;
+}
