@@ -364,6 +364,38 @@ def test_set_speed_holds_the_speed_in_degrees_per_second(tmp_path, direction, si
     assert [r["stalled"] for r in got] == [0] * 15
 
 
+RESET_APP = r"""
+#include "spikeapi.h"
+#include "spike/pup/motor.h"
+void main_task(intptr_t unused)
+{
+    pup_motor_t *m = pup_motor_get_device(PBIO_PORT_ID_A);
+    pup_motor_setup(m, PUP_DIRECTION_CLOCKWISE, false);
+    pup_motor_set_power(m, 50);
+    tslp_tsk(300 * 1000);
+    syslog(LOG_NOTICE, "count %d speed %d", (int)pup_motor_get_count(m), (int)pup_motor_get_speed(m));
+    pup_motor_reset_count(m); /* which writes power 0, as the SDK's */
+    pup_motor_set_power(m, 50);
+    for (int i = 0; i < 3; i++) {
+        tslp_tsk(20 * 1000);
+        syslog(LOG_NOTICE, "count %d speed %d", (int)pup_motor_get_count(m), (int)pup_motor_get_speed(m));
+    }
+    slp_tsk();
+}
+"""
+
+
+def test_a_count_reset_moves_the_count_but_not_the_speed(tmp_path):
+    exe = build(tmp_path / "app", RESET_APP)
+    bench = FakePhysics(tmp_path / "run")
+    proc = bench.start(exe)
+    run_motor(bench, proc, 400_000)
+    got = [{k: int(v) for k, v in r.items()} for r in reports(finish(proc))]
+    full = 50 * DEG_PER_S_PER_POWER
+    assert abs(got[0]["count"] - 0.3 * full) <= 2 and all(abs(r["speed"] - full) <= 0.02 * full for r in got)
+    assert [abs(r["count"] - k * 0.02 * full) <= 2 for k, r in enumerate(got[1:], 1)] == [True] * 3
+
+
 BLOCKED_APP = r"""
 #include "spikeapi.h"
 #include "spike/pup/motor.h"

@@ -104,7 +104,7 @@ pbio_error_t pup_motor_reset_count(pup_motor_t *motor)
     pup_device_t *pdev = device(motor, __func__);
     int index = pdev->port_id;
     int32_t before = raw_count(index);
-    for (int k = 0; k < samples; k++)
+    for (int k = 0; k < HISTORY; k++)
         counts[k][index] -= before;
     state(pdev)->regulated = false;
     spike_write_u32(HAKO_TX_MOTOR_POWER + 4 * index, 0);
