@@ -18,6 +18,7 @@ from athrill_sim.native.build import RUNTIME_INCLUDE, build_app
 from athrill_sim.native.spike import INCLUDE_DIRS
 from hakoniwa.wire.protocol import TOUCH_PRESSED, Rx, Tx
 from native_fixtures import FakePhysics, build, finish
+from realemu_fixtures import need_v850_tools, repeatable_athrill2  # noqa: F401 (a fixture)
 from raspike_sdk import (ART_SAMPLES, LIBCPP_SPIKE, NEEDS_RASPIKE, PBIO_HEADERS, SDK, SDK_SAMPLES,
                          SPIKE_HEADERS)
 from test_ev3rt_corpus import declarations
@@ -543,3 +544,23 @@ def test_sample_c5_runs_natively(tmp_path):
     result, log = trial(tmp_path, app, "--robot", "hackev", "--time-limit", "5")
     assert result["event"] != "CRASH" and result["distance_m"] > 1.0, log
     assert "Start Line Trace!!" in log
+
+
+@pytest.mark.slow
+def test_sample_c5_spike_natively_drives_as_the_sdks_image_in_the_real_emulator(tmp_path, repeatable_athrill2):
+    """The same unmodified sample, built natively and built with ET Robocon's SDK into a v850 image for the
+    repeatable athrill2, on the same robot and press: the same event and distance (within 2%)."""
+    from athrill_sim.v850.toolchain import find_tools
+
+    need_v850_tools()
+    app = sample_copy(tmp_path, "raspike-art-samples")
+    gcc = find_tools().gcc  # EV3RT's toolchain: the SPIKE SDK has none beside it
+    built = hako("build", str(app), "--sdk", str(SDK), "--toolchain", str(gcc.parent), timeout=900)
+    assert built.returncode == 0, built.stderr
+    (tmp_path / "press.toml").write_text(PRESS_FIRST_TOUCH_SLOT)
+    args = ("--scenario", str(tmp_path / "press.toml"), "--time-limit", "5")
+    native, _ = trial(tmp_path / "native", app, *args)
+    real, log = trial(tmp_path / "real", built.stdout.strip(), "--athrill2", str(repeatable_athrill2), *args)
+    assert real["sync"] == "repeatable" and "Start Line Trace!!" in log
+    assert native["event"] == real["event"] and native["event"] != "CRASH"
+    assert native["distance_m"] == pytest.approx(real["distance_m"], rel=0.02)
