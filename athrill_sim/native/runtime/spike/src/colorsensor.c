@@ -26,14 +26,16 @@ pup_device_t *pup_color_sensor_get_device(pbio_port_id_t port) { return spike_ta
 pup_color_rgb_t pup_color_sensor_rgb(pup_device_t *pdev)
 {
     (void)pdev;
-    return (pup_color_rgb_t){(uint16_t)spike_read_u32(HAKO_RX_COLOR0_RGB), (uint16_t)spike_read_u32(HAKO_RX_COLOR0_RGB + 4),
+    return (pup_color_rgb_t){(uint16_t)spike_read_u32(HAKO_RX_COLOR0_RGB),
+                             (uint16_t)spike_read_u32(HAKO_RX_COLOR0_RGB + 4),
                              (uint16_t)spike_read_u32(HAKO_RX_COLOR0_RGB + 8)};
 }
 
 pup_color_hsv_t pup_color_sensor_hsv(pup_device_t *pdev, bool surface)
 {
     (void)pdev, (void)surface;
-    return (pup_color_hsv_t){(uint16_t)spike_read_u32(HAKO_RX_SPIKE_HSV_H), (uint8_t)spike_read_u32(HAKO_RX_SPIKE_HSV_S),
+    return (pup_color_hsv_t){(uint16_t)spike_read_u32(HAKO_RX_SPIKE_HSV_H),
+                             (uint8_t)spike_read_u32(HAKO_RX_SPIKE_HSV_S),
                              (uint8_t)spike_read_u32(HAKO_RX_SPIKE_HSV_V)};
 }
 

@@ -6,14 +6,15 @@
  * counter-clockwise; the count is the encoder's own, not negated.
  *
  * Where the SDK is incomplete, SPIKE-RT's meaning (Pybricks' control), on the bench's snapshots:
- * - every CONTROL_PERIOD_US (Pybricks' control loop) while the program has a motor, the kernel wakes and the
- *   counts are sampled; get_speed is the count's change over SPEED_WINDOW_US (Pybricks' differentiator
- *   window), in degrees per second;
- * - set_speed and hold are regulated at each sample: the angle follows a reference that moves at the speed
- *   asked (hold: stands still), power = POSITION_GAIN per degree behind it, within the duty limit; while the
- *   power is at the limit the reference waits for the motor, as Pybricks' trajectory does when it stalls;
+ * - the counts are sampled when the program gets a motor and at each snapshot after; get_speed is the count's change,
+ *   in degrees per second, since the newest sample at least SPEED_WINDOW_US (Pybricks' differentiator
+ *   window) older, or the oldest one kept: exactly that window for a program that wakes at least as often;
+ * - set_speed and hold are regulated, and while a motor is the kernel wakes every CONTROL_PERIOD_US
+ *   (Pybricks' control loop): the angle follows a reference that moves at the speed asked (hold: stands
+ *   still), power = POSITION_GAIN per degree behind it, within the duty limit; while the power is at the
+ *   limit the reference waits for the motor, as Pybricks' trajectory does when it stalls;
  * - is_stalled: driven (a power set, or a regulated motor at its limit) and slower than STALL_SPEED_DPS for
- *   STALL_TIME_US (Pybricks' stall tolerances);
+ *   STALL_TIME_US (Pybricks' stall tolerances), as the snapshots show it;
  * - set_duty_limit caps the power written (a percentage; SPIKE-RT returns a voltage, an opaque value that
  *   restore_duty_limit takes back, as here).
  */
@@ -25,7 +26,7 @@
 
 #define CONTROL_PERIOD_US 5000 /* PBIO_CONFIG_CONTROL_LOOP_TIME_MS */
 #define SPEED_WINDOW_US 100000 /* PBIO_CONFIG_DIFFERENTIATOR_WINDOW_MS */
-#define HISTORY (SPEED_WINDOW_US / CONTROL_PERIOD_US + 1)
+#define HISTORY 256 /* samples kept: the window's worth at a snapshot per physics step, and more */
 #define STALL_SPEED_DPS 20 /* Pybricks' stall_speed_limit */
 #define STALL_TIME_US 200000 /* Pybricks' stall_time */
 #define POSITION_GAIN 2.0 /* power per degree behind the reference (ours: settles in about 50 ms on the bench) */
@@ -44,9 +45,11 @@ typedef struct {
 
 static motor_state states[SPIKE_PORTS];
 static bool any_motor;
-static int32_t counts[HISTORY][SPIKE_PORTS]; /* ring of samples, one per control period */
+static int32_t counts[HISTORY][SPIKE_PORTS]; /* ring of samples, one per snapshot */
 static int64_t sampled_at[HISTORY];
 static int samples, newest;
+
+static void sample(int64_t now);
 
 static pup_device_t *device(pup_motor_t *motor, const char *caller)
 {
@@ -86,6 +89,7 @@ pup_motor_t *pup_motor_get_device(pbio_port_id_t port)
     if (pdev != NULL) {
         *state(pdev) = (motor_state){.taken = true, .duty_limit = FULL_DUTY, .slow_since = -1};
         any_motor = true;
+        sample(hako_now()); /* the speed's first reference */
     }
     return (pup_motor_t *)pdev;
 }
@@ -114,14 +118,20 @@ pbio_error_t pup_motor_reset_count(pup_motor_t *motor)
 
 int32_t pup_motor_get_count(pup_motor_t *motor) { return raw_count(device(motor, __func__)->port_id); }
 
-/* The count's change per second over the last SPEED_WINDOW_US of samples (fewer at first; 0 before two). */
+/* The count's change per second since the newest sample at least SPEED_WINDOW_US old, or the oldest kept
+ * (0 before two samples). */
 static int32_t measured_speed(int index)
 {
     if (samples < 2)
         return 0;
-    int oldest = (newest - (samples - 1) + HISTORY) % HISTORY;
-    int64_t dt = sampled_at[newest] - sampled_at[oldest];
-    return (int32_t)((int64_t)(counts[newest][index] - counts[oldest][index]) * 1000000 / dt);
+    int then = newest;
+    for (int k = 1; k < samples; k++) {
+        then = (newest - k + HISTORY) % HISTORY;
+        if (sampled_at[newest] - sampled_at[then] >= SPEED_WINDOW_US)
+            break;
+    }
+    int64_t dt = sampled_at[newest] - sampled_at[then];
+    return (int32_t)((int64_t)(counts[newest][index] - counts[then][index]) * 1000000 / dt);
 }
 
 int32_t pup_motor_get_speed(pup_motor_t *motor) { return measured_speed(device(motor, __func__)->port_id); }
@@ -222,11 +232,14 @@ static void regulate_step(pup_device_t *pdev, int64_t now)
     write_power(pdev, pdev->power);
 }
 
+/* The counts at this instant (a second look at one instant replaces the first). */
 static void sample(int64_t now)
 {
-    newest = (newest + 1) % HISTORY;
-    if (samples < HISTORY)
-        samples++;
+    if (samples == 0 || sampled_at[newest] != now) {
+        newest = (newest + 1) % HISTORY;
+        if (samples < HISTORY)
+            samples++;
+    }
     sampled_at[newest] = now;
     for (int i = 0; i < SPIKE_PORTS; i++)
         counts[newest][i] = raw_count(i);
@@ -236,9 +249,9 @@ static void sample(int64_t now)
  * task runs at that instant. */
 void hako_spike_serve(void)
 {
-    int64_t now = hako_now();
-    if (!any_motor || now % CONTROL_PERIOD_US != 0)
+    if (!any_motor)
         return;
+    int64_t now = hako_now();
     sample(now);
     for (int i = 0; i < SPIKE_PORTS; i++) {
         motor_state *s = &states[i];
@@ -256,8 +269,11 @@ void hako_spike_serve(void)
     }
 }
 
-/* When the kernel must wake next for the motors: every control period once the program has one. */
+/* When the kernel must wake next for the motors: every control period while one is regulated. */
 int64_t hako_spike_next_due(int64_t now_us)
 {
-    return any_motor ? (now_us / CONTROL_PERIOD_US + 1) * CONTROL_PERIOD_US : HAKO_NEVER_WAKES;
+    for (int i = 0; i < SPIKE_PORTS; i++)
+        if (states[i].taken && states[i].regulated)
+            return (now_us / CONTROL_PERIOD_US + 1) * CONTROL_PERIOD_US;
+    return HAKO_NEVER_WAKES;
 }

@@ -35,4 +35,7 @@ pbio_error_t pup_ultrasonic_sensor_light_on(pup_device_t *pdev)
     return pup_ultrasonic_sensor_light_set(pdev, 100, 100, 100, 100);
 }
 
-pbio_error_t pup_ultrasonic_sensor_light_off(pup_device_t *pdev) { return pup_ultrasonic_sensor_light_set(pdev, 0, 0, 0, 0); }
+pbio_error_t pup_ultrasonic_sensor_light_off(pup_device_t *pdev)
+{
+    return pup_ultrasonic_sensor_light_set(pdev, 0, 0, 0, 0);
+}
