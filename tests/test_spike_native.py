@@ -567,3 +567,21 @@ def test_sample_c5_spike_natively_drives_as_the_sdks_image_in_the_real_emulator(
     assert real["sync"] == "repeatable" and "Start Line Trace!!" in log
     assert native["event"] == real["event"] and native["event"] != "CRASH"
     assert native["distance_m"] == pytest.approx(real["distance_m"], rel=0.02)
+
+
+@pytest.mark.parametrize("makefile,header,spike", [
+    ("USE_RASPIKE_ART=1\n", '#include "ev3api.h"\n', True),
+    ("", '#include "spikeapi.h"\n', True),
+    ("", "#include <pbio/port.h>\n", True),
+    ("", '#include "ev3api.h"\n', False),
+    ("ifdef USE_RASPIKE_ART\nAPPL_COBJS += x.o\nendif\n", '#include "ev3api.h"\n', False),
+])
+def test_a_spike_program_is_one_that_says_so_in_makefile_inc_or_includes_a_spike_header(tmp_path, makefile,
+                                                                                      header, spike):
+    from athrill_sim.native.workspace import find_app
+
+    (tmp_path / "Makefile.inc").write_text(makefile)
+    (tmp_path / "app.h").write_text(header)
+    (tmp_path / "app.c").write_text('#include "app.h"\n')
+    app = find_app(tmp_path)
+    assert app.spike == spike and ("-DUSE_RASPIKE_ART" in app.defines) == spike
