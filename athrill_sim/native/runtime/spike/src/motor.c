@@ -13,8 +13,8 @@
  *   (Pybricks' control loop): the angle follows a reference that moves at the speed asked (hold: stands
  *   still), power = POSITION_GAIN per degree behind it, within the duty limit; while the power is at the
  *   limit the reference waits for the motor, as Pybricks' trajectory does when it stalls;
- * - is_stalled: driven (a power set, or a regulated motor at its limit) and slower than STALL_SPEED_DPS for
- *   STALL_TIME_US (Pybricks' stall tolerances), as the snapshots show it;
+ * - is_stalled: driven (a power set, or a regulated motor at its limit) for STALL_TIME_US and slower than
+ *   STALL_SPEED_DPS over them (Pybricks' stall tolerances), from the newest sample at least that old;
  * - set_duty_limit caps the power written (a percentage; SPIKE-RT returns a voltage, an opaque value that
  *   restore_duty_limit takes back, as here).
  */
@@ -29,7 +29,7 @@
 #define HISTORY 256 /* samples kept: the window's worth at a snapshot per physics step, and more */
 #define STALL_SPEED_DPS 20 /* Pybricks' stall_speed_limit */
 #define STALL_TIME_US 200000 /* Pybricks' stall_time */
-#define POSITION_GAIN 2.0 /* power per degree behind the reference (ours: settles in about 50 ms on the bench) */
+#define POSITION_GAIN 2.0 /* power per degree behind the reference (ours: the bench's wheels settle in 0.1 s) */
 #define FULL_DUTY 100
 
 typedef struct {
@@ -39,8 +39,8 @@ typedef struct {
     double ref_angle; /* the reference, in the program's direction, at ref_time */
     int64_t ref_time;
     int duty_limit;
-    bool at_limit; /* the regulator's power was at the duty limit at the last sample */
-    int64_t slow_since; /* driven and slower than the stall speed since then; -1: not */
+    int applied; /* the power last written, in the program's direction */
+    int64_t driven_since; /* a power set (not 0), or a regulated motor at its limit, since then; -1: not */
 } motor_state;
 
 static motor_state states[SPIKE_PORTS];
@@ -77,6 +77,9 @@ static void write_power(pup_device_t *pdev, int power)
     motor_state *s = state(pdev);
     if (s->duty_limit < FULL_DUTY)
         power = limited(s, power);
+    s->applied = power;
+    if (!s->regulated)
+        s->driven_since = power == 0 ? -1 : s->driven_since >= 0 ? s->driven_since : hako_now();
     int out = sign(pdev) * power;
     spike_write_u32(HAKO_TX_MOTOR_POWER + 4 * pdev->port_id, (uint32_t)out);
     if (out == 0)
@@ -87,7 +90,7 @@ pup_motor_t *pup_motor_get_device(pbio_port_id_t port)
 {
     pup_device_t *pdev = spike_take_port(port, DEVICE_MOTOR, __func__);
     if (pdev != NULL) {
-        *state(pdev) = (motor_state){.taken = true, .duty_limit = FULL_DUTY, .slow_since = -1};
+        *state(pdev) = (motor_state){.taken = true, .duty_limit = FULL_DUTY, .driven_since = -1};
         any_motor = true;
         sample(hako_now()); /* the speed's first reference */
     }
@@ -111,6 +114,8 @@ pbio_error_t pup_motor_reset_count(pup_motor_t *motor)
     for (int k = 0; k < HISTORY; k++)
         counts[k][index] -= before;
     state(pdev)->regulated = false;
+    state(pdev)->applied = 0;
+    state(pdev)->driven_since = -1;
     spike_write_u32(HAKO_TX_MOTOR_POWER + 4 * index, 0);
     spike_write_u32(HAKO_TX_MOTOR_RESET_ANGLE + 4 * index, 1);
     return PBIO_SUCCESS;
@@ -118,23 +123,25 @@ pbio_error_t pup_motor_reset_count(pup_motor_t *motor)
 
 int32_t pup_motor_get_count(pup_motor_t *motor) { return raw_count(device(motor, __func__)->port_id); }
 
-/* The count's change per second since the newest sample at least SPEED_WINDOW_US old, or the oldest kept
- * (0 before two samples). */
-static int32_t measured_speed(int index)
+/* The count's change per second since the newest sample at least `window_us` before the newest, or the
+ * oldest kept; how long before is left in *span_us (0, with a speed of 0, before two samples). */
+static int32_t speed_over(int index, int64_t window_us, int64_t *span_us)
 {
-    if (samples < 2)
-        return 0;
     int then = newest;
     for (int k = 1; k < samples; k++) {
         then = (newest - k + HISTORY) % HISTORY;
-        if (sampled_at[newest] - sampled_at[then] >= SPEED_WINDOW_US)
+        if (sampled_at[newest] - sampled_at[then] >= window_us)
             break;
     }
-    int64_t dt = sampled_at[newest] - sampled_at[then];
-    return (int32_t)((int64_t)(counts[newest][index] - counts[then][index]) * 1000000 / dt);
+    *span_us = sampled_at[newest] - sampled_at[then];
+    return *span_us == 0 ? 0 : (int32_t)((int64_t)(counts[newest][index] - counts[then][index]) * 1000000 / *span_us);
 }
 
-int32_t pup_motor_get_speed(pup_motor_t *motor) { return measured_speed(device(motor, __func__)->port_id); }
+int32_t pup_motor_get_speed(pup_motor_t *motor)
+{
+    int64_t span;
+    return speed_over(device(motor, __func__)->port_id, SPEED_WINDOW_US, &span);
+}
 
 int32_t pup_motor_get_power(pup_motor_t *motor) { return device(motor, __func__)->power; }
 
@@ -192,7 +199,11 @@ pbio_error_t pup_motor_hold(pup_motor_t *motor)
 bool pup_motor_is_stalled(pup_motor_t *motor)
 {
     const motor_state *s = state(device(motor, __func__));
-    return s->slow_since >= 0 && hako_now() - s->slow_since >= STALL_TIME_US;
+    if (s->driven_since < 0 || hako_now() - s->driven_since < STALL_TIME_US)
+        return false;
+    int64_t span;
+    int32_t speed = speed_over((int)(s - states), STALL_TIME_US, &span);
+    return span >= STALL_TIME_US && speed < STALL_SPEED_DPS && speed > -STALL_SPEED_DPS;
 }
 
 int32_t pup_motor_set_duty_limit(pup_motor_t *motor, int duty_limit)
@@ -222,8 +233,9 @@ static void regulate_step(pup_device_t *pdev, int64_t now)
     double target = s->ref_angle + (double)s->speed * (double)(now - s->ref_time) / 1e6;
     double behind = target - angle(pdev);
     double reach = s->duty_limit / POSITION_GAIN;
-    s->at_limit = behind >= reach || behind <= -reach;
-    if (s->at_limit) { /* the reference waits where the motor can follow it */
+    bool at_limit = behind >= reach || behind <= -reach;
+    s->driven_since = !at_limit ? -1 : s->driven_since >= 0 ? s->driven_since : now;
+    if (at_limit) { /* the reference waits where the motor can follow it */
         s->ref_angle = angle(pdev) + (behind > 0 ? reach : -reach);
         s->ref_time = now;
         behind = behind > 0 ? reach : -reach;
@@ -260,12 +272,6 @@ void hako_spike_serve(void)
         pup_device_t *pdev = spike_port(i);
         if (s->regulated)
             regulate_step(pdev, now);
-        bool driven = s->regulated ? s->at_limit : pdev->power != 0 && s->duty_limit > 0;
-        int32_t speed = measured_speed(i);
-        if (!driven || speed >= STALL_SPEED_DPS || speed <= -STALL_SPEED_DPS)
-            s->slow_since = -1;
-        else if (s->slow_since < 0)
-            s->slow_since = now;
     }
 }
 
