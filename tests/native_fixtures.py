@@ -13,7 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from hakoniwa.wire.protocol import MappedFile, Rx, Tx, open_athrill, open_unity
+from hakoniwa.wire.protocol import Header, MappedFile, Rx, Tx, open_athrill, open_unity
+from hakoniwa.wire.waiting import futex_wake
 
 NO_CC = "needs a C compiler (cc) to build native apps"
 
@@ -74,15 +75,23 @@ class FakePhysics:
             seen.append(wake)
             if wake > until_us:
                 return seen
-            self.unity.unity_time_us = wake
+            self.answer(wake)
+
+    def answer(self, wake_us: int) -> None:
+        """Move the unity time to the wake-up and ring the doorbell, as the physics process does after each
+        snapshot (without the ring the program notices within waiting.CHECK_EVERY_S)."""
+        self.unity.unity_time_us = wake_us
+        futex_wake(self.unity.address(Header.UNITY_TIME))
 
     def close(self) -> None:
         self.unity.close()
         self.athrill.close()
 
 
-def finish(proc: subprocess.Popen) -> str:
-    """Stop the program (as the physics process does after a test) and return its log."""
+def finish(proc: subprocess.Popen, stdout: bool = False) -> str:
+    """Stop the program (as the physics process does after a test) and return its log (with what it printed
+    on stdout first, which the bench writes to the same athrill.log)."""
     if proc.poll() is None:
         proc.kill()
-    return proc.communicate(timeout=10)[1]
+    out, err = proc.communicate(timeout=10)
+    return out + err if stdout else err

@@ -30,7 +30,8 @@ def protocol_values() -> dict[str, int | str]:
                "ATHRILL_MAGIC": p.ATHRILL_MAGIC.decode()}
     for prefix, cls in (("HDR", p.Header), ("RX", p.Rx), ("TX", p.Tx)):
         values |= {f"{prefix}_{k}": v for k, v in vars(cls).items() if isinstance(v, int)}
-    for prefix, enum in (("EVENT", p.Event), ("CRASH", p.CrashKind), ("SYNC", p.SyncMode), ("COLOR", p.ColorId)):
+    for prefix, enum in (("EVENT", p.Event), ("CRASH", p.CrashKind), ("SYNC", p.SyncMode), ("COLOR", p.ColorId),
+                         ("LED", p.LedBit)):
         values |= {f"{prefix}_{m.name}": m.value for m in enum}
     return values
 

@@ -1,6 +1,7 @@
 """The wire layout, pinned byte for byte against the real Hakoniwa tables (../shared/third_party/athrill/README.md,
 read from EV3RT's athrill drivers and Athrill's VDEV device)."""
 
+import re
 import struct
 
 import pytest
@@ -31,7 +32,7 @@ REAL_ETROBOC_TX = {"completed": 512 - 32}
 # ET Robocon's SPIKE SDK, raspike-athrill-v850e2m target/v850_gcc/pil/include/ev3_vdev_common.h:
 # SPIKE_SENSOR_IMU_OFF 272 + 4 * (ACCELARATION_X 0, _Y 1, _Z 2, VELOCITY_X 3, _Y 4, _Z 5) and
 # SPIKE_SENSOR_HSV_OFF 296 + 4 * (H 0, S 1, V 2); raspike_hub.c reads the IMU words as float bits.
-REAL_SPIKE_RX = {"spike_imu_accel_x": 272, "spike_imu_accel_y": 276, "spike_imu_accel_z": 280,
+REAL_SPIKE_RX = {"spike_imu": 272, "spike_hsv": 296, "spike_imu_accel_x": 272, "spike_imu_accel_y": 276, "spike_imu_accel_z": 280,
                  "spike_imu_angvel_x": 284, "spike_imu_angvel_y": 288, "spike_imu_angvel_z": 292,
                  "spike_hsv_h": 296, "spike_hsv_s": 300, "spike_hsv_v": 304}
 
@@ -220,3 +221,20 @@ def test_the_c_header_is_generated_from_this_layout():
     assert "#define HAKO_RX_ULTRASONIC_MM 88\n" in text
     assert "#define HAKO_RX_GUEST_BASE 0x90F0000u\n" in text
     assert "#define HAKO_EVENT_CRASH 4\n" in text
+
+
+def test_the_spike_slots_are_where_the_sdks_header_puts_them():
+    """raspike-athrill-v850e2m's ev3_vdev_common.h, read from ../shared: each slot is OFF + 4 * INX."""
+    from raspike_sdk import NEEDS_RASPIKE, VDEV_HEADER
+
+    if not VDEV_HEADER.is_file():
+        pytest.skip(NEEDS_RASPIKE)
+    defines = {name: int(value) for name, value in
+               re.findall(r"#define\s+(SPIKE_SENSOR_\w+)\s+\((\d+)U\)", VDEV_HEADER.read_text())}
+    imu, hsv = defines["SPIKE_SENSOR_IMU_OFF"], defines["SPIKE_SENSOR_HSV_OFF"]
+    assert Rx.SPIKE_IMU == imu and Rx.SPIKE_HSV == hsv
+    assert Rx.SPIKE_IMU_ACCEL_X == imu + 4 * defines["SPIKE_SENSOR_IMU_INX_ACCELARATION_X"]
+    assert Rx.SPIKE_IMU_ANGVEL_X == imu + 4 * defines["SPIKE_SENSOR_IMU_INX_VELOCITY_X"]
+    assert defines["SPIKE_SENSOR_IMU_INX_VELOCITY_Z"] == defines["SPIKE_SENSOR_IMU_INX_VELOCITY_X"] + 2
+    for axis in "HSV":
+        assert getattr(Rx, f"SPIKE_HSV_{axis}") == hsv + 4 * defines[f"SPIKE_SENSOR_HSV_INX_{axis}"]

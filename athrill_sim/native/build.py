@@ -31,7 +31,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from athrill_sim.build_cache import CacheKey, cache_root, cached_build
-from athrill_sim.native import NativeBuildError, appcfg, headers, makefile, workspace
+from athrill_sim.native import NativeBuildError, appcfg, headers, makefile, spike, workspace
 from athrill_sim.native.appcfg import KERNEL_CFG_C, KERNEL_CFG_H, kernel_config
 from athrill_sim.native.makefile import ETROBOC_COMMON
 from athrill_sim.native.workspace import CXX_SUFFIX, AppSources, find_app
@@ -40,7 +40,7 @@ RUNTIME = Path(__file__).with_name("runtime")
 RUNTIME_INCLUDE = RUNTIME / "include"
 RUNTIME_SRC = RUNTIME / "src"
 GENERATORS = (Path(__file__), Path(appcfg.__file__), Path(headers.__file__), Path(workspace.__file__),
-              Path(makefile.__file__))
+              Path(makefile.__file__), Path(spike.__file__))
 STRICT_FLAGS = ("-O2", "-ffp-contract=off", "-fno-fast-math", "-fno-strict-aliasing", "-Wall",
                 "-Wno-int-to-pointer-cast")
 C_STD = "-std=gnu11"
@@ -150,7 +150,8 @@ def _compiler_env() -> dict[str, str]:
 def _include_flags(app: AppSources, build_dir: Path) -> list[str]:
     """Ours first: a stray kernel_cfg.h from a real EV3RT build in the program's folder, or ET Robocon's own
     etroboc_ext.h on the program's include path, must not win."""
-    return [f"-I{d}" for d in (build_dir, RUNTIME_INCLUDE, ETROBOC_COMMON, app.root, *app.include_dirs)]
+    ours = (RUNTIME_INCLUDE, *(spike.INCLUDE_DIRS if app.spike else ()), ETROBOC_COMMON)
+    return [f"-I{d}" for d in (build_dir, *ours, app.root, *app.include_dirs)]
 
 
 def _build(app: AppSources, compilers: Compilers, generated: dict[str, str], build_dir: Path) -> None:
@@ -166,7 +167,8 @@ def _build(app: AppSources, compilers: Compilers, generated: dict[str, str], bui
     config = kernel_config(app.cfg, preprocess)
     (build_dir / KERNEL_CFG_H).write_text(config.header())
     (build_dir / KERNEL_CFG_C).write_text(config.source())
-    sources = [*app.sources, build_dir / KERNEL_CFG_C, *sorted(RUNTIME_SRC.glob("*.c"))]
+    sources = [*app.sources, build_dir / KERNEL_CFG_C, *sorted(RUNTIME_SRC.glob("*.c")),
+               *(spike.sources() if app.spike else ())]
     objects = _compile_all(app, compilers, includes, [*sources, *app.library_sources], build_dir)
     failure = f"{app.sources[0].name} does not build"
     archive = []
@@ -176,7 +178,8 @@ def _build(app: AppSources, compilers: Compilers, generated: dict[str, str], bui
     linker = compilers.cxx or compilers.cc
     entries = {t.entry for t in config.tasks} | {c.handler for c in config.cyclics if c.handler}
     _run([str(linker), *_link_flags(app), *map(str, objects[:len(sources)]), *map(str, archive), "-o",
-          str(build_dir / EXECUTABLE), *app.libs, *LIBS], app.root, build_dir, failure, entries, cxx=app.cxx)
+          str(build_dir / EXECUTABLE), *app.libs, *LIBS], app.root, build_dir, failure, entries, cxx=app.cxx,
+         subset=_subset(app))
     shutil.rmtree(build_dir / OBJECTS)
 
 
@@ -201,8 +204,14 @@ def _compile_all(app: AppSources, compilers: Compilers, includes: list[str], sou
             log.write(" ".join(out.args) + "\n" + out.stderr)
     for out in results:
         if out.returncode != 0:
-            raise NativeBuildError(f"{app.sources[0].name} does not build: {first_error(out.stderr)}")
+            raise NativeBuildError(f"{app.sources[0].name} does not build: "
+                                   f"{first_error(out.stderr, subset=_subset(app))}")
     return objects
+
+
+def _subset(app: AppSources) -> str:
+    """What the API the program is built against is called, in a missing function's error."""
+    return "SPIKE-RT and EV3RT subsets" if app.spike else "EV3RT subset"
 
 
 def _shown(source: Path, root: Path) -> str:
@@ -219,16 +228,16 @@ def _compile(cmd: list[str], cwd: Path) -> subprocess.CompletedProcess:
 
 
 def _run(cmd: list[str], cwd: Path, build_dir: Path, failure: str, entries: Collection[str] = (),
-         cxx: bool = False) -> str:
+         cxx: bool = False, subset: str = "EV3RT subset") -> str:
     out = _compile(cmd, cwd)
     with open(build_dir / BUILD_LOG, "a") as log:
         log.write(" ".join(cmd) + "\n" + out.stderr)
     if out.returncode != 0:
-        raise NativeBuildError(f"{failure}: {first_error(out.stderr, entries, cxx)}")
+        raise NativeBuildError(f"{failure}: {first_error(out.stderr, entries, cxx, subset)}")
     return out.stdout
 
 
-def first_error(output: str, entries: Collection[str] = (), cxx: bool = False) -> str:
+def first_error(output: str, entries: Collection[str] = (), cxx: bool = False, subset: str = "EV3RT subset") -> str:
     """The compiler's (or linker's) first error as one line. A missing function is either one of the program's
     own entry points (`entries`: the task and handler functions app.cfg names, main_task without one), which
     the program failed to define (in C++: to define as `extern "C"`, as app.h declares them), or an API
@@ -246,5 +255,5 @@ def first_error(output: str, entries: Collection[str] = (), cxx: bool = False) -
         if cxx:
             line += '; in C++ it must be extern "C", as EV3RT\'s app.h declares it'
     elif missing:
-        line += " (not in the native mock's EV3RT subset, see docs/NATIVE.md)"
+        line += f" (not in the native mock's {subset}, see docs/NATIVE.md)"
     return line

@@ -21,7 +21,7 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from athrill_sim.native import NativeBuildError
+from athrill_sim.native import NativeBuildError, spike
 from athrill_sim.native.makefile import MakeVars, evaluate
 
 APP_SOURCE = "app.c"
@@ -53,7 +53,7 @@ class AppSources:
     libs: tuple[str, ...] = ()  # -l flags
     c_std: str | None = None  # a -std= of COPTS for C ...
     cxx_std: str | None = None  # ... and for C++
-    spike: bool = False  # USE_RASPIKE_ART: the program is written against the SPIKE API
+    spike: bool = False  # a SPIKE program: built with the SPIKE-RT headers and runtime too (native/spike.py)
     library_sources: tuple[Path, ...] = ()  # of the EV3RT libraries it includes, linked as archives are
 
     @property
@@ -78,7 +78,8 @@ def _lone_app(source: Path) -> AppSources:
     root = source.parent
     hashed = [source, *sorted(root.glob("*.h"))]
     if source.suffix == C_SUFFIX:
-        return AppSources(root, (source,), None, (), (), tuple(hashed))
+        is_spike = spike.is_spike_program({}, hashed)
+        return AppSources(root, (source,), None, (), spike.DEFINES if is_spike else (), tuple(hashed), spike=is_spike)
     with tempfile.TemporaryDirectory(prefix="hako-lone-") as scratch:
         inc = Path(scratch) / "app" / MAKEFILE_INC
         inc.parent.mkdir()
@@ -86,7 +87,7 @@ def _lone_app(source: Path) -> AppSources:
         make = evaluate(inc)
     make = dataclasses.replace(make, makefiles=tuple(m for m in make.makefiles if m != inc.resolve()))
     app = _workspace_sources(root, make, [source], hashed)
-    return AppSources(root, app.sources, None, app.include_dirs, (), app.hashed,
+    return AppSources(root, app.sources, None, app.include_dirs, app.defines, app.hashed, spike=app.spike,
                       library_sources=app.library_sources)
 
 
@@ -130,10 +131,11 @@ def _workspace_sources(root: Path, make: MakeVars, main: list[Path], hashed: lis
     libs = tuple(_libs(make.words("APPL_LIBS"), inc))
     files = {*hashed, *make.makefiles, *sources, *library}
     files |= {f for d in (*dirs, *includes) for f in d.iterdir() if f.is_file() and f.suffix in HASHED_SUFFIXES}
-    spike = any(w not in ("0", "") for w in make.words("USE_RASPIKE_ART"))
+    is_spike = spike.is_spike_program(make.values, sorted(files))
+    defines = (*spike.DEFINES, *defines) if is_spike else defines
     return AppSources(root, tuple(dict.fromkeys(sources)), root / APP_CFG if (root / APP_CFG).is_file() else None,
                       tuple(dict.fromkeys(d for d in includes if d != root)), defines, tuple(sorted(files)), libs,
-                      c_std, cxx_std, spike, tuple(dict.fromkeys(library)))
+                      c_std, cxx_std, is_spike, tuple(dict.fromkeys(library)))
 
 
 def _split_options(words: list[str]) -> list[str]:

@@ -82,13 +82,15 @@ class Rx:
     MOTOR_ANGLE = 256  # + 4 p: encoder of motor port p (A = 0 .. D = 3) [deg], i32
     # ET Robocon's SPIKE SDK (raspike-athrill-v850e2m: ev3_vdev_common.h, read by spikeapi's raspike_hub.c and
     # raspike_color.c), written only for a robot with a SPIKE hub (the IMU) and a SPIKE colour sensor (HSV).
-    SPIKE_IMU_ACCEL_X = 272  # f32 bits [mm/s^2]: hub_imu_get_acceleration() x, y, z at 272, 276, 280
+    SPIKE_IMU = 272  # the hub IMU: six f32 words, acceleration then angular velocity
+    SPIKE_IMU_ACCEL_X = SPIKE_IMU  # f32 bits [mm/s^2]: hub_imu_get_acceleration() x, y, z at 272, 276, 280
     SPIKE_IMU_ACCEL_Y = 276
     SPIKE_IMU_ACCEL_Z = 280
-    SPIKE_IMU_ANGVEL_X = 284  # f32 bits [deg/s]: hub_imu_get_angular_velocity() x, y, z at 284, 288, 292
+    SPIKE_IMU_ANGVEL_X = SPIKE_IMU + 12  # f32 bits [deg/s]: hub_imu_get_angular_velocity() x, y, z at 284, 288, 292
     SPIKE_IMU_ANGVEL_Y = 288
     SPIKE_IMU_ANGVEL_Z = 292
-    SPIKE_HSV_H = 296  # i32, 0..359 [deg]: pup_color_sensor_hsv() h, s, v at 296, 300, 304
+    SPIKE_HSV = 296  # the colour sensor's HSV: three i32 words
+    SPIKE_HSV_H = SPIKE_HSV  # i32, 0..359 [deg]: pup_color_sensor_hsv() h, s, v at 296, 300, 304
     SPIKE_HSV_S = 300  # i32, 0..100 [%]
     SPIKE_HSV_V = 304  # i32, 0..100 [%]
     # Our extension (unused by the real layout): lockstep and test reports.
@@ -190,6 +192,16 @@ class Objective(enum.IntEnum):
     LAP = 0  # the paper's: GOAL at the course's last checkpoint, scored by the lap time
     COMPLETED = 1  # ET Robocon's: the program's ETRoboc_notifyCompletedToSimulator(), scored by its time; the
     # goal line does not end the test (a competition program ends its whole run that way)
+
+
+class LedBit(enum.IntFlag):
+    """The bits of the TX LED byte (ev3_vdev_common.h, EV3_GPIO_LED_BITS_*): EV3RT sets RED and GREEN, ET
+    Robocon's SPIKE SDK any one of the four (`hub_light_on_color`)."""
+
+    RED = 1
+    GREEN = 2
+    YELLOW = 4
+    BLUE = 8
 
 
 class ColorId(enum.IntEnum):
@@ -402,7 +414,7 @@ def c_header() -> str:
     for prefix, cls in (("HDR", Header), ("RX", Rx), ("TX", Tx)):
         lines += [f"#define HAKO_{prefix}_{k} {v}" for k, v in vars(cls).items() if isinstance(v, int)]
     for prefix, enum_cls in (("EVENT", Event), ("CRASH", CrashKind), ("SYNC", SyncMode), ("COLOR", ColorId),
-                             ("OBJECTIVE", Objective)):
+                             ("OBJECTIVE", Objective), ("LED", LedBit)):
         lines += [f"#define HAKO_{prefix}_{m.name} {m.value}" for m in enum_cls]
     lines.append("#endif")
     return "\n".join(lines) + "\n"

@@ -25,6 +25,9 @@
 #define TNFY_WUPTSK 0x04U
 
 #ifndef TOPPERS_MACRO_ONLY
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 #ifdef __cplusplus
 extern "C" {
@@ -68,5 +71,8 @@ ER ext_ker(void);
 }
 #endif
 
+#ifdef __cplusplus
+}
+#endif
 #endif /* TOPPERS_MACRO_ONLY */
 #endif /* HAKO_KERNEL_H */

@@ -385,6 +385,8 @@ static int64_t next_event(void)
         if (poll < next)
             next = poll;
     }
+    if (hako_spike_next_due && hako_spike_next_due(now_us) < next)
+        next = hako_spike_next_due(now_us);
     return next;
 }
 
@@ -480,6 +482,21 @@ static void give_stack(struct task *t)
     t->stack_size = size;
 }
 
+/* Devices served at each snapshot, before any task: EV3RT's button cyclic, and SPIKE-RT's motors. */
+static void serve_devices(void)
+{
+    hako_buttons_poll();
+    if (hako_spike_serve)
+        hako_spike_serve();
+}
+
+void hako_kernel_exit(void)
+{
+    hako_window_flush();
+    hako_publish(now_us, HAKO_NEVER_WAKES);
+    exit(0); /* the outputs stay as they are */
+}
+
 void hako_kernel_start(int64_t start_us)
 {
     now_us = start_us;
@@ -504,7 +521,7 @@ void hako_kernel_start(int64_t start_us)
 
 void hako_kernel_run(void)
 {
-    hako_buttons_poll();
+    serve_devices();
     start_spin_clock();
     for (;;) {
         while (handle_due_event())
@@ -518,12 +535,12 @@ void hako_kernel_run(void)
         int64_t wake = next_event();
         if (t != NULL && wake > now_us + HAKO_SPIN_TIME_US)
             wake = now_us + HAKO_SPIN_TIME_US; /* a spinning task: the spin took that long */
-        hako_publish(now_us, wake);
         if (wake == HAKO_NEVER_WAKES)
-            exit(0); /* every task has ended and nothing is left to fire: the outputs stay as they are */
+            hako_kernel_exit(); /* every task has ended and nothing is left to fire */
+        hako_publish(now_us, wake);
         hako_wait_snapshot(wake);
         hako_window_load();
         now_us = wake;
-        hako_buttons_poll();
+        serve_devices();
     }
 }

@@ -47,6 +47,8 @@ __attribute__((constructor(101))) static void hako_start(int argc, char **argv)
     }
     if (run_dir == NULL)
         usage("--run-dir is required");
+    setvbuf(stdout, NULL, _IOLBF, 0); /* a program's printf reaches the log a line at a time, as on EV3RT's
+                                         console, even when the run is stopped with the process killed */
     if (realpath(run_dir, run_dir_path) == NULL)
         hako_bench_fault("run directory %s: %s", run_dir, strerror(errno));
     hako_files_open(run_dir_path);

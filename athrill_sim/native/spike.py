@@ -1,0 +1,34 @@
+"""SPIKE programs: which programs are, and what their build adds (docs/NATIVE.md, "SPIKE").
+
+ET Robocon's SPIKE SDK for Athrill builds every program against the SPIKE-RT API (`pup_*`, `hub_*`) and
+defines USE_RASPIKE_ART; RasPike-ART's samples say so in their Makefile.inc (`USE_RASPIKE_ART=1`) and include
+`spikeapi.h`. A program that does either, or includes a SPIKE-RT or pbio header, is built with our SPIKE-RT
+headers and runtime (`runtime/spike`) in addition to the EV3RT ones, which stay available as on RasPike-ART.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable, Mapping, Sequence
+from pathlib import Path
+
+SPIKE = Path(__file__).with_name("runtime") / "spike"
+INCLUDE_DIRS = (SPIKE / "include", SPIKE / "include" / "spike")  # <spike/pup/motor.h> and the SDK's <pup/motor.h>
+SOURCE_DIR = SPIKE / "src"
+DEFINES = ("-DUSE_RASPIKE_ART",)  # as the SDK's Makefile.img defines it
+MAKE_VARIABLE = "USE_RASPIKE_ART"
+SOURCES = (".c", ".h", ".cpp", ".hpp", ".cc", ".hh")  # what may include a SPIKE header
+
+_SPIKE_INCLUDE = re.compile(r'^\s*#\s*include\s*[<"](?:spikeapi\.h|spike/|pbio/)', re.M)
+
+
+def is_spike_program(make: Mapping[str, Sequence[str]], files: Iterable[Path]) -> bool:
+    """Whether Makefile.inc sets USE_RASPIKE_ART (make's `ifdef` sense: to anything) or one of the program's
+    C or C++ files includes a SPIKE header."""
+    if make.get(MAKE_VARIABLE):
+        return True
+    return any(_SPIKE_INCLUDE.search(f.read_text(errors="replace")) for f in files if f.suffix in SOURCES)
+
+
+def sources() -> list[Path]:
+    return sorted(SOURCE_DIR.glob("*.c"))
