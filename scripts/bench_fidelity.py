@@ -5,9 +5,10 @@ v850 image in the real TOPPERS athrill2 (repeatable mode), on the same course an
 draw (none by default: the two sides draw sensor noise at different instants, so only a noise-free pair
 compares the programs alone). Programs: each EV3RT sample in the SDK's workspace that builds both ways (one
 that does not move the robot natively is listed as such and not run in the real emulator, where a CPU-bound
-sample emulates at a few simulated ms per wall second), the C and C++ programs written for the tests in ET
-Robocon teams' style (`tests/programs/`: each on its robot, started by the touch press it waits for), and the
-built-in C tracer (the paper's Fig. 7 law) at `--sets` seeded random gain sets.
+sample emulates at a few simulated ms per wall second), RasPike-ART's official samples (`sample_c5_spike` on
+HackSPi, started by its force sensor; `sample_c5`, the EV3 API, on HackEV), the C and C++ programs written for
+the tests in ET Robocon teams' style (`tests/programs/`: each on its robot, started by the press it waits for),
+and the built-in C tracer (the paper's Fig. 7 law) at `--sets` seeded random gain sets.
 
 Per program it prints the event, lap and distance on each side and the largest difference in the motor-power
 sequence (the i-th command each side sent its wheel motors, compared in order; the first index where they
@@ -43,26 +44,34 @@ from testctl.runner import TrialRunner
 REPO = Path(__file__).resolve().parents[1]
 WORKSPACE = REPO.parent / "shared" / "third_party" / "ev3rt" / "ev3rt-athrill-v850e2m" / "sdk" / "workspace"
 TEAM_PROGRAMS = REPO / "tests" / "programs"
-# The team-style programs: (folder, robot, the touch port pressed at 0.5 s to start it).
-TEAMS = [("etrobo_cpp_tracer", None, 4), ("cpp_features", None, None), ("etrobo_hackev", "hackev", 1)]
+RASPIKE = REPO.parent / "shared" / "third_party" / "raspike"
+# The team-style programs: (folder, robot, the press at 0.5 s that starts it: a touch port, or the force sensor).
+TEAMS = [("etrobo_cpp_tracer", None, 4), ("cpp_features", None, None), ("etrobo_hackev", "hackev", 1),
+         ("etrobo_spike_cpp", "hackspi", "force")]
+# RasPike-ART's official samples (ETrobocon/RasPike-ART's and the SPIKE SDK's own copy of the SPIKE one).
+SPIKE_SAMPLES = [("sample_c5_spike", RASPIKE / "raspike-art-samples" / "sample_c5_spike", "hackspi", "force"),
+                 ("sdk sample_c5_spike", RASPIKE / "raspike-athrill-v850e2m" / "sdk" / "workspace" / "sample_c5_spike",
+                  "hackspi", "force"),
+                 ("sample_c5", RASPIKE / "raspike-art-samples" / "sample_c5", "hackev", None)]
 TOLERANCE = 0.02  # laps and distances within 2%
 TRACER = "line_trace_c"
 
 
 @dataclass(frozen=True)
 class Subject:
-    """A program to compare, with the robot and start press it needs."""
+    """A program to compare, with the robot and the start press it needs."""
 
     label: str
     app: str
     robot: str | None = None
-    press_port: int | None = None
+    press: int | str | None = None  # a touch sensor's port, or "force"
 
     def scenario(self, folder: Path) -> str | None:
-        if self.press_port is None:
+        if self.press is None:
             return None
-        path = folder / f"press-{self.press_port}.toml"
-        path.write_text(f'[[press]]\nsensor = "touch"\nport = {self.press_port}\nat_s = 0.5\nfor_s = 0.2\n')
+        sensor = "sensor = \"force\"" if self.press == "force" else f"sensor = \"touch\"\nport = {self.press}"
+        path = folder / "press.toml"
+        path.write_text(f"[[press]]\n{sensor}\nat_s = 0.5\nfor_s = 0.2\n")
         return str(path)
 
 
@@ -147,7 +156,10 @@ def programs(corpus: bool, teams: bool) -> list[Subject]:
     if corpus and WORKSPACE.is_dir():
         found = [Subject(d.name, str(d)) for d in sorted(WORKSPACE.iterdir()) if (d / "app.c").is_file()]
     if teams:
-        found += [Subject(name, str(TEAM_PROGRAMS / name), robot, port) for name, robot, port in TEAMS]
+        found += [Subject(name, str(TEAM_PROGRAMS / name), robot, press) for name, robot, press in TEAMS]
+    if corpus:
+        found += [Subject(label, str(folder), robot, press) for label, folder, robot, press in SPIKE_SAMPLES
+                  if folder.is_dir()]
     return [*found, Subject(TRACER, TRACER)]
 
 
@@ -165,7 +177,8 @@ def random_gains(sets: int, seed: int) -> list[tuple[float, float, float]]:
 @click.option("--course", default="oval", show_default=True, help="Course of every run.")
 @click.option("--time-limit", type=click.FloatRange(min=0.1), default=None,
               help="Simulated seconds per run [the course's].")
-@click.option("--corpus/--no-corpus", default=True, show_default=True, help="Include the SDK's sample programs.")
+@click.option("--corpus/--no-corpus", default=True, show_default=True,
+              help="Include the EV3RT SDK's sample programs and RasPike-ART's.")
 @click.option("--teams/--no-teams", default=True, show_default=True,
               help="Include the team-style C and C++ programs of tests/programs.")
 @click.option("--program", "extra", multiple=True, type=click.Path(exists=True, path_type=Path),

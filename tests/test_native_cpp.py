@@ -24,13 +24,15 @@ from athrill_sim.native.makefile import ETROBOC_COMMON, LIBRARY_DIR, evaluate
 from athrill_sim.native.workspace import find_app
 from athrill_sim.programs import ProgramError, resolve_program
 from conftest import hako, one_line_error
-from ev3rt_corpus import EV3RT, NEEDS_SHARED
+from ev3rt_corpus import EV3RT
+from raspike_sdk import SDK as RASPIKE
 from native_fixtures import need_cc
 
 PROGRAMS = Path(__file__).parent / "programs"
 TRACER = PROGRAMS / "etrobo_cpp_tracer"
 FEATURES = PROGRAMS / "cpp_features"
 HACKEV = PROGRAMS / "etrobo_hackev"
+SPIKE_TRACER = PROGRAMS / "etrobo_spike_cpp"
 NO_CXX = "needs a C++ compiler (c++) to build C++ apps"
 
 
@@ -42,9 +44,11 @@ def need_cxx() -> None:
         pytest.skip(NO_CXX)
 
 
-def press(tmp_path: Path, port: int) -> Path:
-    scenario = tmp_path / f"press{port}.toml"
-    scenario.write_text(f'[[press]]\nsensor = "touch"\nport = {port}\nat_s = 0.5\nfor_s = 0.2\n')
+def press(tmp_path: Path, port: int | str) -> Path:
+    """A scenario pressing the touch sensor on `port` (or the force sensor, "force") at 0.5 s."""
+    scenario = tmp_path / f"press-{port}.toml"
+    sensor = 'sensor = "force"' if port == "force" else f'sensor = "touch"\nport = {port}'
+    scenario.write_text(f"[[press]]\n{sensor}\nat_s = 0.5\nfor_s = 0.2\n")
     return scenario
 
 
@@ -58,17 +62,18 @@ def workspace(tmp_path: Path, makefile: bytes | str, files: dict[str, str] | Non
     return app
 
 
-def test_the_shipped_libcpp_ev3_is_ev3rts_own_byte_for_byte():
-    shared = EV3RT / "sdk" / "common" / "library" / "libcpp-ev3"
+@pytest.mark.parametrize("sdk, library", [(EV3RT, "libcpp-ev3"), (RASPIKE, "libcpp-spike")])
+def test_the_shipped_libraries_are_the_sdks_own_byte_for_byte(sdk, library):
+    shared = sdk / "sdk" / "common" / "library" / library
     if not shared.is_dir():
-        pytest.skip(NEEDS_SHARED)
-    ours = LIBRARY_DIR / "libcpp-ev3"
+        pytest.skip(f"needs the SDK at {sdk} (../shared)")
+    ours = LIBRARY_DIR / library
     for sub in ("include", "src"):
         compare = filecmp.dircmp(shared / sub, ours / sub)
         assert not (compare.left_only or compare.right_only or compare.diff_files), sub
         assert all(filecmp.cmp(shared / sub / f, ours / sub / f, shallow=False) for f in compare.common_files)
     assert (shared / "Makefile").read_bytes() == (ours / "Makefile").read_bytes()
-    assert (ours / "LICENSE.md").read_bytes() == (EV3RT / "LICENSE.md").read_bytes()
+    assert (ours / "LICENSE.md").read_bytes() == (sdk / "LICENSE.md").read_bytes()
 
 
 def test_a_teams_makefile_inc_is_read_by_gnu_make_with_its_shell_calls_and_the_library():
@@ -82,6 +87,20 @@ def test_a_teams_makefile_inc_is_read_by_gnu_make_with_its_shell_calls_and_the_l
     assert {TRACER / "app", TRACER / "unit"} <= set(app.include_dirs) and app.cxx
     assert b"\x83" in (TRACER / "Makefile.inc").read_bytes()  # its comments are Shift-JIS
     assert {TRACER / "Makefile.inc", LIBRARY_DIR / "libcpp-ev3" / "Makefile"} <= set(app.hashed)
+
+
+def test_a_program_that_includes_libcpp_spike_is_a_spike_program():
+    app = find_app(SPIKE_TRACER)
+    assert app.spike and app.cxx and "-DUSE_RASPIKE_ART" in app.defines
+    assert {s.name for s in app.library_sources} == {"Button.cpp", "Clock.cpp", "IMU.cpp", "Light.cpp"}
+
+
+@pytest.mark.slow
+def test_a_teams_libcpp_spike_tracer_laps_hackspi_after_the_force_press(tmp_path):
+    need_cxx()
+    result = trial(tmp_path, SPIKE_TRACER, "--robot", "hackspi", "--scenario", str(press(tmp_path, "force")))
+    assert result["event"] == "GOAL" and 25 < result["lap_time_s"] < 35
+    assert "spike-cpp-tracer started at 500 ms" in (tmp_path / "run" / "athrill.log").read_text()
 
 
 def test_environment_variables_reach_make_and_et_robocons_default_to_the_benchs_header(tmp_path, monkeypatch):

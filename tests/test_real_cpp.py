@@ -11,7 +11,7 @@ import pytest
 
 from conftest import hako, one_line_error
 from realemu_fixtures import need_v850_tools, repeatable_athrill2  # noqa: F401 (fixture)
-from test_native_cpp import FEATURE_LINES, FEATURES, TRACER, press, program_lines
+from test_native_cpp import FEATURE_LINES, FEATURES, SPIKE_TRACER, TRACER, press, program_lines
 
 
 def build(app: Path) -> Path:
@@ -48,3 +48,24 @@ def test_the_cpp_features_image_prints_what_the_native_build_prints(repeatable_a
                "--time-limit", "0.5", "--run-dir", str(tmp_path / "run"), timeout=600)
     assert out.returncode == 0, out.stderr
     assert program_lines(tmp_path / "run") == FEATURE_LINES
+
+
+@pytest.mark.slow
+def test_hako_build_takes_the_spike_sdk_for_a_spike_program_and_its_image_laps(repeatable_athrill2, tmp_path):
+    """No --sdk, no --toolchain: the program includes libcpp-spike and says USE_RASPIKE_ART, so ET Robocon's
+    SPIKE SDK builds it, with EV3RT's toolchain (the SPIKE SDK has none beside it)."""
+    need_v850_tools()
+    from raspike_sdk import SDK, NEEDS_RASPIKE
+
+    if not SDK.is_dir():
+        pytest.skip(NEEDS_RASPIKE)
+    out = hako("build", str(SPIKE_TRACER), timeout=900)
+    assert out.returncode == 0, out.stderr
+    assert "SPIKE SDK at" in out.stderr or not out.stderr  # announced when it builds; a cached image is silent
+    image = Path(out.stdout.strip())
+    run = hako("trial", "--app", str(image), "--athrill2", str(repeatable_athrill2), "--robot", "hackspi",
+               "--scenario", str(press(tmp_path, "force")), "--noise", "0", "--json", "--run-dir",
+               str(tmp_path / "run"), timeout=600)
+    assert run.returncode == 0, run.stderr
+    result = json.loads(run.stdout)
+    assert result["event"] == "GOAL" and 25 < result["lap_time_s"] < 35

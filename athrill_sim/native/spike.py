@@ -2,7 +2,8 @@
 
 ET Robocon's SPIKE SDK for Athrill builds every program against the SPIKE-RT API (`pup_*`, `hub_*`) and
 defines USE_RASPIKE_ART; RasPike-ART's samples say so in their Makefile.inc (`USE_RASPIKE_ART=1`) and include
-`spikeapi.h`. A program that does either, or includes a SPIKE-RT or pbio header, is built with our SPIKE-RT
+`spikeapi.h`. A program that does either, includes a SPIKE-RT or pbio header, or includes libcpp-spike's Makefile, is built
+with our SPIKE-RT
 headers and runtime (`runtime/spike`) in addition to the EV3RT ones, which stay available as on RasPike-ART.
 """
 
@@ -17,6 +18,7 @@ INCLUDE_DIRS = (SPIKE / "include", SPIKE / "include" / "spike")  # <spike/pup/mo
 SOURCE_DIR = SPIKE / "src"
 DEFINES = ("-DUSE_RASPIKE_ART",)  # as the SDK's Makefile.img defines it
 MAKE_VARIABLE = "USE_RASPIKE_ART"
+CXX_LIBRARY = "libcpp-spike"  # ET Robocon's C++ classes over SPIKE-RT: a program that includes them is one
 SOURCES = (".c", ".h", ".cpp", ".hpp", ".cc", ".hh")  # what may include a SPIKE header
 
 _SPIKE_INCLUDE = re.compile(r'^\s*#\s*include\s*[<"](?:spikeapi\.h|spike/|pbio/)', re.M)

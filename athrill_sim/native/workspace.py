@@ -131,7 +131,8 @@ def _workspace_sources(root: Path, make: MakeVars, main: list[Path], hashed: lis
     libs = tuple(_libs(make.words("APPL_LIBS"), inc))
     files = {*hashed, *make.makefiles, *sources, *library}
     files |= {f for d in (*dirs, *includes) for f in d.iterdir() if f.is_file() and f.suffix in HASHED_SUFFIXES}
-    is_spike = spike.is_spike_program(make.values, sorted(files))
+    is_spike = (spike.is_spike_program(make.values, sorted(files))
+                or any(lib.name == spike.CXX_LIBRARY for lib in make.libraries))
     defines = (*spike.DEFINES, *defines) if is_spike else defines
     return AppSources(root, tuple(dict.fromkeys(sources)), root / APP_CFG if (root / APP_CFG).is_file() else None,
                       tuple(dict.fromkeys(d for d in includes if d != root)), defines, tuple(sorted(files)), libs,

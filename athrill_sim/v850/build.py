@@ -27,14 +27,15 @@ import re
 import shlex
 import shutil
 import subprocess
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
 from athrill_sim.build_cache import CacheKey, cache_root, cached_build
 from athrill_sim.elf_symbols import DEBUG_SUFFIX
-from athrill_sim.native import NativeBuildError
+from athrill_sim.native import NativeBuildError, spike
 from athrill_sim.native.headers import LAYOUT_HEADER
-from athrill_sim.native.makefile import ETROBO_VARIABLES, ETROBOC_COMMON, evaluate
+from athrill_sim.native.makefile import ETROBO_VARIABLES, ETROBOC_COMMON, MakeVars, evaluate
 from athrill_sim.native.workspace import LONE_CXX_MAKEFILE_INC
 from athrill_sim.v850 import ImageError
 from athrill_sim.v850.toolchain import Tools, check_build_tools, find_tools
@@ -76,16 +77,16 @@ def build_image(app: Path, *, sdk: Path | None = None, toolchain: Path | None = 
     `announce` hears what is being built before a build starts (it takes seconds). `flags` are extra
     compiler flags for the program (a tuned program's -DNAME=value, athrill_sim.tuning), added to its
     Makefile.inc's COPTS in the scratch copy."""
-    tools = find_tools(sdk, toolchain)
     root, files, lone = app_files(Path(app))
+    kind = program_kind(root, files, lone)
+    tools = find_tools(sdk, toolchain, spike=kind.spike)
     entry = cache_root() / "v850" / cache_key(root, files, lone, tools, flags)
     if (entry / IMAGE).is_file():
         return entry / IMAGE
     check_build_tools()
-    cxx = is_cxx(root, files, lone)
     if announce is not None:
-        announce(f"building {root} with the EV3RT SDK at {tools.sdk} and {tools.gcc}")
-    return cached_build(entry, IMAGE, lambda scratch: _build(root, files, lone, tools, scratch, cxx, flags))
+        announce(f"building {root} with the {'SPIKE' if kind.spike else 'EV3RT'} SDK at {tools.sdk} and {tools.gcc}")
+    return cached_build(entry, IMAGE, lambda scratch: _build(root, files, lone, tools, scratch, kind.cxx, flags))
 
 
 def app_files(app: Path) -> tuple[Path, list[Path], bool]:
@@ -109,17 +110,26 @@ def app_files(app: Path) -> tuple[Path, list[Path], bool]:
     return root, files, False
 
 
-def is_cxx(root: Path, files: list[Path], lone: bool) -> bool:
-    """Whether EV3RT builds the program as C++: its Makefile.inc says `SRCLANG := c++` (read by GNU make, as
-    the SDK reads it), or it is a lone .cpp file."""
-    if lone:
-        return files[0].suffix == ".cpp"
-    if not (root / "Makefile.inc").is_file():
-        return False
-    try:
-        return evaluate(root / "Makefile.inc").words("SRCLANG") == ["c++"]
-    except NativeBuildError as e:
-        raise ImageError(str(e)) from None
+@dataclass(frozen=True)
+class ProgramKind:
+    cxx: bool  # EV3RT builds it as C++: `SRCLANG := c++` (its main file app.cpp), or a lone .cpp file
+    spike: bool  # written against the SPIKE API: built with ET Robocon's SPIKE SDK unless --sdk says otherwise
+
+
+def program_kind(root: Path, files: list[Path], lone: bool) -> ProgramKind:
+    """What the program's Makefile.inc (read by GNU make, as the SDK reads it) and sources say it is: the
+    same rules as the native build's (`athrill_sim.native.spike`)."""
+    make = MakeVars({}, (), ())
+    if lone and files[0].suffix == ".cpp":
+        return ProgramKind(True, spike.is_spike_program({}, files))
+    if not lone and (root / "Makefile.inc").is_file():
+        try:
+            make = evaluate(root / "Makefile.inc")
+        except NativeBuildError as e:
+            raise ImageError(str(e)) from None
+    is_spike = (spike.is_spike_program(make.values, files)
+                or any(lib.name == spike.CXX_LIBRARY for lib in make.libraries))
+    return ProgramKind(make.words("SRCLANG") == ["c++"], is_spike)
 
 
 def cache_key(root: Path, files: list[Path], lone: bool, tools: Tools, flags: tuple[str, ...] = ()) -> str:

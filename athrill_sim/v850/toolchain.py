@@ -20,7 +20,10 @@ from athrill_sim.v850 import ImageError
 PROJECT = Path(__file__).resolve().parents[2]
 SHARED = PROJECT.parent / "shared" / "third_party"
 SDK_ENV = "EV3RT_SDK"
-SDK_DIR = "ev3rt-athrill-v850e2m"  # the SDK's own folder name, under a folder that may also hold toolchain/
+SPIKE_SDK_ENV = "RASPIKE_SDK"
+# The SDKs' own folder names, under a folder that may also hold toolchain/: TOPPERS' EV3RT, and ET Robocon's
+# fork of it for the SPIKE API (third_party/raspike).
+SDK_DIRS = ("ev3rt-athrill-v850e2m", "raspike-athrill-v850e2m")
 GCC = "v850-elf-gcc"
 TOOLCHAIN_TARBALLS = "toolchain/*.tar.gz"
 ATHRILL_ENV = "ATHRILL_SRC"  # the same variable scripts/build_athrill2.sh reads
@@ -37,21 +40,25 @@ class Tools:
     athrill: Path  # Athrill's core sources (their apl/ is the guest side of its devices)
 
 
-def find_sdk(given: Path | None) -> Path:
-    """The ev3rt-athrill-v850e2m folder: --sdk, $EV3RT_SDK, or ../shared/third_party/ev3rt. Either the SDK
-    folder itself or a folder holding it (and its toolchain) may be named."""
-    env = os.environ.get(SDK_ENV)
+def find_sdk(given: Path | None, spike: bool = False) -> Path:
+    """The SDK folder (holding sdk/workspace): --sdk, else for a SPIKE program $RASPIKE_SDK or
+    ../shared/third_party/raspike (ET Robocon's raspike-athrill-v850e2m), else $EV3RT_SDK or
+    ../shared/third_party/ev3rt. Either the SDK folder itself or a folder holding it (and its toolchain) may
+    be named."""
+    env_name, default, repo = ((SPIKE_SDK_ENV, "raspike", "ETrobocon/raspike-athrill-v850e2m") if spike
+                               else (SDK_ENV, "ev3rt", "toppers/ev3rt-athrill-v850e2m"))
+    env = os.environ.get(env_name)
     if given is not None:
         folder, origin = given, "--sdk"
     elif env:
-        folder, origin = Path(env), f"${SDK_ENV}"
+        folder, origin = Path(env), f"${env_name}"
     else:
-        folder, origin = SHARED / "ev3rt", "the default, ../shared/third_party/ev3rt"
-    for sdk in (folder, folder / SDK_DIR):
+        folder, origin = SHARED / default, f"the default, ../shared/third_party/{default}"
+    for sdk in (folder, *(folder / d for d in SDK_DIRS)):
         if (sdk / "sdk" / "workspace").is_dir() and (sdk / "sdk" / "common").is_dir():
             return sdk.resolve()
-    raise ImageError(f"no EV3RT SDK at {folder} ({origin}); get toppers/ev3rt-athrill-v850e2m and pass "
-                     f"--sdk DIR or set ${SDK_ENV}")
+    kind = "SPIKE (RasPike-ART) SDK for Athrill" if spike else "EV3RT SDK"
+    raise ImageError(f"no {kind} at {folder} ({origin}); get {repo} and pass --sdk DIR or set ${env_name}")
 
 
 def find_toolchain(given: Path | None, sdk: Path) -> Path:
@@ -64,7 +71,8 @@ def find_toolchain(given: Path | None, sdk: Path) -> Path:
         raise ImageError(f"--toolchain {given}: no {GCC} in it or in its bin/")
     if found := shutil.which(GCC):
         return Path(found)
-    tarballs = sorted(sdk.parent.glob(TOOLCHAIN_TARBALLS))
+    # beside the SDK, else EV3RT's: ET Robocon's SPIKE SDK comes without one, and builds with the same
+    tarballs = sorted(sdk.parent.glob(TOOLCHAIN_TARBALLS)) or sorted((SHARED / "ev3rt").glob(TOOLCHAIN_TARBALLS))
     if not tarballs:
         raise ImageError(f"no v850 cross compiler: put {GCC} on PATH, pass --toolchain DIR, or place the "
                          f"toolchain tarball in {sdk.parent / 'toolchain'}")
@@ -105,8 +113,8 @@ def find_athrill() -> Path:
     return core.resolve()
 
 
-def find_tools(sdk: Path | None = None, toolchain: Path | None = None) -> Tools:
-    found = find_sdk(sdk)
+def find_tools(sdk: Path | None = None, toolchain: Path | None = None, spike: bool = False) -> Tools:
+    found = find_sdk(sdk, spike)
     return Tools(found, find_toolchain(toolchain, found), find_athrill())
 
 
