@@ -66,6 +66,9 @@ class MakeVars:
         return self.values.get(name, [])
 
 
+NO_MAKEFILE = MakeVars({}, (), ())  # a program without Makefile.inc sets nothing
+
+
 def evaluate(makefile: Path) -> MakeVars:
     """What `makefile` sets, evaluated by GNU make in EV3RT's context (NativeBuildError, one line, if make
     fails, a `$(shell ...)` fails or a file listing names no files)."""

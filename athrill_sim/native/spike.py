@@ -10,8 +10,10 @@ headers and runtime (`runtime/spike`) in addition to the EV3RT ones, which stay 
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable
 from pathlib import Path
+
+from athrill_sim.native.makefile import MakeVars
 
 SPIKE = Path(__file__).with_name("runtime") / "spike"
 INCLUDE_DIRS = (SPIKE / "include", SPIKE / "include" / "spike")  # <spike/pup/motor.h> and the SDK's <pup/motor.h>
@@ -24,10 +26,10 @@ SOURCES = (".c", ".h", ".cpp", ".hpp", ".cc", ".hh")  # what may include a SPIKE
 _SPIKE_INCLUDE = re.compile(r'^\s*#\s*include\s*[<"](?:spikeapi\.h|spike/|pbio/)', re.M)
 
 
-def is_spike_program(make: Mapping[str, Sequence[str]], files: Iterable[Path]) -> bool:
-    """Whether Makefile.inc sets USE_RASPIKE_ART (make's `ifdef` sense: to anything) or one of the program's
-    C or C++ files includes a SPIKE header."""
-    if make.get(MAKE_VARIABLE):
+def is_spike_program(make: MakeVars, files: Iterable[Path]) -> bool:
+    """Whether Makefile.inc sets USE_RASPIKE_ART (make's `ifdef` sense: to anything) or includes libcpp-spike,
+    or one of the program's C or C++ files includes a SPIKE header."""
+    if make.words(MAKE_VARIABLE) or any(lib.name == CXX_LIBRARY for lib in make.libraries):
         return True
     return any(_SPIKE_INCLUDE.search(f.read_text(errors="replace")) for f in files if f.suffix in SOURCES)
 

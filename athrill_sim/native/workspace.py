@@ -22,7 +22,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from athrill_sim.native import NativeBuildError, spike
-from athrill_sim.native.makefile import MakeVars, evaluate
+from athrill_sim.native.makefile import NO_MAKEFILE, MakeVars, evaluate
 
 APP_SOURCE = "app.c"
 APP_CXX_SOURCE = "app.cpp"
@@ -70,7 +70,7 @@ def find_app(path: Path) -> AppSources:
             raise NativeBuildError(f"{path}: not a C or C++ source file (.c, .cpp)")
         return _lone_app(path)
     root = path if path.is_dir() else path.parent
-    make = evaluate(root / MAKEFILE_INC) if (root / MAKEFILE_INC).is_file() else MakeVars({}, (), ())
+    make = evaluate(root / MAKEFILE_INC) if (root / MAKEFILE_INC).is_file() else NO_MAKEFILE
     return _workspace_app(root, make)
 
 
@@ -78,7 +78,7 @@ def _lone_app(source: Path) -> AppSources:
     root = source.parent
     hashed = [source, *sorted(root.glob("*.h"))]
     if source.suffix == C_SUFFIX:
-        is_spike = spike.is_spike_program({}, hashed)
+        is_spike = spike.is_spike_program(NO_MAKEFILE, hashed)
         return AppSources(root, (source,), None, (), spike.DEFINES if is_spike else (), tuple(hashed), spike=is_spike)
     with tempfile.TemporaryDirectory(prefix="hako-lone-") as scratch:
         inc = Path(scratch) / "app" / MAKEFILE_INC
@@ -131,8 +131,7 @@ def _workspace_sources(root: Path, make: MakeVars, main: list[Path], hashed: lis
     libs = tuple(_libs(make.words("APPL_LIBS"), inc))
     files = {*hashed, *make.makefiles, *sources, *library}
     files |= {f for d in (*dirs, *includes) for f in d.iterdir() if f.is_file() and f.suffix in HASHED_SUFFIXES}
-    is_spike = (spike.is_spike_program(make.values, sorted(files))
-                or any(lib.name == spike.CXX_LIBRARY for lib in make.libraries))
+    is_spike = spike.is_spike_program(make, sorted(files))
     defines = (*spike.DEFINES, *defines) if is_spike else defines
     return AppSources(root, tuple(dict.fromkeys(sources)), root / APP_CFG if (root / APP_CFG).is_file() else None,
                       tuple(dict.fromkeys(d for d in includes if d != root)), defines, tuple(sorted(files)), libs,

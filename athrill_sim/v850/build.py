@@ -35,7 +35,7 @@ from athrill_sim.build_cache import CacheKey, cache_root, cached_build
 from athrill_sim.elf_symbols import DEBUG_SUFFIX
 from athrill_sim.native import NativeBuildError, spike
 from athrill_sim.native.headers import LAYOUT_HEADER
-from athrill_sim.native.makefile import ETROBO_VARIABLES, ETROBOC_COMMON, MakeVars, evaluate
+from athrill_sim.native.makefile import ETROBO_VARIABLES, ETROBOC_COMMON, NO_MAKEFILE, evaluate
 from athrill_sim.native.workspace import LONE_CXX_MAKEFILE_INC
 from athrill_sim.v850 import ImageError
 from athrill_sim.v850.toolchain import Tools, check_build_tools, find_tools
@@ -119,16 +119,15 @@ class ProgramKind:
 def program_kind(root: Path, files: list[Path], lone: bool) -> ProgramKind:
     """What the program's Makefile.inc (read by GNU make, as the SDK reads it) and sources say it is: the
     same rules as the native build's (`athrill_sim.native.spike`)."""
-    make = MakeVars({}, (), ())
-    if lone and files[0].suffix == ".cpp":
-        return ProgramKind(True, spike.is_spike_program({}, files))
-    if not lone and (root / "Makefile.inc").is_file():
+    make = NO_MAKEFILE
+    if lone:
+        return ProgramKind(files[0].suffix == ".cpp", spike.is_spike_program(make, files))
+    if (root / "Makefile.inc").is_file():
         try:
             make = evaluate(root / "Makefile.inc")
         except NativeBuildError as e:
             raise ImageError(str(e)) from None
-    is_spike = (spike.is_spike_program(make.values, files)
-                or any(lib.name == spike.CXX_LIBRARY for lib in make.libraries))
+    is_spike = spike.is_spike_program(make, files)
     return ProgramKind(make.words("SRCLANG") == ["c++"], is_spike)
 
 
