@@ -7,9 +7,9 @@ public:
     float control(float error);
 
 private:
-    static constexpr float KP = 0.6f;
+    static constexpr float KP = 0.9f;
     static constexpr float KI = 0.0f;
-    static constexpr float KD = 2.0f;
+    static constexpr float KD = 1.0f;
     float mIntegral = 0.0f;
     float mLastError = 0.0f;
 };
