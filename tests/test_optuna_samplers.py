@@ -50,16 +50,6 @@ def test_a_fresh_process_proposes_the_same_batch(name: str) -> None:
 
 
 @pytest.mark.parametrize("name", OPTUNA)
-def test_the_first_points_of_a_batch_do_not_depend_on_its_size(name: str) -> None:
-    """So the last round of a campaign, cut short, proposes what a whole one begins with."""
-    X, Y = initial(8)
-    sampler = make_sampler(name, 3)
-    full = sampler.suggest_batch(SPACE, X, Y, 1, 4)
-    assert sampler.suggest_batch(SPACE, X, Y, 1, 2) == full[:2]
-    assert sampler.suggest(SPACE, X, Y, 1) == full[0]
-
-
-@pytest.mark.parametrize("name", OPTUNA)
 def test_integer_parameters_are_proposed_as_integers(name: str) -> None:
     space = ParameterSpace(params=(Parameter("gain", Rx.KP, 0.0, 5.0), Parameter("power", Rx.MOTOR_POWER, 10, 30,
                                                                                      type="int")))
