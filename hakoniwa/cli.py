@@ -252,6 +252,36 @@ def build(app: Path, sdk: Path | None, toolchain: Path | None) -> None:
     click.echo(str(image))
 
 
+@main.command(context_settings=HELP)
+@click.argument("run_dirs", nargs=-1, required=True, type=click.Path(path_type=Path), metavar="RUN_DIR...")
+@click.option("--host", default="127.0.0.1", show_default=True,
+              help="Address to serve on (0.0.0.0 shows the campaigns to every machine that reaches this one).")
+@click.option("--port", type=click.IntRange(0, 65535), default=8080, show_default=True,
+              help="Port to serve on (0: any free one).")
+def dashboard(run_dirs: tuple[Path, ...], host: str, port: int) -> None:
+    """Serve optuna-dashboard on the campaigns in RUN_DIR... (each one's optuna.log): their history,
+    parameter importances, slice and contour plots, every set's tests and the trajectories of the sets that
+    improved on the best. Live: a campaign still running shows each set as it is decided. Needs the
+    dashboard extra: pip install -e '.[dashboard]'."""
+    from testctl.dashboard import DashboardError, make_app, make_server
+    from testctl.interrupts import sigterm_interrupts, stopped_by
+
+    try:
+        server = make_server(make_app(run_dirs), host, port)
+    except DashboardError as e:
+        raise click.ClickException(str(e)) from None
+    shown = host if ":" not in host else f"[{host}]"
+    click.echo(f"hako dashboard: {len(run_dirs)} campaign{'s' * (len(run_dirs) > 1)} on "
+               f"http://{shown}:{server.server_port}/dashboard (Ctrl-C stops)", err=True)
+    with sigterm_interrupts():
+        try:
+            server.serve_forever()
+        except KeyboardInterrupt as e:
+            stopped_by(e)
+        finally:
+            server.server_close()
+
+
 def time_limit_s(bench: BenchOptions) -> float:
     """The bench's time limit: what a failed test scores in a campaign."""
     from hakoniwa.physics.course import CourseError, load_course

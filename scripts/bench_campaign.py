@@ -1,5 +1,5 @@
-"""Campaign benchmarks: benches in parallel, the paper's full `hako run --trials 100`, and Bayesian optimization
-vs. random search on the same budget.
+"""Campaign benchmarks: benches in parallel, the paper's full `hako run --trials 100`, and the optimizers side
+by side on the same budget.
 
 --benches 1,2,4,...  For each N, one campaign on a LocalCluster of N benches (batch N, noise on, in this
                      process, so that the optimizer's own time per round is measured inside the very run):
@@ -7,16 +7,22 @@ vs. random search on the same budget.
                      seconds per round (median and the last round, the one with the most sets).
 --full               The wall time of the paper's `hako run --trials 100` exactly as a user runs it (default
                      benches, noise on, first to 3 of 5); for the README's "how long".
---compare            BO vs random: best lap after 20, 40 and 105 sets, seeds 0, 1, 2, against a 1000-set
-                     random search. These runs use `--noise 0 --repeats 1`: on the noise-free bench one test
-                     gives exactly the value that the repetitions would, at a fraction of the cost.
+--compare            Every optimizer (GPyOpt EI, Optuna's TPE, CMA-ES and GP, random search) on three problems
+                     (`PROBLEMS`), 5 random + 100 proposed sets on seeds 100..104: the best lap after 10, 20,
+                     40 and 105 sets (median and range over the seeds), and the optimizer's own seconds per
+                     proposal measured inside the run. One test per set (`--repeats 1`): on the noise-free
+                     bench one test gives exactly the value the repetitions would; with noise, a set's value is
+                     one noisy lap, which is the noisy objective the optimizers then face.
 
-Every `hako run` writes into --work; an existing finished campaign there is reused (and reported as such).
+Every campaign writes into --work; a finished one there is reused (and reported as such).
 """
 
 from __future__ import annotations
 
 import json
+import multiprocessing
+import os
+import shutil
 import statistics
 import subprocess
 import sys
@@ -29,10 +35,16 @@ import click
 
 from hakoniwa.physics.options import BenchOptions
 from testctl.campaign import Campaign, CampaignConfig
-from testctl.journal import JOURNAL_FILE, read_journal
-from testctl.objective import RepetitionRule
+from testctl.journal import JOURNAL_FILE
 
-CHECKPOINTS = (20, 40, 105)
+CHECKPOINTS = (10, 20, 40, 105)
+PROBLEMS = {  # name: (space file, noise); every campaign 5 random + 100 proposed sets, one test per set
+    "gains-noise0": (None, 0.0),
+    "gains-noise1": (None, 1.0),
+    "power4-noise0": (Path("docs/space-example.toml"), 0.0),
+}
+COMPARED = ("gpyopt", "tpe", "cmaes", "optuna-gp", "random")
+COMPARE_APP = "line_trace_c"  # the Python tracer's laps to the microsecond (DESIGN-NOTES), 10x quicker to start
 
 
 def campaign(out: Path, *args: str) -> float | None:
@@ -46,17 +58,6 @@ def campaign(out: Path, *args: str) -> float | None:
     if r.returncode != 0:
         raise click.ClickException(f"{' '.join(cmd)} failed: {r.stderr.strip().splitlines()[-1:]}")
     return time.monotonic() - start
-
-
-def set_values(out: Path) -> list[float]:
-    """The objective of each decided set, in set order."""
-    header, records = read_journal(out / JOURNAL_FILE)
-    rule = RepetitionRule(header["options"]["repeats"], header["options"]["max_crashes"])
-    by_set: dict[int, list] = {}
-    for r in sorted(records, key=lambda r: (r.set_index, r.rep)):
-        by_set.setdefault(r.set_index, []).append(r.result)
-    verdicts = [rule.judge(by_set[i]) for i in sorted(by_set)]
-    return [v.value for v in verdicts if v.decided]
 
 
 def best_after(values: list[float], n: int) -> float:
@@ -89,18 +90,22 @@ def scaling(benches: list[int], trials: int) -> None:
               f"{med:>20.3f} {last:>17.3f} {sets:>5}")
 
 
-@click.command()
+@click.command(context_settings={"help_option_names": ["-h", "--help"]})
 @click.option("--benches", default=None, help="Bench counts to compare, e.g. 1,2,4,8 (the first is the baseline).")
 @click.option("--trials", default=20, show_default=True, help="Optimization sets of each --benches campaign.")
 @click.option("--full", is_flag=True, help="Time the paper's `hako run --trials 100`.")
 @click.option("--full-benches", type=int, default=None, help="--benches for --full [hako's default].")
-@click.option("--compare", is_flag=True, help="BO vs random search (long: about 4000 tests).")
+@click.option("--compare", is_flag=True, help="The optimizers side by side on three problems (long: 105 tests "
+                                             "a campaign).")
 @click.option("--work", type=click.Path(file_okay=False, path_type=Path), default=Path("runs/bench-campaign"),
               show_default=True, help="Where --full and --compare campaigns are written (and reused from).")
-@click.option("--seeds", default="0,1,2", show_default=True, help="Seeds for --compare.")
-@click.option("--reference-sets", default=1000, show_default=True, help="Sets in --compare's big random search.")
+@click.option("--seeds", default="100,101,102,103,104", show_default=True,
+              help="Seeds for --compare (no setting of any optimizer was chosen on them).")
+@click.option("--problems", default=",".join(PROBLEMS), show_default=True, help="Problems for --compare.")
+@click.option("--optimizers", default=",".join(COMPARED), show_default=True, help="Optimizers for --compare.")
+@click.option("--jobs", default=1, show_default=True, help="--compare campaigns run at once (one bench each).")
 def main(benches: str | None, trials: int, full: bool, full_benches: int | None, compare: bool, work: Path,
-         seeds: str, reference_sets: int) -> None:
+         seeds: str, problems: str, optimizers: str, jobs: int) -> None:
     """Print campaign throughput and quality figures."""
     if benches:
         scaling([int(b) for b in benches.split(",")], trials)
@@ -115,30 +120,83 @@ def main(benches: str | None, trials: int, full: bool, full_benches: int | None,
               f"{best['n_tests']} tests; best lap {best['lap_time_s']:.2f} s at "
               + ", ".join(f"{k}={v:.3f}" for k, v in best["params"].items()))
     if compare:
-        compare_optimizers(work, [int(s) for s in seeds.split(",")], reference_sets)
+        compare_optimizers(work, [int(s) for s in seeds.split(",")], problems.split(","), optimizers.split(","), jobs)
 
 
-def compare_optimizers(work: Path, seeds: list[int], reference_sets: int) -> None:
-    budget = ["--init-points", "5", "--trials", "100", "--repeats", "1", "--noise", "0"]
-    ref = work / f"random-{reference_sets}"
-    ref_wall = campaign(ref, "--optimizer", "random", "--seed", "1000", "--init-points", "5", "--trials",
-                        str(reference_sets - 5), "--repeats", "1", "--noise", "0")
-    ref_best = min(set_values(ref))
-    print(f"reference: best lap of a {reference_sets}-set random search: {ref_best:.2f} s "
-          f"({'reused' if ref_wall is None else f'{ref_wall:.0f} s wall'})")
-    print(f"{'optimizer':<10}{'seed':>5}" + "".join(f"{'best@' + str(n):>11}" for n in CHECKPOINTS) + f"{'wall':>9}")
-    at40: dict[str, list[float]] = {"gpyopt": [], "random": []}
-    for seed in seeds:
-        for opt in ("gpyopt", "random"):
-            out = work / f"{opt}-s{seed}"
-            wall = campaign(out, "--optimizer", opt, "--seed", str(seed), *budget)
-            bests = [best_after(set_values(out), n) for n in CHECKPOINTS]
-            at40[opt].append(bests[1])
-            print(f"{opt:<10}{seed:>5}" + "".join(f"{b:>11.2f}" for b in bests)
-                  + f"{'reused' if wall is None else f'{wall:.0f}s':>9}")
-    for opt, vals in at40.items():
-        med = statistics.median(vals)
-        print(f"median best after 40 sets, {opt}: {med:.2f} s = {100 * (med / ref_best - 1):+.2f}% vs reference")
+def compare_one(work: Path, problem: str, optimizer: str, seed: int) -> dict:
+    """One campaign of the comparison, in this process on one bench; its set values and the optimizer's
+    seconds per proposal, kept in the campaign folder so that a rerun reuses it."""
+    from testctl.bench import Bench
+    from testctl.executor import SerialExecutor
+    from testctl.space import ParameterSpace
+
+    out = work / f"{problem}-{optimizer}-s{seed}"
+    done = out / "compare.json"
+    if done.exists():
+        return {**json.loads(done.read_text()), "reused": True}
+    space_file, noise = PROBLEMS[problem]
+    space = ParameterSpace.load(space_file) if space_file else ParameterSpace.default()
+    options = BenchOptions(app=COMPARE_APP)
+    config = CampaignConfig(space=space, trials=100, init_points=5, repeats=1, seed=seed, optimizer=optimizer,
+                            noise=noise, penalty_s=time_limit_s(options))
+    if out.exists():
+        shutil.rmtree(out)  # an interrupted one: its proposal times died with it
+    start = time.monotonic()
+    with Bench(options, out / "run", log=subprocess.DEVNULL) as bench:
+        summary = Campaign(config, out, SerialExecutor(bench.run)).run()
+    row = {"problem": problem, "optimizer": optimizer, "seed": seed, "values": [s.value for s in summary.sets],
+           "proposal_s": list(summary.proposal_s[1:]), "wall_s": time.monotonic() - start}
+    done.write_text(json.dumps(row))
+    return {**row, "reused": False}
+
+
+def time_limit_s(options: BenchOptions) -> float:
+    from hakoniwa.physics.course import load_course
+
+    return load_course(options.course).time_limit_us / 1e6
+
+
+def spread(values: list[float]) -> str:
+    return f"{statistics.median(values):.2f} [{min(values):.2f}-{max(values):.2f}]"
+
+
+def compare_optimizers(work: Path, seeds: list[int], problems: list[str], optimizers: list[str], jobs: int) -> None:
+    """Every (problem, optimizer, seed) campaign, `jobs` at a time; then one table per problem."""
+    from concurrent.futures import ProcessPoolExecutor
+
+    from testctl.optimizers import missing
+
+    for opt in list(optimizers):
+        if (why := missing(opt)) is not None:
+            print(f"skipping {opt}: {why}")
+            optimizers.remove(opt)
+    runs = [(p, o, s) for s in seeds for p in problems for o in optimizers]
+    print(f"{len(runs)} campaigns, {jobs} at a time, app {COMPARE_APP}, one test per set; {load()}", flush=True)
+    rows = []
+    with ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
+        futures = [pool.submit(compare_one, work, *run) for run in runs]
+        for f in futures:
+            row = f.result()
+            rows.append(row)
+            print(f"{row['problem']} {row['optimizer']} seed {row['seed']}: best "
+                  + " / ".join(f"{best_after(row['values'], n):.2f}" for n in CHECKPOINTS)
+                  + (" (reused)" if row["reused"] else f" ({row['wall_s']:.0f} s)"), flush=True)
+    print(f"({load()} after)")
+    for problem in problems:
+        space_file, noise = PROBLEMS[problem]
+        print(f"\n{problem}: {space_file or 'Kp, Ki, Kd in [0, 5], power 15'}, noise {noise:g}; best lap [s] after "
+              f"n sets, median [min-max] over seeds {', '.join(map(str, seeds))}")
+        print("| optimizer | " + " | ".join(f"after {n}" for n in CHECKPOINTS) + " | s per proposal, median [max] |")
+        print("|---|" + "---:|" * (len(CHECKPOINTS) + 1))
+        for opt in optimizers:
+            mine = [r for r in rows if r["problem"] == problem and r["optimizer"] == opt]
+            cells = [spread([best_after(r["values"], n) for r in mine]) for n in CHECKPOINTS]
+            times = [t for r in mine for t in r["proposal_s"]]
+            print(f"| {opt} | " + " | ".join(cells) + f" | {statistics.median(times):.3f} [{max(times):.2f}] |")
+
+
+def load() -> str:
+    return "load average {:.2f} {:.2f} {:.2f} on {} cores".format(*os.getloadavg(), os.cpu_count())
 
 
 if __name__ == "__main__":

@@ -189,7 +189,8 @@ class Campaign:
 
     `executor` runs the tests: an `Executor`, or simply a function TestSpec -> TestResult (run one at a time).
     `bench_info` describes the bench (course, program, time limit) for the journal's header: a resumed
-    campaign runs on the same bench.
+    campaign runs on the same bench. `on_sets` is given every set decided so far: none at the start, then
+    whenever there are more (those of the journal first); the Optuna study mirror, `testctl.study`.
     """
 
     def __init__(
@@ -199,6 +200,7 @@ class Campaign:
         executor: Executor | Callable[[TestSpec], TestResult],
         *,
         on_progress: Callable[[Progress], None] | None = None,
+        on_sets: Callable[[tuple[SetResult, ...]], None] | None = None,
         resume: bool = False,
         bench_info: Mapping[str, Any] | None = None,
     ) -> None:
@@ -207,6 +209,7 @@ class Campaign:
         self.out_dir = Path(out_dir)
         self.executor = executor if isinstance(executor, Executor) else SerialExecutor(executor)
         self.on_progress = on_progress
+        self.on_sets = on_sets
         self.resume = resume
         self._init_sampler: Sampler = RandomSampler(config.seed)
         self._bo_sampler: Sampler = make_sampler(config.optimizer, config.seed)
@@ -231,17 +234,19 @@ class Campaign:
             n_before = len(journal.records)
             by_set = self._group(journal.records)
             self._report(len(journal.records), None)
+            if self.on_sets is not None:
+                self.on_sets(())
             for round_index, indices in enumerate(self.config.rounds()):
                 if all(self._decided(by_set.get(i, [])) for i in indices):
-                    self._done.extend(self._decided(by_set[i]) for i in indices)  # type: ignore[misc]
+                    self._add(*(self._decided(by_set[i]) for i in indices))  # type: ignore[misc]
                     continue
                 t0 = time.perf_counter()
                 points = self._propose(round_index, indices)
                 self._proposal_s.append(time.perf_counter() - t0)
                 points = self._check_against_journal(indices, points, by_set)
                 self._run_round([_OpenSet(i, x) for i, x in zip(indices, points)], by_set, journal)
-            self._done.extend(s for i in sorted(by_set) if i >= self.config.total_sets
-                              for s in [self._decided(by_set[i])] if s is not None)
+            self._add(*(s for i in sorted(by_set) if i >= self.config.total_sets
+                        for s in [self._decided(by_set[i])] if s is not None))
             records = journal.records
         sets = tuple(sorted(self._done, key=lambda s: s.index))
         return CampaignSummary(
@@ -296,7 +301,12 @@ class Campaign:
     def _close(self, s: _OpenSet) -> None:
         verdict = self.config.rule.judge(s.ordered())
         tests = tuple(s.records[r] for r in sorted(s.records))
-        self._done.append(SetResult(s.index, self.config.phase(s.index), s.x, verdict, tests))
+        self._add(SetResult(s.index, self.config.phase(s.index), s.x, verdict, tests))
+
+    def _add(self, *decided: SetResult) -> None:
+        self._done.extend(decided)
+        if decided and self.on_sets is not None:
+            self.on_sets(tuple(self._done))
 
     def _launch(self, s: _OpenSet) -> None:
         """Submit as many further repetitions of `s` as the rule says every continuation needs."""

@@ -18,7 +18,8 @@ import click
 
 from hakoniwa.clickutil import NOISE_SCALE, option_group
 from hakoniwa.wire.rundir import RunDirBusy, RunDirLock
-from testctl.optimizers import OPTIMIZERS
+from testctl.optimizers import HELP as OPTIMIZER_HELP
+from testctl.optimizers import OPTIMIZERS, missing
 from testctl.journal import JOURNAL_FILE, JournalError, read_journal
 from testctl.space import ParameterSpace, SpaceError
 
@@ -36,7 +37,7 @@ _OPTIONS = [
     click.option("--seed", type=click.IntRange(min=0), default=None,
                  help="Seed of the initial design, the optimizer and every test's noise [0]."),
     click.option("--optimizer", type=click.Choice(list(OPTIMIZERS)), default=None,
-                 help="Bayesian optimization with EI, or uniform random search as a baseline [gpyopt]."),
+                 help=f"{OPTIMIZER_HELP} [gpyopt]."),
     click.option("--batch", type=click.IntRange(min=1), default=None,
                  help="Sets proposed per optimization round (constant liar) [1, as in the paper; the same "
                       "command is the same campaign on any number of benches]."),
@@ -103,9 +104,14 @@ def plan(trials: int | None, init_points: int | None, repeats: int | None, seed:
             if trials is not None:
                 config = dataclasses.replace(config, trials=trials)
             assert lock is not None
+            if (why := missing(config.optimizer)) is not None:
+                lock.release()
+                raise click.ClickException(f"{why} (the campaign in {resume} uses it)")
             return CampaignPlan(config, resume, True, dict(header.get("bench", {})), lock)
         space = ParameterSpace.load(space_file) if space_file is not None else ParameterSpace.default()
         config = CampaignConfig(space=space, penalty_s=penalty_s, **{**(SMOKE if smoke else {}), **given})
+        if (why := missing(config.optimizer)) is not None:
+            raise click.ClickException(why)
     except (SpaceError, JournalError, ValueError) as e:
         raise click.ClickException(str(e)) from None
     out_dir = out or Path("runs") / f"campaign-{dt.datetime.now():%Y%m%d-%H%M%S}"

@@ -46,11 +46,15 @@ def _check_q(q: int) -> None:
         raise ValueError(f"a batch needs at least one point, got q={q}")
 
 
-class RandomSampler(Sampler):
-    """Uniform random search: the paper's initial design, and the honest baseline to compare BO against."""
+class SeededSampler(Sampler):
+    """A sampler that draws all its randomness from the campaign's seed (with the round and the point)."""
 
     def __init__(self, seed: int) -> None:
         self.seed = seed
+
+
+class RandomSampler(SeededSampler):
+    """Uniform random search: the paper's initial design, and the honest baseline to compare BO against."""
 
     def suggest_batch(
         self, space: ParameterSpace, X: np.ndarray, Y: np.ndarray, round_index: int, q: int

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 
 import click
 
-from testctl.campaign import BenchBroken, Campaign, CampaignSummary, SetResult
+from testctl.campaign import BenchBroken, Campaign, CampaignConfig, CampaignSummary, SetResult
 from testctl.executor import Executor, TestSpec
 from testctl.interrupts import stopped_by
 from testctl.journal import JOURNAL_FILE, JournalError
@@ -43,6 +43,7 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
     and the command that continues it."""
     from testctl.patch import BEST_PATCH
     from testctl.report import BEST_JSON, format_summary, write_best_json, write_report
+    from testctl.study import STUDY_FILE, StudyMirror, attach
     from testctl.suite_run import BenchFault
     from testctl.validate import VALIDATION_PNG, draw_validation, validate_best
 
@@ -52,8 +53,9 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
         with click.progressbar(length=p.config.total_sets, label=label, show_eta=False,
                                item_show_func=lambda s: s, file=sys.stderr) as bar:
             plain = None if sys.stderr.isatty() else lambda line: click.echo(f"{label}: {line}", err=True)
+            mirror = StudyMirror(p.out_dir, lambda s, png: draw_set(p.config, s, trial_once, course_folder, png))
             summary = Campaign(p.config, p.out_dir, executor, on_progress=ProgressLine(bar, plain=plain),
-                               resume=p.resume, bench_info=bench_info).run()
+                               on_sets=mirror.update, resume=p.resume, bench_info=bench_info).run()
         patch = None
         if summary.best is not None and write_patch is not None:
             space = summary.config.space
@@ -71,6 +73,8 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
             files.append(draw_validation(p.out_dir / VALIDATION_PNG, summary, validation))
         if summary.best is not None:
             files.append(draw_best(summary, trial_once, course_folder, p.out_dir / BEST_TRAJECTORY_PNG))
+            attach(p.out_dir, files[-1])
+        files.append(p.out_dir / STUDY_FILE)
     except JournalError as e:
         raise click.ClickException(str(e)) from None
     except (BenchBroken, BenchFault, PhysicsGone, *failures) as e:
@@ -108,26 +112,29 @@ def no_success(summary: CampaignSummary, out_dir: Path) -> str:
             f"the report is in {out_dir}")
 
 
-def best_spec(summary: CampaignSummary) -> TestSpec:
-    """The best set as one test: with the noise of its first successful repetition, so its lap is one of the
-    laps the campaign measured."""
-    best = summary.best
-    assert best is not None
-    first = next(t for t in best.tests if t.result.success)
-    space = summary.config.space
-    return TestSpec(best.index, first.rep, space.to_offsets(best.x), first.noise_seed, summary.config.noise,
-                    space.slot_types)
+def set_spec(config: CampaignConfig, s: SetResult) -> TestSpec:
+    """A successful set as one test: with the noise of its first successful repetition, so its lap is one of
+    the laps the campaign measured."""
+    first = next(t for t in s.tests if t.result.success)
+    space = config.space
+    return TestSpec(s.index, first.rep, space.to_offsets(s.x), first.noise_seed, config.noise, space.slot_types)
 
 
-def draw_best(summary: CampaignSummary, trial_once: TrialOnce, course_folder: Path, out: Path) -> Path:
+def draw_set(config: CampaignConfig, s: SetResult, trial_once: TrialOnce, course_folder: Path, out: Path,
+             what: str = "") -> Path:
+    """Run set `s`'s test again and draw its trajectory into `out`."""
     from hakoniwa.physics.course import load_course
     from hakoniwa.physics.plot import draw_trajectory, read_trajectory
     from hakoniwa.wire.rundir import TRAJECTORY_FILE
 
-    best: SetResult = summary.best  # type: ignore[assignment]
-    result, run_dir = trial_once(best_spec(summary))
+    result, run_dir = trial_once(set_spec(config, s))
     lap = f"lap {result.lap_time_s:.2f} s" if result.lap_time_s is not None else result.event.name
-    names = " ".join(f"{k}={v:.3f}" for k, v in summary.config.space.to_named(best.x).items())
+    names = " ".join(f"{k}={v:.3f}" for k, v in config.space.to_named(s.x).items())
     draw_trajectory(load_course(course_folder), read_trajectory(run_dir / TRAJECTORY_FILE), out,
-                    title=f"best: set {best.number}, {names}: {lap} (mean of the set {best.value:.2f} s)")
+                    title=f"{what}set {s.number}, {names}: {lap} (mean of the set {s.value:.2f} s)")
     return out
+
+
+def draw_best(summary: CampaignSummary, trial_once: TrialOnce, course_folder: Path, out: Path) -> Path:
+    assert summary.best is not None
+    return draw_set(summary.config, summary.best, trial_once, course_folder, out, what="best: ")

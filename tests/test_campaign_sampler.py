@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from hakoniwa.wire.protocol import Rx
+from testctl import optimizers
 from testctl.optimizers import make_sampler
 from testctl.sampler import GPyOptSampler, RandomSampler
 from testctl.space import Parameter, ParameterSpace
@@ -70,14 +71,17 @@ def test_a_fresh_process_proposes_the_same_batch() -> None:
     assert fresh.stdout.strip() == repr(GPyOptSampler(5).suggest_batch(SPACE, X, Y, 3, 3))
 
 
-@pytest.mark.parametrize("name", ["gpyopt", "random"])
+@pytest.mark.parametrize("name", ["gpyopt", "random", "tpe", "cmaes", "optuna-gp"])
 def test_the_first_points_of_a_batch_do_not_depend_on_its_size(name: str) -> None:
-    """So a round cut short (the last one of a campaign) proposes the same sets, and `suggest` is q = 1."""
+    """So a round cut short (the last one of a campaign) proposes the same sets, and `suggest` is q = 1. (Round
+    1: CMA-ES replays the earlier rounds, whose size is the batch's.)"""
+    if optimizers.missing(name):
+        pytest.skip(optimizers.missing(name))
     X, Y = initial(8)
     sampler = make_sampler(name, 3)
-    full = sampler.suggest_batch(SPACE, X, Y, 5, 4)
-    assert sampler.suggest_batch(SPACE, X, Y, 5, 2) == full[:2]
-    assert sampler.suggest(SPACE, X, Y, 5) == full[0]
+    full = sampler.suggest_batch(SPACE, X, Y, 1, 4)
+    assert sampler.suggest_batch(SPACE, X, Y, 1, 2) == full[:2]
+    assert sampler.suggest(SPACE, X, Y, 1) == full[0]
 
 
 @pytest.mark.parametrize("name", ["gpyopt", "random"])
