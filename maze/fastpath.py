@@ -2,10 +2,11 @@
 
 Points are in half-cell units, X and Y in 0..2N; a wall's midpoint has X + Y odd (X odd: a horizontal wall).
 A node is a wall midpoint the mouse is crossing, with its heading in the seed library's eight directions
-(0 east, 1 north-east, 2 north, ... 7 south-east). Nodes come in three layers so that a straight's price
+(0 east, 1 north-east, 2 north, ... 7 south-east). Nodes come in layers so that a straight's price
 depends only on its length: A (just left a turn, at turn speed), B (a straight ended here, a turn must
-follow) and G (crossed into a goal cell: the timed run is over). Edges: straights A->B and A->G, turns
-B->A, and straights from the standing start in the start cell's centre.
+follow), G (crossed into a goal cell: the timed run is over) and C (cruising at top speed on a long
+straight). Edges: straights A->B and A->G, turns B->A, and straights from the standing start in the start
+cell's centre.
 The graph of a maze size is built once; each query marks which edges its walls leave open and searches it as
 A*: Dijkstra on reduced prices (each edge's price plus the drop in a lower bound of the time to the goal),
 with a distance limit so that scipy settles only the nodes that could lie on a route no slower than the

@@ -3,6 +3,7 @@ read from EV3RT's athrill drivers and Athrill's VDEV device)."""
 
 import re
 import struct
+from pathlib import Path
 
 import pytest
 from hypothesis import given
@@ -238,3 +239,17 @@ def test_the_spike_slots_are_where_the_sdks_header_puts_them():
     assert defines["SPIKE_SENSOR_IMU_INX_VELOCITY_Z"] == defines["SPIKE_SENSOR_IMU_INX_VELOCITY_X"] + 2
     for axis in "HSV":
         assert getattr(Rx, f"SPIKE_HSV_{axis}") == hsv + 4 * defines[f"SPIKE_SENSOR_HSV_INX_{axis}"]
+
+
+DOCS = Path(__file__).resolve().parent.parent / "docs"
+OFFSET_ROW = re.compile(r"^\|\s*`(Rx|Tx)\.([A-Z0-9_]+)`\s*\|\s*(\d+)\s*\|", re.MULTILINE)
+
+
+def test_the_docs_offset_tables_match_the_layout():
+    """A table row `| `Rx.NAME` | offset |` in docs/ restates protocol.py; it must not drift (it once did)."""
+    rows = [(doc.name, *m.groups()) for doc in sorted(DOCS.glob("*.md")) for m in OFFSET_ROW.finditer(doc.read_text())]
+    assert rows, "no offset table found in docs/: the pattern no longer matches how they are written"
+    layouts = {"Rx": Rx, "Tx": Tx}
+    wrong = [(doc, f"{side}.{name}", int(offset), getattr(layouts[side], name, None))
+             for doc, side, name, offset in rows if getattr(layouts[side], name, None) != int(offset)]
+    assert not wrong, f"(doc, field, documented, actual): {wrong}"

@@ -1,4 +1,4 @@
-"""The two ways physics and Athrill keep simulation time together, one loop each.
+"""The three ways physics and Athrill keep simulation time together, one loop each.
 
 `lockstep` (our mock and native programs): Athrill's clock is its task's wake-up time and computation
 takes no simulated time. At each `tslp_tsk` Athrill publishes its outputs and the time it will wake
