@@ -37,7 +37,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Callable
 
 from hakoniwa.wire.processes import CpuUse, cpu_use, describe_exit, take_bench_fault
-from hakoniwa.wire.protocol import HEADER_SIZE, CrashKind, Header, SyncMode, Tx
+from hakoniwa.wire.protocol import HEADER_SIZE, BenchCause, CrashKind, Header, SyncMode, Tx
 from hakoniwa.wire.timebase import ALLOWED_TIME_DIFF_US, PHYSICS_STEP_US
 from hakoniwa.wire.waiting import wait_word
 
@@ -52,10 +52,11 @@ SPINNING_CPU_SHARE = 0.1  # a silent Athrill that had this share of a core or mo
 class AthrillCrash(Exception):
     """The test ends as CRASH; `kind` says whose fault it may be, `detail` the exit status or -signal."""
 
-    def __init__(self, kind: CrashKind, detail: int, message: str) -> None:
+    def __init__(self, kind: CrashKind, detail: int, message: str, cause: BenchCause = BenchCause.NONE) -> None:
         super().__init__(message)
         self.kind = kind
         self.detail = detail
+        self.cause = cause  # what spoiled the test, for a BENCH crash
 
 
 def exit_crash(proc: subprocess.Popen, *, started: bool, run_dir: Path) -> AthrillCrash:
@@ -66,9 +67,10 @@ def exit_crash(proc: subprocess.Popen, *, started: bool, run_dir: Path) -> Athri
     assert code is not None
     reason = take_bench_fault(run_dir, proc.pid)
     if reason is not None:
-        return AthrillCrash(CrashKind.BENCH, code, f"athrill {describe_exit(code)}: {reason}")
-    kind = CrashKind.BENCH if code > 0 and not started else CrashKind.PROGRAM
-    return AthrillCrash(kind, code, f"athrill {describe_exit(code)}")
+        return AthrillCrash(CrashKind.BENCH, code, f"athrill {describe_exit(code)}: {reason}", BenchCause.ATHRILL_FAILED)
+    if code > 0 and not started:
+        return AthrillCrash(CrashKind.BENCH, code, f"athrill {describe_exit(code)}", BenchCause.ATHRILL_FAILED)
+    return AthrillCrash(CrashKind.PROGRAM, code, f"athrill {describe_exit(code)}")
 
 
 def watchdog(proc: subprocess.Popen, timeout_s: float, progress: Callable[[], int],
@@ -102,13 +104,14 @@ def silent_crash(silent_s: float, use: CpuUse | None, cpu_at: float, stopped: bo
     used = use.cpu_s - cpu_at
     had = f"{used:.1f} s of CPU in {silent_s:.0f} s"
     if stopped:
-        return AthrillCrash(CrashKind.BENCH, 0, f"athrill was stopped ({had}): a stall of the machine")
+        return AthrillCrash(CrashKind.BENCH, 0, f"athrill was stopped ({had}): a stall of the machine",
+                            BenchCause.ATHRILL_STALLED)
     if used >= SPINNING_CPU_SHARE * silent_s:
         return AthrillCrash(CrashKind.SILENT, 0, f"athrill silent for {silent_s:.0f} s while running ({had}): "
                                                  "the program does not sleep")
     if use.state in "RD":
         return AthrillCrash(CrashKind.BENCH, 0, f"athrill got no CPU ({had}, state {use.state}): a stall of "
-                                                "the machine")
+                                                "the machine", BenchCause.ATHRILL_STALLED)
     return AthrillCrash(CrashKind.SILENT, 0, f"athrill silent for {silent_s:.0f} s, blocked outside tslp_tsk")
 
 
