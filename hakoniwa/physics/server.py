@@ -5,7 +5,8 @@ sensor state `sensors.py`'s; this class starts Athrill, runs the sync loop, and 
 Physics time is the master. The world advances in whole 1 ms MuJoCo steps, batched up to the next moment
 anything has to happen: an event check, a trajectory sample, or (depending on the sync mode, see
 `sync.py`) Athrill's next wake-up or the edge of the allowed time difference. Nothing here depends on
-wall time except the watchdog that declares a silent or dead Athrill a crash.
+wall time except the watchdog that declares a silent or dead Athrill a crash, and each test's wall-clock
+ceiling (`hakoniwa.wire.wallclock`), past which a test whose simulated time crept is the bench's fault.
 
 Each test may carry seeded noise (`noise.py`): the controller's seed and scale are read at the test's
 start, the robot is put down with that test's start-pose jitter, and sensor snapshots and motor commands
@@ -43,6 +44,7 @@ from hakoniwa.physics.sync import SYNC_LOOPS, AthrillCrash, unity_time_us
 from hakoniwa.wire.protocol import BenchCause, CrashKind, Event, Objective, Tx
 from hakoniwa.wire.rundir import PHYSICS_LOG, PROGRAM_OUTPUT_FILE, SERIAL_INPUT, TRAJECTORY_FILE
 from hakoniwa.wire.timebase import Scheduler
+from hakoniwa.wire.wallclock import WallCeiling
 
 IDLE_POLL_S = 0.0005
 PROGRAM_OUTPUT_LINES = 6  # of a crashed program's output, for the user: a traceback's last frame and its error
@@ -83,6 +85,7 @@ class PhysicsServer:
         self.tests_run = 0
         self._max_diff_us = 0
         self._athrill_proc: subprocess.Popen | None = None
+        self._ceiling = WallCeiling(self.env.task.time_limit_us)  # each test's own, from its start
         self._controller_gone = threading.Event()
 
     # -- what the sync loops use ---------------------------------------------------------------------
@@ -100,6 +103,13 @@ class PhysicsServer:
         if self._controller_gone.is_set():
             raise ControllerGone
         return self.env.advance_to(target_us)
+
+    def check_ceiling(self) -> None:
+        """Raise a bench fault once the test is past its wall-clock ceiling (`hakoniwa.wire.wallclock`): a
+        clock that creeps would otherwise hold the bench for ever while never being silent."""
+        why = self._ceiling.exceeded(self.env.now_us)
+        if why is not None:
+            raise AthrillCrash(CrashKind.BENCH, 0, why, BenchCause.TIME_STALLED)
 
     def note_time_diff(self, diff_us: int) -> None:
         self._max_diff_us = max(self._max_diff_us, abs(diff_us))
@@ -181,6 +191,7 @@ class PhysicsServer:
         noise, program = self._start_test(seq)
         crash: AthrillCrash | None = program if isinstance(program, AthrillCrash) else None
         proc = None
+        self._ceiling = WallCeiling(self.env.task.time_limit_us)
         try:
             if crash is None:
                 self.transport.launching()
