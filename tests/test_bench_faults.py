@@ -6,12 +6,17 @@ from __future__ import annotations
 
 import os
 import signal
+import subprocess
+import sys
 import threading
 import time
 from pathlib import Path
 
+import pytest
+
 from bench_fixtures import PAPER, ZERO, physics
 from campaign_doubles import result
+from conftest import tagged_env, tagged_processes
 from hakoniwa.physics.options import BenchOptions
 from hakoniwa.wire.protocol import ATHRILL_FILE, UNITY_FILE, BenchCause, CrashKind, Event, Tx
 from hakoniwa.wire.rundir import PHYSICS_LOG
@@ -123,3 +128,26 @@ def test_the_summary_says_how_many_tests_were_spoiled_and_by_what(tmp_path):
     _, records = read_journal(tmp_path / JOURNAL_FILE)
     assert [r.result.bench_cause for r in records if r.result.bench_fault] == list(faults.values())
     assert len([r for r in records if not r.result.bench_fault]) == 4  # each spoiled test ran again
+
+
+@pytest.mark.slow
+def test_a_physics_process_killed_mid_campaign_is_counted_in_the_summary(tmp_path):
+    """`hako run` on a Dask worker's bench: the kill is journaled as a bench fault, the test runs again on a
+    fresh bench, and the summary line says so."""
+    out, tag = tmp_path / "c", f"killed-physics-{os.getpid()}"
+    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--trials", "3", "--init-points", "2",
+                             "--repeats", "1", "--benches", "1", "--noise", "0", "--out", str(out)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=tagged_env(tag))
+    deadline = time.monotonic() + 300
+    while not ((out / JOURNAL_FILE).exists() and len(read_journal(out / JOURNAL_FILE)[1]) >= 1):
+        assert proc.poll() is None and time.monotonic() < deadline
+        time.sleep(0.1)
+    (physics_pid,) = tagged_processes(tag, b"hakoniwa.physics.main")
+    os.kill(physics_pid, signal.SIGKILL)
+    stdout, stderr = proc.communicate(timeout=300)
+    assert proc.returncode == 0, stderr
+    assert "1 test spoiled by the bench and rerun: physics process killed (1)" in stdout.splitlines()
+    _, records = read_journal(out / JOURNAL_FILE)
+    (fault,) = [r for r in records if r.result.bench_fault]
+    assert fault.result.bench_cause == BenchCause.PHYSICS_KILLED
+    assert len([r for r in records if not r.result.bench_fault]) == 5  # every set's test, once
