@@ -13,6 +13,7 @@ from pathlib import Path
 
 import pytest
 
+from athrill_fixtures import athrill2  # noqa: F401 (a fixture)
 from conftest import one_line_error
 from hakoniwa.wire.wallclock import FACTOR, FLOOR_S, WallCeiling
 
@@ -98,3 +99,59 @@ def test_a_fast_machine_still_gets_the_floor_and_a_clock_that_never_moved_is_nam
     still = WallCeiling(60_000_000, clock=Clock())
     still._clock.now += FLOOR_S + 1  # type: ignore[attr-defined]
     assert still.exceeded(0) == f"simulated time did not move from 0 s in {FLOOR_S + 1:.0f} s of wall time"
+
+
+BLOCKING_INIT_CFG = '''INCLUDE("app_common.cfg");
+INCLUDE("tecsgen.cfg");
+
+#include "app.h"
+#include "ev3.h"
+
+ATT_INI({ TA_NULL, 0, block_init });
+CRE_TSK(MAIN_TASK, { TA_ACT, 0, main_task, TMIN_APP_TPRI + 1, STACK_SIZE, NULL });
+'''
+BLOCKING_INIT_C = '''#include "ev3api.h"
+#include "app.h"
+
+void block_init(intptr_t exinf)  /* never returns: the kernel never starts its tasks */
+{
+    volatile int forever = 1;
+    while (forever) {
+    }
+}
+
+void main_task(intptr_t unused)
+{
+    ev3_motor_config(EV3_PORT_A, LARGE_MOTOR);
+    for (;;) {
+        ev3_motor_set_power(EV3_PORT_A, 10);
+        tslp_tsk(100 * 1000);
+    }
+}
+'''
+
+
+@pytest.mark.slow
+def test_a_real_image_whose_initialization_blocks_is_refused_before_any_test(tmp_path, athrill2):
+    """The real athrill2 on a real image with an ATT_INI routine that never returns: its clock runs (it counts
+    the busy loop's cycles) and the program writes nothing, which the image check says in one line."""
+    from conftest import hako
+    from realemu_fixtures import BASE_PRACTICE, need_v850_tools
+
+    need_v850_tools()
+    app = tmp_path / "blocking_init"
+    app.mkdir()
+    (app / "app.cfg").write_text(BLOCKING_INIT_CFG)
+    (app / "app.c").write_text(BLOCKING_INIT_C)
+    (app / "Makefile.inc").write_text((BASE_PRACTICE / "Makefile.inc").read_text())
+    header = (BASE_PRACTICE / "app.h").read_text(errors="replace")
+    declaration = "extern void\tmain_task(intptr_t exinf);"
+    assert declaration in header
+    (app / "app.h").write_text(header.replace(declaration, declaration + "\nextern void\tblock_init(intptr_t exinf);"))
+    built = hako("build", str(app), timeout=900)
+    assert built.returncode == 0, built.stderr
+    started = time.monotonic()
+    r = hako("trial", "--app", built.stdout.strip(), "--athrill2", str(athrill2), "--sync", "hakoniwa",
+             "--run-dir", str(tmp_path / "run"), timeout=300)
+    one_line_error(r, "the program wrote nothing to the mapped files")
+    assert time.monotonic() - started < 60
