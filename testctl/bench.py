@@ -39,7 +39,8 @@ class Bench:
     def run(self, spec: TestSpec) -> TestResult:
         """One test. A bench that spoiled the test is restarted before the next, so that a broken bench is
         rebuilt; one whose physics process died mid-test spoiled it too (`BenchCause.PHYSICS_KILLED`, or
-        `FILE_DAMAGED` where a mapped file was truncated under it, which kills it with SIGBUS): a result
+        `FILE_DAMAGED` where a mapped file was truncated under it, which kills it with SIGBUS), as did one
+        that reported nothing within the runner's timeout (`TIME_STALLED`; it is stopped): a result
         like any bench fault's, which the campaign counts and runs again, never one of the parameters."""
         runner = self.start()
         started = time.monotonic()
@@ -50,10 +51,12 @@ class Bench:
             damage = diagnose(self.run_dir)
             assert self._proc is not None
             proc = self._proc
+            hung = proc.poll() is None  # alive, but no event within the runner's timeout: time stood still
             self.close()
+            cause = (BenchCause.FILE_DAMAGED if damage else BenchCause.TIME_STALLED if hung
+                     else BenchCause.PHYSICS_KILLED)
             return TestResult(Event.CRASH, 0, time.monotonic() - started, crash_kind=CrashKind.BENCH,
-                              crash_detail=proc.returncode or 0,
-                              bench_cause=BenchCause.FILE_DAMAGED if damage else BenchCause.PHYSICS_KILLED)
+                              crash_detail=0 if hung else proc.returncode or 0, bench_cause=cause)
         if result.bench_fault:
             self.close()
         return result

@@ -151,3 +151,14 @@ def test_a_physics_process_killed_mid_campaign_is_counted_in_the_summary(tmp_pat
     (fault,) = [r for r in records if r.result.bench_fault]
     assert fault.result.bench_cause == BenchCause.PHYSICS_KILLED
     assert len([r for r in records if not r.result.bench_fault]) == 5  # every set's test, once
+
+
+def test_a_physics_process_that_never_reports_is_stopped_and_the_test_spoiled(tmp_path, monkeypatch):
+    """Past the runner's own timeout (the last resort behind the physics side's wall-clock ceiling)."""
+    with idle_bench(tmp_path, monkeypatch) as bench:
+        runner = bench.start()
+        runner.test_timeout_s = 3.0
+        spoiled = bench.run(spec(ZERO))  # a 3000 s test does not end in 3 s of wall time
+        assert (spoiled.crash_kind, spoiled.bench_cause, spoiled.crash_detail) == (CrashKind.BENCH,
+                                                                                   BenchCause.TIME_STALLED, 0)
+        assert spoiled.crash_reason() == "bench (simulated time stalled)"
