@@ -115,6 +115,9 @@ def _trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: floa
         done = f"  completed at: {result['completed_time_us'] / 1e6:.3f} s" if "completed_time_us" in result else ""
         click.echo(f"event: {result['event']}{why}  lap time: {lap}  distance: {result['distance_m']:.2f} m  "
                    f"checkpoints: {result['checkpoints']}{done}")
+    if result.get("crash") == "bench":
+        raise click.ClickException(f"the bench spoiled the test ({result['crash_reason']}), which says nothing "
+                                   f"of the parameters: run it again")
 
 
 benches_options = option_group([

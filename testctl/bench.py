@@ -4,10 +4,13 @@ starts for every test. Started on demand, restarted when it dies or spoils a tes
 from __future__ import annotations
 
 import subprocess
+import time
 from pathlib import Path
 
 from hakoniwa.physics.options import BenchOptions
 from hakoniwa.wire.processes import die_with_parent
+from hakoniwa.wire.protocol import BenchCause, CrashKind, Event
+from hakoniwa.wire.rundir import diagnose
 from testctl.executor import TestSpec
 from testctl.result import TestResult
 from testctl.runner import PhysicsGone, TrialRunner
@@ -34,15 +37,26 @@ class Bench:
         return self._runner
 
     def run(self, spec: TestSpec) -> TestResult:
-        """One test. A bench that died is closed (the next test starts a new one) and the error raised; one
-        that spoiled the test is restarted before the next, so that a broken bench is rebuilt."""
+        """One test. A bench that spoiled the test is restarted before the next, so that a broken bench is
+        rebuilt; one whose physics process died mid-test spoiled it too (`BenchCause.PHYSICS_KILLED`, or
+        `FILE_DAMAGED` where a mapped file was truncated under it, which kills it with SIGBUS), as did one
+        that reported nothing within the runner's timeout (`TIME_STALLED`; it is stopped): a result
+        like any bench fault's, which the campaign counts and runs again, never one of the parameters."""
         runner = self.start()
+        started = time.monotonic()
         try:
             result = runner.run_test(spec.params, noise_seed=spec.noise_seed, noise_scale=spec.noise_scale,
                                      slot_types=spec.slot_types)
         except PhysicsGone:
+            damage = diagnose(self.run_dir)
+            assert self._proc is not None
+            proc = self._proc
+            hung = proc.poll() is None  # alive, but no event within the runner's timeout: time stood still
             self.close()
-            raise
+            cause = (BenchCause.FILE_DAMAGED if damage else BenchCause.TIME_STALLED if hung
+                     else BenchCause.PHYSICS_KILLED)
+            return TestResult(Event.CRASH, 0, time.monotonic() - started, crash_kind=CrashKind.BENCH,
+                              crash_detail=0 if hung else proc.returncode or 0, bench_cause=cause)
         if result.bench_fault:
             self.close()
         return result

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import dataclasses
 import time
+from collections import Counter
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -162,6 +163,14 @@ class CampaignSummary:
     test_wall_s: float  # wall time of all tests in the journal
     bench_faults: int  # tests the bench spoiled (journaled, never scored)
     proposal_s: tuple[float, ...] = ()  # the sampler's own wall time for each round this session proposed
+    bench_causes: tuple[tuple[str, int], ...] = ()  # what spoiled them, in words, most frequent first
+
+    def describe_bench_faults(self) -> str | None:
+        """`2 tests spoiled by the bench and rerun: physics process killed (1), mapped file damaged (1)`."""
+        if not self.bench_faults:
+            return None
+        causes = ", ".join(f"{words} ({n})" for words, n in self.bench_causes)
+        return f"{self.bench_faults} test{'s' if self.bench_faults > 1 else ''} spoiled by the bench and rerun: {causes}"
 
 
 def load_config(out_dir: Path) -> CampaignConfig:
@@ -259,6 +268,8 @@ class Campaign:
             test_wall_s=sum(r.result.wall_s for r in records),
             bench_faults=sum(r.result.bench_fault for r in records),
             proposal_s=tuple(self._proposal_s),
+            bench_causes=tuple(Counter(r.result.bench_cause.words for r in records
+                                       if r.result.bench_fault).most_common()),
         )
 
     # -- one round ------------------------------------------------------------------------------------

@@ -92,6 +92,7 @@ def best_dict(summary: CampaignSummary, validation: dict[str, Any] | None = None
         "n_sets": len(summary.sets),
         "n_tests": summary.n_tests,
         "bench_faults": summary.bench_faults,
+        "bench_causes": dict(summary.bench_causes),
         "seed": summary.config.seed,
         "optimizer": summary.config.optimizer,
         "batch": summary.config.batch,
@@ -112,8 +113,8 @@ def format_summary(summary: CampaignSummary) -> str:
     return "\n".join(
         [
             best_line,
-            f"sets: {len(summary.sets)}, tests: {summary.n_tests} ({summary.tests_run} this run"
-            + (f", {summary.bench_faults} spoiled by the bench and rerun" if summary.bench_faults else "") + ")",
+            f"sets: {len(summary.sets)}, tests: {summary.n_tests} ({summary.tests_run} this run)",
+            *filter(None, [summary.describe_bench_faults()]),
             f"wall time: {summary.wall_s:.1f} s this run, {summary.test_wall_s:.1f} s in tests overall",
         ]
     )

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from hakoniwa.wire.protocol import CrashKind, Event, Objective, SyncMode
+from hakoniwa.wire.protocol import BenchCause, CrashKind, Event, Objective, SyncMode
 
 
 @dataclass(frozen=True)
@@ -19,6 +19,8 @@ class TestResult:
     `crash_kind` says whose fault it may have been and `crash_detail` the Athrill's exit status (negative:
     the signal that killed it); `program_output` holds the last lines a program that crashed printed (its
     own error, such as a Python traceback's end), which would otherwise stay in a run folder's athrill.log.
+    A bench fault's `bench_cause` says what spoiled the test; its `crash_detail` is then the exit status of
+    the process that ended (the physics process's, for `PHYSICS_KILLED` and a `FILE_DAMAGED` that killed it).
     """
 
     __test__ = False  # not a pytest class
@@ -35,6 +37,7 @@ class TestResult:
     program_output: str = ""
     completed_time_us: int = 0
     objective: Objective = Objective.LAP
+    bench_cause: BenchCause = BenchCause.NONE
 
     @property
     def success_event(self) -> Event:
@@ -68,8 +71,11 @@ class TestResult:
         from hakoniwa.wire.processes import describe_exit
 
         what = self.crash_kind.name.lower()
+        if self.bench_fault and self.bench_cause != BenchCause.NONE:
+            what += f" ({self.bench_cause.words})"
         if self.crash_kind in (CrashKind.PROGRAM, CrashKind.BENCH) and self.crash_detail:
-            return f"{what}: athrill {describe_exit(self.crash_detail)}"
+            physics = self.bench_cause in (BenchCause.PHYSICS_KILLED, BenchCause.FILE_DAMAGED)
+            return f"{what}: {'the physics process' if physics else 'athrill'} {describe_exit(self.crash_detail)}"
         return what
 
     def to_dict(self) -> dict:
@@ -79,6 +85,8 @@ class TestResult:
              "max_time_diff_us": self.max_time_diff_us}
         if self.event == Event.CRASH:
             d.update(crash=self.crash_kind.name.lower(), crash_detail=self.crash_detail, crash_reason=self.crash_reason())
+            if self.bench_cause != BenchCause.NONE:
+                d["bench_cause"] = self.bench_cause.name.lower()
         if self.program_output:
             d["program_output"] = self.program_output
         if self.completed_time_us:
@@ -97,4 +105,4 @@ class TestResult:
                    SyncMode[d.get("sync", "lockstep").upper()],
                    CrashKind[crash.upper()] if crash else CrashKind.NONE, int(d.get("crash_detail", 0)),
                    str(d.get("program_output", "")), int(d.get("completed_time_us", 0)),
-                   Objective[d.get("objective", "lap").upper()])
+                   Objective[d.get("objective", "lap").upper()], BenchCause[d.get("bench_cause", "none").upper()])

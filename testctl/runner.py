@@ -16,9 +16,8 @@ from pathlib import Path
 from typing import Callable, Mapping
 
 from hakoniwa.wire.params import SLOT_FORMATS, encode, fits_area
-from hakoniwa.wire.protocol import (MAX_NOISE_SCALE, CrashKind, Event, MappedFile, Objective, ProtocolError, Rx,
-                                    SyncMode, Tx,
-                                    goal_time_from_words, open_athrill, open_unity)
+from hakoniwa.wire.protocol import (MAX_NOISE_SCALE, BenchCause, CrashKind, Event, LayoutFile, Objective,
+                                    ProtocolError, Rx, SyncMode, Tx, goal_time_from_words, poll_athrill, poll_unity)
 from hakoniwa.wire.rundir import PROGRAM_OUTPUT_FILE
 from hakoniwa.wire.waiting import pid_alive, wait_for
 from testctl.result import TestResult
@@ -52,8 +51,9 @@ class TrialRunner:
     def __init__(self, run_dir: Path, *, test_timeout_s: float = 600.0) -> None:
         self.run_dir = Path(run_dir)
         self.test_timeout_s = test_timeout_s
-        self.unity: MappedFile = open_unity(self.run_dir)
-        self.athrill: MappedFile = open_athrill(self.run_dir)
+        # Read and written, not mapped: a file truncated under the bench cannot kill the controller (SIGBUS).
+        self.unity: LayoutFile = poll_unity(self.run_dir)
+        self.athrill: LayoutFile = poll_athrill(self.run_dir)
         self._physics_pid = self.unity.read_u32(Rx.PHYSICS_PID)
 
     def write_params(self, params: Mapping[int, float], slot_types: Mapping[int, str] | None = None) -> None:
@@ -93,7 +93,7 @@ class TrialRunner:
                             SyncMode(u.read_u32(Rx.SYNC_MODE)), CrashKind(u.read_i32(Rx.CRASH_KIND)),
                             u.read_i32(Rx.CRASH_DETAIL), self._program_output() if event == Event.CRASH else "",
                             goal_time_from_words(u.read_u32(Rx.COMPLETED_TIME_HI), u.read_u32(Rx.COMPLETED_TIME_LO)),
-                            Objective(u.read_u32(Rx.OBJECTIVE)))
+                            Objective(u.read_u32(Rx.OBJECTIVE)), BenchCause(u.read_u32(Rx.BENCH_CAUSE)))
         self.athrill.write_i32(Tx.START, 0)
         self._wait(lambda: u.read_i32(Rx.EVENT) == Event.NONE, "the reset after the test")
         return dataclasses.replace(result, wall_s=time.monotonic() - start)

@@ -4,8 +4,9 @@ Run before the first test (`Program.check_argv`), in a scratch folder of its own
 athrill2: the image runs, the physics side holding still, until it first writes into the mapped files (the TX
 body starts filled with a pattern no EV3RT driver writes; EV3RT itself writes there as it boots). It fails,
 with one line saying why, when athrill2 exits first (a broken emulator, an image it cannot load), or when the
-program has written nothing by CHECK_SIM_US of simulated time: such an image would turn every test into a
-crash or a TIME_OVER charged to the parameters, while the fault is the bench's.
+program has written nothing by CHECK_SIM_US of simulated time, or when the emulated clock stands still or
+creeps (an image whose start-up blocks): such an image would turn every test into a crash or a TIME_OVER
+charged to the parameters, or hang, while the fault is the image's.
 """
 
 from __future__ import annotations
@@ -19,9 +20,12 @@ from pathlib import Path
 from athrill_sim.programs import SyncMode, athrill_argv, athrill_config
 from hakoniwa.wire.protocol import EXT_OFF, MappedFile, open_athrill, open_unity
 from hakoniwa.wire.timebase import US_PER_S
+from hakoniwa.wire.wallclock import WallCeiling
 
 CHECK_SIM_US = US_PER_S // 5  # how far an image may run before it writes (EV3RT's boot writes within ms)
-CHECK_WALL_S = 60.0  # and how long that may take on a loaded machine (a busy loop runs at ~10 sim-ms per s)
+CHECK_WALL_S = 60.0  # the least wall time that may take on a loaded machine (a busy loop runs at ~10 sim-ms
+# per s); more where the clock is measured to run slower (`WallCeiling`)
+CLOCK_STILL_S = 10.0  # an emulated clock that has not moved this long is not going to
 POLL_S = 0.01
 UNTOUCHED = -0x5A5A5A5B  # 0xA5A5A5A5, the TX body's fill: no LED bits, power or flag an EV3RT driver writes
 TX_WORDS = EXT_OFF // 4  # the TX body before our extension area
@@ -47,18 +51,18 @@ def check(exe: str, image: Path, sync: SyncMode) -> str | None:
                                             stdout=out, stderr=subprocess.STDOUT)
             except OSError as e:
                 return f"cannot start {exe}: {e.strerror}"
-            exited = _watch(proc, athrill)
+            exited, stalled = _watch(proc, athrill)
             if not _untouched(athrill):
                 return None
             name, reached = f"{Path(exe).name} {image}", athrill.athrill_time_us
+            if stalled is not None:
+                return f"{name}: {stalled} (its start-up blocks?), and the program wrote nothing to the mapped files"
             if exited is not None:
                 said = " / ".join(line.strip() for line in log.read_text(errors="replace").splitlines()[-OUTPUT_LINES:]
                                   if line.strip())
                 hint = DWARF_HINT if DWARF_ASSERTION in said else ""
                 return (f"{name}: athrill2 exited at once (status {exited}) after {reached} us of simulated time"
                         + (f": {said}" if said else "") + hint)
-            if reached < CHECK_SIM_US:
-                return f"{name}: athrill2 did not reach {CHECK_SIM_US} us of simulated time in {CHECK_WALL_S:g} s"
             return (f"{name}: the program wrote nothing to the mapped files in its first {CHECK_SIM_US // 1000} "
                     "simulated ms (no motor power, LED or flag): not an EV3RT robot program?")
 
@@ -67,15 +71,23 @@ def _untouched(athrill: MappedFile) -> bool:
     return set(athrill.read_i32s(0, TX_WORDS)) == {UNTOUCHED}
 
 
-def _watch(proc: subprocess.Popen, athrill: MappedFile) -> int | None:
-    """Let athrill2 run until the program writes, its clock reaches CHECK_SIM_US, it exits, or CHECK_WALL_S
-    pass; then stop it. Returns its exit status if it exited by itself first."""
-    deadline = time.monotonic() + CHECK_WALL_S
+def _watch(proc: subprocess.Popen, athrill: MappedFile) -> tuple[int | None, str | None]:
+    """Let athrill2 run until the program writes, its clock reaches CHECK_SIM_US, it exits, its clock stands
+    still for CLOCK_STILL_S or runs past its wall-clock ceiling; then stop it. Returns its exit status if it
+    exited by itself first, and what stalled if the clock did."""
+    ceiling = WallCeiling(CHECK_SIM_US, floor_s=CHECK_WALL_S)
+    clock, moved = athrill.athrill_time_us, time.monotonic()
     try:
-        while (_untouched(athrill) and athrill.athrill_time_us < CHECK_SIM_US and proc.poll() is None
-               and time.monotonic() < deadline):
+        while _untouched(athrill) and athrill.athrill_time_us < CHECK_SIM_US and proc.poll() is None:
             time.sleep(POLL_S)
-        return proc.poll()
+            now, seen = time.monotonic(), athrill.athrill_time_us
+            if seen != clock:
+                clock, moved = seen, now
+            elif now - moved > CLOCK_STILL_S:
+                return None, f"the emulator's clock did not move for {now - moved:.0f} s, at {seen} us"
+            if (why := ceiling.exceeded(seen)) is not None:
+                return None, why
+        return proc.poll(), None
     finally:
         proc.kill()
         proc.wait()

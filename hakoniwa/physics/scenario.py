@@ -27,6 +27,7 @@ class ScenarioError(ValueError):
 
 @dataclass(frozen=True)
 class Press:
+    where: str  # "scenario.toml press 2": how the user finds it
     sensor: str | None  # "touch" or "force", or None for a button
     port: str | None  # the sensor's port name as the robot names it ("1".."4", "A".."F"); None: the robot's one
     button: int | None
@@ -39,6 +40,7 @@ class Press:
 
 @dataclass(frozen=True)
 class SerialInput:
+    where: str
     at_us: int
     port: str
     text: str
@@ -56,6 +58,14 @@ class Scenario:
     def buttons(self, now_us: int) -> int:
         """The RX buttons bitmask at `now_us`."""
         return sum(1 << p.button for p in self.presses if p.button is not None and p.active(now_us)) & 0x3F
+
+    def check_within(self, time_limit_us: int) -> None:
+        """Refuse a stimulus at or after the time limit: the test ends there (TIME_OVER) before it could
+        happen, so a program waiting for it would fail every test for a reason the user did not mean."""
+        for s in (*self.presses, *self.serial):
+            if s.at_us >= time_limit_us:
+                raise ScenarioError(f"{s.where}: at_s = {s.at_us / US_PER_S:g} is not before the time limit "
+                                    f"({time_limit_us / US_PER_S:g} s): no test would get there")
 
     def serial_lines(self) -> str:
         """The runtime's serial-input file: "<at_us> <port> <hex bytes>" per input."""
@@ -89,11 +99,11 @@ def _press(table: object, where: str) -> Press:
         if "port" not in table and sensor == "touch":
             raise ScenarioError(f"{where}: a touch press needs port = 1..{EV3_PORTS} (an EV3's) or "
                                 f"\"A\"..\"F\" (a SPIKE hub's)")
-        return Press(sensor, None if "port" not in table else _port(table["port"], where), None, at, length)
+        return Press(where, sensor, None if "port" not in table else _port(table["port"], where), None, at, length)
     name = str(table["button"]).upper()
     if name not in BUTTONS:
         raise ScenarioError(f"{where}: button {table['button']!r} is not one of {', '.join(BUTTONS)}")
-    return Press(None, None, BUTTONS.index(name), at, length)
+    return Press(where, None, None, BUTTONS.index(name), at, length)
 
 
 def _port(value: object, where: str) -> str:
@@ -117,7 +127,7 @@ def _serial(table: object, where: str) -> SerialInput:
         raise ScenarioError(f"{where}: 'text' must be a string")
     if port not in SERIAL_PORTS:
         raise ScenarioError(f"{where}: port {table.get('port')!r} is not one of {', '.join(SERIAL_PORTS)}")
-    return SerialInput(_seconds(table, "at_s", where), port, text)
+    return SerialInput(where, _seconds(table, "at_s", where), port, text)
 
 
 def parse_scenario(text: str, where: str = "scenario") -> Scenario:

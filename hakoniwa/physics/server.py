@@ -5,15 +5,17 @@ sensor state `sensors.py`'s; this class starts Athrill, runs the sync loop, and 
 Physics time is the master. The world advances in whole 1 ms MuJoCo steps, batched up to the next moment
 anything has to happen: an event check, a trajectory sample, or (depending on the sync mode, see
 `sync.py`) Athrill's next wake-up or the edge of the allowed time difference. Nothing here depends on
-wall time except the watchdog that declares a silent or dead Athrill a crash.
+wall time except the watchdog that declares a silent or dead Athrill a crash, and each test's wall-clock
+ceiling (`hakoniwa.wire.wallclock`), past which a test whose simulated time crept is the bench's fault.
 
 Each test may carry seeded noise (`noise.py`): the controller's seed and scale are read at the test's
 start, the robot is put down with that test's start-pose jitter, and sensor snapshots and motor commands
 draw from that test's generators. Scale 0 draws nothing, and the code paths are the noise-free ones.
 
-The mapped files belong to this process: it checks them (size, magic, version) at every test start and
-repairs them if someone damaged them, so a damaged file never turns into a string of crashed tests that
-would be charged to the parameters under test.
+The mapped files belong to this process: it checks them (size, magic, version) at every test's start and
+end and repairs them if someone damaged them, so a damaged file never turns into a string of crashed tests
+that would be charged to the parameters under test; the test it touched is a bench fault (`FILE_DAMAGED`),
+run again.
 """
 
 from __future__ import annotations
@@ -39,9 +41,10 @@ from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
 from hakoniwa.physics.scenario import Scenario
 from hakoniwa.physics.slots import Report, Slots
 from hakoniwa.physics.sync import SYNC_LOOPS, AthrillCrash, unity_time_us
-from hakoniwa.wire.protocol import CrashKind, Event, Objective, Tx
+from hakoniwa.wire.protocol import BenchCause, CrashKind, Event, Objective, Tx
 from hakoniwa.wire.rundir import PHYSICS_LOG, PROGRAM_OUTPUT_FILE, SERIAL_INPUT, TRAJECTORY_FILE
 from hakoniwa.wire.timebase import Scheduler
+from hakoniwa.wire.wallclock import WallCeiling
 
 IDLE_POLL_S = 0.0005
 PROGRAM_OUTPUT_LINES = 6  # of a crashed program's output, for the user: a traceback's last frame and its error
@@ -82,6 +85,7 @@ class PhysicsServer:
         self.tests_run = 0
         self._max_diff_us = 0
         self._athrill_proc: subprocess.Popen | None = None
+        self._ceiling = WallCeiling(self.env.task.time_limit_us)  # each test's own, from its start
         self._controller_gone = threading.Event()
 
     # -- what the sync loops use ---------------------------------------------------------------------
@@ -99,6 +103,13 @@ class PhysicsServer:
         if self._controller_gone.is_set():
             raise ControllerGone
         return self.env.advance_to(target_us)
+
+    def check_ceiling(self) -> None:
+        """Raise a bench fault once the test is past its wall-clock ceiling (`hakoniwa.wire.wallclock`): a
+        clock that creeps would otherwise hold the bench for ever while never being silent."""
+        why = self._ceiling.exceeded(self.env.now_us)
+        if why is not None:
+            raise AthrillCrash(CrashKind.BENCH, 0, why, BenchCause.TIME_STALLED)
 
     def note_time_diff(self, diff_us: int) -> None:
         self._max_diff_us = max(self._max_diff_us, abs(diff_us))
@@ -118,10 +129,16 @@ class PhysicsServer:
             self.env.complete()
 
     # -- one test ------------------------------------------------------------------------------------
-    def check_files(self) -> None:
-        """Repair the mapped files if anyone damaged them since the last test, and say so in the log."""
-        for line in self.slots.repair():
-            self._note(line)
+    def check_files(self, when: str) -> AthrillCrash | None:
+        """Repair the mapped files if anyone damaged them, say so in the log, and spoil the test: what it read
+        or wrote through a damaged file (its parameters, its sensors, its report) cannot be trusted."""
+        problems = self.slots.repair()
+        for line in problems:
+            self._note(f"repaired {line}")
+        if not problems:
+            return None
+        return AthrillCrash(CrashKind.BENCH, 0, f"mapped file damaged {when}: {'; '.join(problems)}",
+                            BenchCause.FILE_DAMAGED)
 
     def _note(self, line: str) -> None:
         self._log.write(line + "\n")
@@ -139,7 +156,7 @@ class PhysicsServer:
         return NoiseDraw(self.course.noise, seed, scale)
 
     def _start_test(self, seq: int) -> tuple[NoiseDraw | None, Program | AthrillCrash]:
-        self.check_files()
+        damaged = self.check_files("before the test")
         forget_screen(self.run_dir)
         (self.run_dir / PROGRAM_OUTPUT_FILE).unlink(missing_ok=True)
         noise = self._read_noise()
@@ -147,7 +164,7 @@ class PhysicsServer:
         self._max_diff_us = 0
         self.answer_before_start = self.slots.begin(self.program.sync, self.course.info, self.objective)
         self.publish_sensors()
-        program = self._tuned_program()  # before the announcement: a waiting Athrill reads its files after it
+        program = damaged or self._tuned_program()  # before the announcement: a waiting Athrill reads its files after it
         self.slots.announce(seq)
         return noise, program
 
@@ -165,7 +182,8 @@ class PhysicsServer:
             self._write_program_output([str(e)])
             return AthrillCrash(CrashKind.PROGRAM, 0, str(e))
         except OSError as e:
-            return AthrillCrash(CrashKind.BENCH, 0, f"cannot prepare the program for {values}: {e}")
+            return AthrillCrash(CrashKind.BENCH, 0, f"cannot prepare the program for {values}: {e}",
+                                BenchCause.ATHRILL_FAILED)
 
     def run_test(self) -> TestOutcome:
         wall_start = time.monotonic()
@@ -173,23 +191,26 @@ class PhysicsServer:
         noise, program = self._start_test(seq)
         crash: AthrillCrash | None = program if isinstance(program, AthrillCrash) else None
         proc = None
+        self._ceiling = WallCeiling(self.env.task.time_limit_us)
         try:
             if crash is None:
                 self.transport.launching()
                 proc = self._athrill_proc = self.launcher.take(seq, program)  # type: ignore[arg-type]
         except OSError as e:
-            crash = AthrillCrash(CrashKind.BENCH, 0, f"cannot start athrill: {e}")
+            crash = AthrillCrash(CrashKind.BENCH, 0, f"cannot start athrill: {e}", BenchCause.ATHRILL_FAILED)
         else:
             try:
                 if proc is not None:
                     SYNC_LOOPS[self.program.sync](self, proc)
             except AthrillCrash as e:
                 crash = e
+        crash = self.check_files("during the test") or crash  # whatever else the damage made of the test
         env = self.env
         if crash is not None:
             env.end(Event.CRASH)
         report = Report(env.event, env.event_us, env.task.passed, env.task.distance_mm, self._max_diff_us,
-                        crash.kind if crash else CrashKind.NONE, crash.detail if crash else 0, env.completed_us)
+                        crash.kind if crash else CrashKind.NONE, crash.detail if crash else 0, env.completed_us,
+                        crash.cause if crash else BenchCause.NONE)
         outcome = TestOutcome(seq, report, time.monotonic() - wall_start)
         draw_screen(self.run_dir)  # before the report: whoever sees the event sees the screen
         if crash is not None and crash.kind == CrashKind.PROGRAM and proc is not None and proc.poll() is not None:

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from hakoniwa.physics.course import CourseInfo
 from hakoniwa.physics.sensors import Sensors
-from hakoniwa.wire.protocol import (ETROBOC_EXT, MOTOR_PORTS, CrashKind, Event, Header, Objective,
+from hakoniwa.wire.protocol import (ETROBOC_EXT, BenchCause, MOTOR_PORTS, CrashKind, Event, Header, Objective,
                                     MappedFile, Rx, SyncMode, Tx, goal_time_words, open_athrill, open_unity)
 from hakoniwa.wire.waiting import futex_wake
 
@@ -38,6 +38,7 @@ class Report:
     crash_kind: CrashKind
     crash_detail: int
     completed_us: int | None = None  # when the program's completion notice came, if it did
+    bench_cause: BenchCause = BenchCause.NONE
 
 
 @dataclass(frozen=True)
@@ -58,9 +59,8 @@ class Slots:
         self._unity_time_address = self.unity.address(Header.UNITY_TIME)
 
     def repair(self) -> list[str]:
-        """Repair the files if anyone damaged them since the last test; what was wrong with each."""
-        return [f"repaired {f.path.name}: {problem}" for f in (self.unity, self.athrill)
-                if (problem := f.repair()) is not None]
+        """Repair the files if anyone damaged them; what was wrong with each (a path names the file)."""
+        return [problem for f in (self.unity, self.athrill) if (problem := f.repair()) is not None]
 
     def noise_request(self) -> tuple[int, float]:
         """The (seed, scale) the controller wrote for this test."""
@@ -128,6 +128,7 @@ class Slots:
         u.write_u32(Rx.MAX_TIME_DIFF_US, r.max_time_diff_us)
         u.write_i32(Rx.CRASH_KIND, int(r.crash_kind))
         u.write_i32(Rx.CRASH_DETAIL, r.crash_detail)
+        u.write_u32(Rx.BENCH_CAUSE, int(r.bench_cause))
         hi, lo = goal_time_words(r.completed_us or 0)
         u.write_u32(Rx.COMPLETED_TIME_HI, hi)
         u.write_u32(Rx.COMPLETED_TIME_LO, lo)

@@ -37,7 +37,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Callable
 
 from hakoniwa.wire.processes import CpuUse, cpu_use, describe_exit, take_bench_fault
-from hakoniwa.wire.protocol import HEADER_SIZE, CrashKind, Header, SyncMode, Tx
+from hakoniwa.wire.protocol import HEADER_SIZE, BenchCause, CrashKind, Header, SyncMode, Tx
 from hakoniwa.wire.timebase import ALLOWED_TIME_DIFF_US, PHYSICS_STEP_US
 from hakoniwa.wire.waiting import wait_word
 
@@ -52,10 +52,11 @@ SPINNING_CPU_SHARE = 0.1  # a silent Athrill that had this share of a core or mo
 class AthrillCrash(Exception):
     """The test ends as CRASH; `kind` says whose fault it may be, `detail` the exit status or -signal."""
 
-    def __init__(self, kind: CrashKind, detail: int, message: str) -> None:
+    def __init__(self, kind: CrashKind, detail: int, message: str, cause: BenchCause = BenchCause.NONE) -> None:
         super().__init__(message)
         self.kind = kind
         self.detail = detail
+        self.cause = cause  # what spoiled the test, for a BENCH crash
 
 
 def exit_crash(proc: subprocess.Popen, *, started: bool, run_dir: Path) -> AthrillCrash:
@@ -66,18 +67,23 @@ def exit_crash(proc: subprocess.Popen, *, started: bool, run_dir: Path) -> Athri
     assert code is not None
     reason = take_bench_fault(run_dir, proc.pid)
     if reason is not None:
-        return AthrillCrash(CrashKind.BENCH, code, f"athrill {describe_exit(code)}: {reason}")
-    kind = CrashKind.BENCH if code > 0 and not started else CrashKind.PROGRAM
-    return AthrillCrash(kind, code, f"athrill {describe_exit(code)}")
+        return AthrillCrash(CrashKind.BENCH, code, f"athrill {describe_exit(code)}: {reason}", BenchCause.ATHRILL_FAILED)
+    if code > 0 and not started:
+        return AthrillCrash(CrashKind.BENCH, code, f"athrill {describe_exit(code)}", BenchCause.ATHRILL_FAILED)
+    return AthrillCrash(CrashKind.PROGRAM, code, f"athrill {describe_exit(code)}")
 
 
-def watchdog(proc: subprocess.Popen, timeout_s: float, progress: Callable[[], int],
-             started: Callable[[], bool], run_dir: Path) -> Callable[[], None]:
-    """An `on_idle` check for waits on Athrill: raises when it exits, or when `progress()` (its clock or its
-    answer counter) has not moved for `timeout_s` of wall time. Whose fault the silence is, its CPU time says:
-    a program that spins without sleeping uses the CPU it gets (the program's fault); a process that was
-    stopped (SIGSTOP), or was runnable and got next to no CPU, was stalled by the machine (the bench's fault:
-    the test runs again, never scored). One that sleeps in the kernel outside the handshake hangs on its own."""
+def watchdog(server: PhysicsServer, proc: subprocess.Popen, progress: Callable[[], int],
+             started: Callable[[], bool], *, emulator: bool = False) -> Callable[[], None]:
+    """An `on_idle` check for waits on Athrill: raises when it exits, when the test is past its wall-clock
+    ceiling (`PhysicsServer.check_ceiling`), or when `progress()` (its clock or its answer counter) has not
+    moved for the Athrill timeout of wall time. Whose fault the silence is, its CPU time says: a program that
+    spins without sleeping uses the CPU it gets (the program's fault); a process that was stopped (SIGSTOP),
+    or was runnable and got next to no CPU, was stalled by the machine (the bench's fault: the test runs
+    again, never scored). One that sleeps in the kernel outside the handshake hangs on its own. The real
+    emulator (`emulator`) is different: its clock counts the cycles it runs, so no program can stop it, and a
+    clock that stands still is the emulator's own stall, the bench's."""
+    timeout_s, run_dir = server.athrill_timeout_s, server.run_dir
     last_progress, since = progress(), time.monotonic()
     use = cpu_use(proc.pid)
     cpu_at, stopped = (use.cpu_s if use else 0.0), False
@@ -86,29 +92,35 @@ def watchdog(proc: subprocess.Popen, timeout_s: float, progress: Callable[[], in
         nonlocal last_progress, since, cpu_at, stopped
         if proc.poll() is not None:
             raise exit_crash(proc, started=started(), run_dir=run_dir)
+        server.check_ceiling()
         now, seen, use = time.monotonic(), progress(), cpu_use(proc.pid)
         stopped = stopped or (use is not None and use.state in "Tt")
         if seen != last_progress:
             last_progress, since, cpu_at, stopped = seen, now, (use.cpu_s if use else 0.0), False
         elif now - since > timeout_s:
-            raise silent_crash(now - since, use, cpu_at, stopped)
+            raise silent_crash(now - since, use, cpu_at, stopped, emulator)
 
     return check
 
 
-def silent_crash(silent_s: float, use: CpuUse | None, cpu_at: float, stopped: bool) -> AthrillCrash:
+def silent_crash(silent_s: float, use: CpuUse | None, cpu_at: float, stopped: bool,
+                 emulator: bool = False) -> AthrillCrash:
     if use is None:  # no /proc: the silence cannot be told apart, and is charged to the program as before
         return AthrillCrash(CrashKind.SILENT, 0, f"athrill silent for {silent_s:.0f} s")
     used = use.cpu_s - cpu_at
     had = f"{used:.1f} s of CPU in {silent_s:.0f} s"
     if stopped:
-        return AthrillCrash(CrashKind.BENCH, 0, f"athrill was stopped ({had}): a stall of the machine")
+        return AthrillCrash(CrashKind.BENCH, 0, f"athrill was stopped ({had}): a stall of the machine",
+                            BenchCause.ATHRILL_STALLED)
+    if emulator:
+        return AthrillCrash(CrashKind.BENCH, 0, f"the emulator's clock did not move for {silent_s:.0f} s ({had})",
+                            BenchCause.TIME_STALLED)
     if used >= SPINNING_CPU_SHARE * silent_s:
         return AthrillCrash(CrashKind.SILENT, 0, f"athrill silent for {silent_s:.0f} s while running ({had}): "
                                                  "the program does not sleep")
     if use.state in "RD":
         return AthrillCrash(CrashKind.BENCH, 0, f"athrill got no CPU ({had}, state {use.state}): a stall of "
-                                                "the machine")
+                                                "the machine", BenchCause.ATHRILL_STALLED)
     return AthrillCrash(CrashKind.SILENT, 0, f"athrill silent for {silent_s:.0f} s, blocked outside tslp_tsk")
 
 
@@ -121,8 +133,7 @@ def run_lockstep(server: PhysicsServer, proc: subprocess.Popen) -> None:
 
     def await_answer(last: int) -> int:
         """Wait for Athrill's answer to the snapshot at `server.now_us`; apply it and return its wake time."""
-        check = watchdog(proc, server.athrill_timeout_s, answer, lambda: a.read_u32(Tx.ATHRILL_PID) == proc.pid,
-                         server.run_dir)
+        check = watchdog(server, proc, answer, lambda: a.read_u32(Tx.ATHRILL_PID) == proc.pid)
         wait_word(answer_address, answer, lambda: answer() != last, check)
         now = server.now_us
         next_wake = a.read("q", Tx.NEXT_WAKE)
@@ -142,6 +153,7 @@ def run_lockstep(server: PhysicsServer, proc: subprocess.Popen) -> None:
         if server.advance_to(target):
             return
         if target == next_wake:
+            server.check_ceiling()  # a program that answers, ever more slowly, is never silent
             last = answer()
             server.publish_sensors()
             next_wake = await_answer(last)
@@ -150,8 +162,7 @@ def run_lockstep(server: PhysicsServer, proc: subprocess.Popen) -> None:
 def run_hakoniwa(server: PhysicsServer, proc: subprocess.Popen) -> None:
     a = server.athrill
     link = server.transport  # over UDP, what Athrill sent reaches the TX file when the loop receives it
-    check = watchdog(proc, server.athrill_timeout_s, lambda: a.athrill_time_us, lambda: a.athrill_time_us > 0,
-                     server.run_dir)
+    check = watchdog(server, proc, lambda: a.athrill_time_us, lambda: a.athrill_time_us > 0, emulator=True)
     sched = server.scheduler
     while True:
         link.receive()
@@ -173,8 +184,7 @@ def run_hakoniwa(server: PhysicsServer, proc: subprocess.Popen) -> None:
 def run_repeatable(server: PhysicsServer, proc: subprocess.Popen) -> None:
     a = server.athrill
     clock_address = a.address(Header.ATHRILL_TIME)  # the patched Athrill rings here when it stops
-    check = watchdog(proc, server.athrill_timeout_s, lambda: a.athrill_time_us, lambda: a.athrill_time_us > 0,
-                     server.run_dir)
+    check = watchdog(server, proc, lambda: a.athrill_time_us, lambda: a.athrill_time_us > 0, emulator=True)
     applied = None  # the TX commands last applied: a command is applied (and draws its noise) once, when new
     while True:
         horizon = unity_time_us(SyncMode.REPEATABLE, server.now_us)  # published with the last snapshot
@@ -185,6 +195,7 @@ def run_repeatable(server: PhysicsServer, proc: subprocess.Popen) -> None:
             applied = a.read_i32s(*TX_COMMANDS)  # after the reset requests it took were cleared
         if server.advance_to(horizon):
             return
+        server.check_ceiling()
         server.publish_sensors()
 
 

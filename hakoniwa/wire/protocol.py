@@ -94,6 +94,7 @@ class Rx:
     SPIKE_HSV_S = 300  # i32, 0..100 [%]
     SPIKE_HSV_V = 304  # i32, 0..100 [%]
     # Our extension (unused by the real layout): lockstep and test reports.
+    BENCH_CAUSE = 424  # u32, BenchCause of a CRASH of kind BENCH: what spoiled the test (0 otherwise)
     OBJECTIVE = 428  # u32, Objective of the bench: what ends and scores its tests
     COMPLETED_TIME_HI = 432  # u32: when ETRoboc_notifyCompletedToSimulator() came [us], upper 32 bits (0: never)
     COMPLETED_TIME_LO = 436  # u32, lower 32 bits
@@ -178,6 +179,26 @@ class CrashKind(enum.IntEnum):
     BENCH = 4  # it could not start or could not use the mapped files
 
 
+class BenchCause(enum.IntEnum):
+    """What spoiled a test that is the bench's fault (a CRASH of kind BENCH), at RX BENCH_CAUSE: what a
+    campaign tells the user its reruns were for. The physics side writes the Athrill and file causes; the
+    controller's side adds the physics process's own end, which the physics side cannot report."""
+
+    NONE = 0  # no bench fault (or a journal from before causes were recorded)
+    ATHRILL_STALLED = 1  # Athrill was stopped (SIGSTOP) or got no CPU: a stall of the machine
+    ATHRILL_FAILED = 2  # Athrill could not start, or could not use the mapped files, and said so
+    FILE_DAMAGED = 3  # a mapped file was truncated or overwritten under the bench
+    PHYSICS_KILLED = 4  # the physics process died mid-test
+    TIME_STALLED = 5  # simulated time stopped (the emulator's clock), or crept past the test's wall-clock ceiling
+
+    @property
+    def words(self) -> str:
+        return {BenchCause.NONE: "unknown cause", BenchCause.ATHRILL_STALLED: "athrill stalled",
+                BenchCause.ATHRILL_FAILED: "athrill could not run", BenchCause.FILE_DAMAGED: "mapped file damaged",
+                BenchCause.PHYSICS_KILLED: "physics process killed",
+                BenchCause.TIME_STALLED: "simulated time stalled"}[self]
+
+
 class SyncMode(enum.IntEnum):
     """How physics and Athrill keep time; chosen by the kind of program that runs."""
 
@@ -257,8 +278,101 @@ def _fresh_header(magic: bytes) -> bytes:
     return _HEADER.pack(magic, LAYOUT_VERSION, 0, EXT_OFF, EXT_SIZE)
 
 
-class MappedFile:
-    """One memory-mapped protocol file with typed access to its header times and its body."""
+class LayoutFile:
+    """Typed access to one protocol file's header times and body, by the layout's offsets; how the bytes are
+    reached is the subclass's (`_unpack`, `_pack`, `_read`, `_write`, at file offsets)."""
+
+    path: Path
+
+    def _unpack(self, fmt: str, offset: int) -> tuple:
+        raise NotImplementedError
+
+    def _pack(self, fmt: str, offset: int, *values: int | float) -> None:
+        raise NotImplementedError
+
+    def _read(self, offset: int, size: int) -> bytes:
+        raise NotImplementedError
+
+    def _write(self, offset: int, data: bytes) -> None:
+        raise NotImplementedError
+
+    def close(self) -> None:
+        raise NotImplementedError
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    # Header times.
+    @property
+    def unity_time_us(self) -> int:
+        return self._unpack("<Q", Header.UNITY_TIME)[0]
+
+    @unity_time_us.setter
+    def unity_time_us(self, value: int) -> None:
+        self._pack("<Q", Header.UNITY_TIME, value)
+
+    @property
+    def athrill_time_us(self) -> int:
+        return self._unpack("<Q", Header.ATHRILL_TIME)[0]
+
+    @athrill_time_us.setter
+    def athrill_time_us(self, value: int) -> None:
+        self._pack("<Q", Header.ATHRILL_TIME, value)
+
+    # Body, by body offset.
+    def _at(self, offset: int, size: int) -> int:
+        if not 0 <= offset <= WINDOW_SIZE - size:
+            raise ProtocolError(f"body offset {offset} (+{size}) is outside the {WINDOW_SIZE}-byte window")
+        return HEADER_SIZE + offset
+
+    def read(self, fmt: str, offset: int) -> int | float:
+        """One little-endian value of struct format `fmt` ('i', 'I', 'q', 'f', 'h', 'B', ...)."""
+        return self._unpack("<" + fmt, self._at(offset, struct.calcsize(fmt)))[0]
+
+    def write(self, fmt: str, offset: int, value: int | float) -> None:
+        self._pack("<" + fmt, self._at(offset, struct.calcsize(fmt)), value)
+
+    def read_i32(self, offset: int) -> int:
+        return self._unpack("<i", self._at(offset, 4))[0]
+
+    def write_i32(self, offset: int, value: int) -> None:
+        self._pack("<i", self._at(offset, 4), value)
+
+    def read_u32(self, offset: int) -> int:
+        return self._unpack("<I", self._at(offset, 4))[0]
+
+    def write_u32(self, offset: int, value: int) -> None:
+        self._pack("<I", self._at(offset, 4), value)
+
+    def read_f32(self, offset: int) -> float:
+        return self._unpack("<f", self._at(offset, 4))[0]
+
+    def write_f32(self, offset: int, value: float) -> None:
+        self._pack("<f", self._at(offset, 4), value)
+
+    def read_i32s(self, offset: int, count: int) -> tuple[int, ...]:
+        return self._unpack(f"<{count}i", self._at(offset, 4 * count))
+
+    def write_i32s(self, offset: int, values: tuple[int, ...] | list[int]) -> None:
+        self._pack(f"<{len(values)}i", self._at(offset, 4 * len(values)), *values)
+
+    def clear(self, start: int, end: int) -> None:
+        self._write(self._at(start, end - start), bytes(end - start))
+
+    def read_bytes(self, offset: int, size: int) -> bytes:
+        return self._read(self._at(offset, size), size)
+
+    def write_bytes(self, offset: int, data: bytes) -> None:
+        self._write(self._at(offset, len(data)), data)
+
+
+class MappedFile(LayoutFile):
+    """One memory-mapped protocol file: how the physics side and Athrill share it. A mapping of a file that
+    someone truncates kills whoever touches the lost pages (SIGBUS); the physics side owns the files and
+    repairs them, and the controller reads them with `PolledFile`, which survives it."""
 
     def __init__(self, path: Path, magic: bytes, *, create: bool = False) -> None:
         self.path = Path(path)
@@ -286,96 +400,73 @@ class MappedFile:
             self._view = ctypes.c_char.from_buffer(self._mm)
         return ctypes.addressof(self._view) + file_offset
 
-    def __enter__(self) -> "MappedFile":
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self.close()
+    def damage(self) -> str | None:
+        """What is wrong with the file (size, magic, version), or None: read with plain file I/O, so that
+        looking is safe after a truncation."""
+        try:
+            check_file(self.path, self.magic)
+        except ProtocolError as e:
+            return str(e)
+        return None
 
     def repair(self) -> str | None:
         """Make the file whole again if someone damaged it (the physics side owns it): restore its size and
         header. Returns what was wrong, or None if nothing was."""
-        try:
-            check_file(self.path, self.magic)
+        problem = self.damage()
+        if problem is None:
             return None
-        except ProtocolError as e:
-            problem = str(e)
         with open(self.path, "r+b") as f:
             if os.fstat(f.fileno()).st_size != FILE_SIZE:
                 f.truncate(FILE_SIZE)
         self._mm[:HEADER_SIZE] = _fresh_header(self.magic)
         return problem
 
-    # Header times.
-    def _u64(self, offset: int) -> int:
-        return struct.unpack_from("<Q", self._mm, offset)[0]
+    def _unpack(self, fmt: str, offset: int) -> tuple:
+        return struct.unpack_from(fmt, self._mm, offset)
 
-    @property
-    def unity_time_us(self) -> int:
-        return self._u64(Header.UNITY_TIME)
+    def _pack(self, fmt: str, offset: int, *values: int | float) -> None:
+        struct.pack_into(fmt, self._mm, offset, *values)
 
-    @unity_time_us.setter
-    def unity_time_us(self, value: int) -> None:
-        struct.pack_into("<Q", self._mm, Header.UNITY_TIME, value)
+    def _read(self, offset: int, size: int) -> bytes:
+        return self._mm[offset:offset + size]
 
-    @property
-    def athrill_time_us(self) -> int:
-        return self._u64(Header.ATHRILL_TIME)
-
-    @athrill_time_us.setter
-    def athrill_time_us(self, value: int) -> None:
-        struct.pack_into("<Q", self._mm, Header.ATHRILL_TIME, value)
-
-    # Body, by body offset.
-    def _at(self, offset: int, size: int) -> int:
-        if not 0 <= offset <= WINDOW_SIZE - size:
-            raise ProtocolError(f"body offset {offset} (+{size}) is outside the {WINDOW_SIZE}-byte window")
-        return HEADER_SIZE + offset
-
-    def read(self, fmt: str, offset: int) -> int | float:
-        """One little-endian value of struct format `fmt` ('i', 'I', 'q', 'f', 'h', 'B', ...)."""
-        s = struct.calcsize(fmt)
-        return struct.unpack_from("<" + fmt, self._mm, self._at(offset, s))[0]
-
-    def write(self, fmt: str, offset: int, value: int | float) -> None:
-        struct.pack_into("<" + fmt, self._mm, self._at(offset, struct.calcsize(fmt)), value)
-
-    def read_i32(self, offset: int) -> int:
-        return struct.unpack_from("<i", self._mm, self._at(offset, 4))[0]
-
-    def write_i32(self, offset: int, value: int) -> None:
-        struct.pack_into("<i", self._mm, self._at(offset, 4), value)
-
-    def read_u32(self, offset: int) -> int:
-        return struct.unpack_from("<I", self._mm, self._at(offset, 4))[0]
-
-    def write_u32(self, offset: int, value: int) -> None:
-        struct.pack_into("<I", self._mm, self._at(offset, 4), value)
-
-    def read_f32(self, offset: int) -> float:
-        return struct.unpack_from("<f", self._mm, self._at(offset, 4))[0]
-
-    def write_f32(self, offset: int, value: float) -> None:
-        struct.pack_into("<f", self._mm, self._at(offset, 4), value)
-
-    def read_i32s(self, offset: int, count: int) -> tuple[int, ...]:
-        return struct.unpack_from(f"<{count}i", self._mm, self._at(offset, 4 * count))
-
-    def write_i32s(self, offset: int, values: tuple[int, ...] | list[int]) -> None:
-        struct.pack_into(f"<{len(values)}i", self._mm, self._at(offset, 4 * len(values)), *values)
-
-    def clear(self, start: int, end: int) -> None:
-        self._mm[self._at(start, end - start) : HEADER_SIZE + end] = bytes(end - start)
-
-    def read_bytes(self, offset: int, size: int) -> bytes:
-        return self._mm[self._at(offset, size) : HEADER_SIZE + offset + size]
-
-    def write_bytes(self, offset: int, data: bytes) -> None:
-        self._mm[self._at(offset, len(data)) : HEADER_SIZE + offset + len(data)] = data
+    def _write(self, offset: int, data: bytes) -> None:
+        self._mm[offset:offset + len(data)] = data
 
     def file_bytes(self, size: int) -> bytes:
         """The file's first `size` bytes, header included: what a UDP packet carries (`hakoniwa.wire.packets`)."""
         return self._mm[:size]
+
+
+class PolledFile(LayoutFile):
+    """A protocol file read and written with pread / pwrite: the controller's view, which polls a few words
+    and so needs no mapping. Someone truncating the file cannot kill the controller with SIGBUS, as it would
+    through a mapping (the physics process may die of it; the controller then reports a spoiled test);
+    bytes beyond a truncated end read as zeros, as they would in the mapping's last page."""
+
+    def __init__(self, path: Path, magic: bytes) -> None:
+        self.path = Path(path)
+        check_file(self.path, magic)
+        self._fd: int | None = os.open(self.path, os.O_RDWR)
+
+    def close(self) -> None:
+        if self._fd is not None:
+            os.close(self._fd)
+            self._fd = None
+
+    def _unpack(self, fmt: str, offset: int) -> tuple:
+        return struct.unpack(fmt, self._read(offset, struct.calcsize(fmt)))
+
+    def _pack(self, fmt: str, offset: int, *values: int | float) -> None:
+        self._write(offset, struct.pack(fmt, *values))
+
+    def _read(self, offset: int, size: int) -> bytes:
+        assert self._fd is not None
+        return os.pread(self._fd, size, offset).ljust(size, b"\0")
+
+    def _write(self, offset: int, data: bytes) -> None:
+        assert self._fd is not None
+        os.pwrite(self._fd, data, offset)
 
 
 def open_unity(run_dir: Path, *, create: bool = False) -> MappedFile:
@@ -384,6 +475,14 @@ def open_unity(run_dir: Path, *, create: bool = False) -> MappedFile:
 
 def open_athrill(run_dir: Path, *, create: bool = False) -> MappedFile:
     return MappedFile(Path(run_dir) / ATHRILL_FILE, ATHRILL_MAGIC, create=create)
+
+
+def poll_unity(run_dir: Path) -> PolledFile:
+    return PolledFile(Path(run_dir) / UNITY_FILE, UNITY_MAGIC)
+
+
+def poll_athrill(run_dir: Path) -> PolledFile:
+    return PolledFile(Path(run_dir) / ATHRILL_FILE, ATHRILL_MAGIC)
 
 
 def goal_time_words(goal_time_us: int) -> tuple[int, int]:
