@@ -34,7 +34,7 @@ def test_the_draws_are_fresh_and_the_same_for_the_same_campaign(tmp_path):
 def test_the_best_set_is_judged_on_every_draw(tmp_path):
     summary = campaign(tmp_path)
     bench = SyntheticBench()
-    validation = validate_best(summary, SerialExecutor(bench), 6)
+    validation = validate_best(summary, SerialExecutor(bench), 6, tmp_path / "c")
     assert len(bench.calls) == 6 and validation.seeds == tuple(s.noise_seed for s in bench.calls)
     d = validation.to_dict()
     assert d["draws"] == d["runs"] == 6 and d["success"] == 1.0 and d["campaign_estimate_s"] == summary.best.value
@@ -45,7 +45,7 @@ def test_the_best_set_is_judged_on_every_draw(tmp_path):
 def test_a_bench_fault_voids_the_validation(tmp_path):
     summary = campaign(tmp_path)
     with pytest.raises(BenchFault, match="spoiled a test"):
-        validate_best(summary, SerialExecutor(lambda spec: BENCH_FAULT), 3)
+        validate_best(summary, SerialExecutor(lambda spec: BENCH_FAULT), 3, tmp_path / "c")
 
 
 def test_the_lap_figure_has_a_legend_naming_the_estimate_and_the_misses():
