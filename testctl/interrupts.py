@@ -16,6 +16,7 @@ their parents, and the campaign folder's lock is the kernel's.
 
 from __future__ import annotations
 
+import atexit
 import gc
 import os
 import signal
@@ -123,16 +124,29 @@ def interrupts() -> Iterator[None]:
     process ended EXIT_WITHIN_S after the signal whatever it is doing."""
     global _stop
     _stop = _Stop()
-    previous = {s: signal.signal(s, _handle) for s in (signal.SIGINT, signal.SIGTERM, signal.SIGALRM)}
+    # A command started with Ctrl-C ignored (a background job, nohup) keeps ignoring it, as Python would.
+    ours = [s for s in (signal.SIGINT, signal.SIGTERM, signal.SIGALRM) if signal.getsignal(s) is not signal.SIG_IGN]
+    previous = {s: signal.signal(s, _handle) for s in ours}
+    atexit.register(_end)  # after every exit handler registered later: the libraries' (Dask's) run first
     try:
         yield
     finally:
         if _stop.signum is None:
+            atexit.unregister(_end)
             signal.setitimer(signal.ITIMER_REAL, 0)
             for s, handler in previous.items():
                 signal.signal(s, handler)
             _stop = None
         # else the process is ending: the deadline stays armed over the interpreter's own shutdown
+
+
+def _end() -> None:
+    """The last exit handler of a stopped process: end it now, with its status. What the interpreter would
+    do next undoes our handlers while the deadline is armed, and its alarm would end it as a signal."""
+    if _stop is not None and _stop.signum is not None:
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(_stop.status)
 
 
 def stopped_by(interrupt: KeyboardInterrupt, hint: str = "") -> NoReturn:
