@@ -22,7 +22,6 @@ from hakoniwa.wire.processes import describe_exit, exit_status
 from hakoniwa.wire.rundir import TRAJECTORY_FILE, diagnose
 from testctl.launch import controller_command, run_physics
 from testctl import paper
-from testctl.fingerprint import FILES_KEY
 from testctl.options import (DEFAULT_DRAWS, MAX_DRAWS, SMOKE_DRAWS, campaign_options, make_out_dir, noise_options,
                              plan)
 from testctl.suite import DEFAULT_FILE
@@ -178,6 +177,7 @@ def _run(benches: int | None, scheduler: str | None, validate: int | None, optio
     run_dir = p.out_dir / "run"
     from testctl.bench import Bench
     from testctl.cluster import ClusterError, DaskExecutor
+    from testctl.fingerprint import FILES_KEY
     from testctl.session import run_campaign
 
     try:
