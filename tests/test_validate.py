@@ -77,6 +77,9 @@ def test_validate_0_skips_it(tmp_path):
     assert r.returncode == 0, r.stderr
     assert "validation" not in json.loads((tmp_path / "best.json").read_text())
     assert "validation" not in r.stdout and not (tmp_path / "validation.png").exists()
+    resumed = hako("run", "--resume", str(tmp_path))  # keeps --validate 0 (it once fell back to 20)
+    assert resumed.returncode == 0, resumed.stderr
+    assert "validation" not in resumed.stdout and not (tmp_path / "validation.png").exists()
 
 
 def test_an_interrupted_validation_resumes_with_the_draws_it_lacks(tmp_path):
