@@ -7,6 +7,7 @@ import gc
 import os
 import signal
 import sys
+import threading
 import time
 
 from testctl.interrupts import interrupts, stopped_by
@@ -18,7 +19,7 @@ def spin(seconds: float) -> None:
         pass
 
 
-def main(moment: str, signum: int) -> None:
+def main(moment: str, signum: int) -> None:  # noqa: C901 (one case per moment)
     def in_gc(phase: str, info: dict) -> None:  # as distributed's gc diagnosis hooks itself in
         if phase == "start" and not sent:
             sent.append(True)
@@ -46,6 +47,16 @@ def main(moment: str, signum: int) -> None:
                 while True:
                     Finalized()
                     time.sleep(0.01)
+            elif moment == "dask-gc":  # distributed's own gc hook, the one the Ctrl-C landed in
+                from distributed.gc import enable_gc_diagnosis
+
+                enable_gc_diagnosis()
+                threading.Timer(float(os.environ.get("DELAY_S", "0.1")), os.kill, (os.getpid(), signum)).start()
+                while True:
+                    for _ in range(200):
+                        cycle: list = []
+                        cycle.append(cycle)
+                    gc.collect()
             elif moment == "slow-cleanup":
                 try:
                     os.kill(os.getpid(), signum)

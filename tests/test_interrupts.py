@@ -4,6 +4,8 @@ callback (where Python prints "Exception ignored" and loses it), and the process
 from __future__ import annotations
 
 import gc
+import os
+import random
 import signal
 import subprocess
 import sys
@@ -57,10 +59,10 @@ def test_a_gc_callback_or_a_finalizer_is_no_place_to_raise():
     assert not safe_to_raise(frames[-1])
 
 
-def stop(moment: str, signum: int) -> tuple[subprocess.CompletedProcess, float]:
+def stop(moment: str, signum: int, **env: str) -> tuple[subprocess.CompletedProcess, float]:
     t0 = time.monotonic()
     r = subprocess.run([sys.executable, str(CHILD), moment, str(signum)], capture_output=True, text=True,
-                       timeout=60, preexec_fn=interruptible)
+                       timeout=60, preexec_fn=interruptible, env={**os.environ, **env})
     return r, time.monotonic() - t0
 
 
@@ -82,3 +84,14 @@ def test_an_interrupt_at_a_bad_moment_still_ends_the_process_with_one_line(momen
     assert took < 5  # the interpreter's start; the stop itself is bounded by EXIT_WITHIN_S
     if moment in ("gc-callback-stuck", "slow-cleanup"):
         assert took > EXIT_WITHIN_S
+
+
+@pytest.mark.parametrize("draw", range(6))
+def test_ctrl_c_while_distributed_watches_the_garbage_collector(draw):
+    """The issue's case: most of the time goes to collections, each passing through distributed's gc hook,
+    and Ctrl-C comes at a random moment."""
+    delay = random.Random(draw).uniform(0.05, 0.5)
+    r, _ = stop("dask-gc", signal.SIGINT, DELAY_S=str(delay))
+    assert r.returncode == 130, r.stderr
+    assert "Exception ignored" not in r.stderr and "Traceback" not in r.stderr, r.stderr
+    assert r.stderr.strip().splitlines() == ["interrupted: the hint"] or r.stderr.strip() == "hako: interrupted", r.stderr
