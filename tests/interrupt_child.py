@@ -57,6 +57,14 @@ def main(moment: str, signum: int) -> None:  # noqa: C901 (one case per moment)
                         cycle: list = []
                         cycle.append(cycle)
                     gc.collect()
+            elif moment == "second-signal":  # the user will not wait for a slow cleanup
+                try:
+                    print(f"first at {time.time()}", flush=True)
+                    os.kill(os.getpid(), signum)
+                    time.sleep(30)
+                finally:
+                    os.kill(os.getpid(), signum)
+                    spin(30)
             elif moment == "slow-cleanup":
                 try:
                     os.kill(os.getpid(), signum)

@@ -95,3 +95,11 @@ def test_ctrl_c_while_distributed_watches_the_garbage_collector(draw):
     assert r.returncode == 130, r.stderr
     assert "Exception ignored" not in r.stderr and "Traceback" not in r.stderr, r.stderr
     assert r.stderr.strip().splitlines() == ["interrupted: the hint"] or r.stderr.strip() == "hako: interrupted", r.stderr
+
+
+def test_a_second_signal_ends_a_slow_cleanup_at_once():
+    r, _ = stop("second-signal", signal.SIGINT)
+    ended = time.time()
+    assert r.returncode == 130 and r.stderr.strip() == "hako: interrupted", r.stderr
+    first = float(r.stdout.split()[-1])
+    assert ended - first < EXIT_WITHIN_S  # not the deadline: the second signal
