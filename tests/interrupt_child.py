@@ -19,7 +19,7 @@ def spin(seconds: float) -> None:
         pass
 
 
-def main(moment: str, signum: int) -> None:  # noqa: C901 (one case per moment)
+def main(moment: str, signum: int) -> None:
     def in_gc(phase: str, info: dict) -> None:  # as distributed's gc diagnosis hooks itself in
         if phase == "start" and not sent:
             sent.append(True)

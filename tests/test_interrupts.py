@@ -94,7 +94,7 @@ def test_ctrl_c_while_distributed_watches_the_garbage_collector(draw):
     r, _ = stop("dask-gc", signal.SIGINT, DELAY_S=str(delay))
     assert r.returncode == 130, r.stderr
     assert "Exception ignored" not in r.stderr and "Traceback" not in r.stderr, r.stderr
-    assert r.stderr.strip().splitlines() == ["interrupted: the hint"] or r.stderr.strip() == "hako: interrupted", r.stderr
+    assert r.stderr.strip() in ("interrupted: the hint", "hako: interrupted"), r.stderr  # raised, or the deadline
 
 
 def test_a_second_signal_ends_a_slow_cleanup_at_once():
