@@ -22,10 +22,9 @@ from hakoniwa.wire.processes import describe_exit, exit_status
 from hakoniwa.wire.rundir import TRAJECTORY_FILE, diagnose
 from testctl.launch import controller_command, run_physics
 from testctl import paper
-from testctl.fingerprint import FILES_KEY
-from testctl.options import campaign_options, make_out_dir, noise_options, plan
+from testctl.options import (DEFAULT_DRAWS, MAX_DRAWS, SMOKE_DRAWS, campaign_options, make_out_dir, noise_options,
+                             plan)
 from testctl.suite import DEFAULT_FILE
-from testctl.validate import DEFAULT_DRAWS, SMOKE_DRAWS
 
 POWER = Float32(-100.0, 100.0)
 
@@ -138,10 +137,10 @@ def how_many_benches(benches: int | None, scheduler: str | None) -> int:
 @bench_options
 @benches_options
 @campaign_options
-@click.option("--validate", type=click.IntRange(min=0), default=None,
-              help=f"Test the best set on this many fresh noise draws: its success rate and lap quantiles; 0 "
-                   f"skips [{DEFAULT_DRAWS}; {SMOKE_DRAWS} with --smoke; 1 with --noise 0, where every draw "
-                   f"is the same test].")
+@click.option("--validate", type=click.IntRange(min=0), default=None, callback=lambda ctx, param, n: _draws(n),
+              help=f"Test the best set on this many fresh noise draws (at most {MAX_DRAWS}): its success rate "
+                   f"and lap quantiles; 0 skips [{DEFAULT_DRAWS}; {SMOKE_DRAWS} with --smoke; 1 with --noise 0, "
+                   f"where every draw is the same test; on --resume, the campaign's].")
 def run(benches: int | None, scheduler: str | None, validate: int | None, **options) -> None:
     """Search the robot program's parameters by Bayesian optimization, as in the paper: 5 random sets, then
     --trials sets proposed by GPyOpt (EI), --batch at a time; each set tested until 3 successes or 3
@@ -150,13 +149,20 @@ def run(benches: int | None, scheduler: str | None, validate: int | None, **opti
     the mean time the program notified its completion). Tests run on --benches
     benches at once; then the best set is tested on --validate fresh noise draws.
     Every test is journaled; kill and --resume at any time."""
-    from testctl.interrupts import sigterm_interrupts, stopped_by
+    from testctl.interrupts import interrupts, stopped_by
 
-    with sigterm_interrupts():
+    with interrupts():
         try:
             _run(benches, scheduler, validate, options)
         except KeyboardInterrupt as e:  # before the campaign started or after it ended: nothing to resume
             stopped_by(e)
+
+
+def _draws(n: int | None) -> int | None:
+    if n is not None and n > MAX_DRAWS:
+        raise click.BadParameter(f"{n} draws is more than {MAX_DRAWS}, past which the estimates hardly move; for a "
+                                 "longer look at a set, give `hako test` a case with `from` and `seeds`")
+    return n
 
 
 def _run(benches: int | None, scheduler: str | None, validate: int | None, options: dict) -> None:
@@ -166,13 +172,15 @@ def _run(benches: int | None, scheduler: str | None, validate: int | None, optio
         options["repeats"] = 1  # every repetition of a set would be the very same test
     p = plan(**options, penalty_s=time_limit_s(given))
     if validate is None:
-        validate = 1 if p.config.noise == 0 else SMOKE_DRAWS if options["smoke"] else DEFAULT_DRAWS
+        validate = (p.validate if p.validate is not None else 1 if p.config.noise == 0
+                    else SMOKE_DRAWS if options["smoke"] else DEFAULT_DRAWS)
     bench = dataclasses.replace(_campaign_bench(p.bench, given), bindings=p.config.space.bindings())
     program = check_bench(bench, benches=None if scheduler else n)
     files = recorded_files(p.bench, bench)
     run_dir = p.out_dir / "run"
     from testctl.bench import Bench
     from testctl.cluster import ClusterError, DaskExecutor
+    from testctl.fingerprint import FILES_KEY
     from testctl.session import run_campaign
 
     try:
@@ -205,13 +213,23 @@ def test_command(test_file: Path, benches: int | None, scheduler: str | None, ou
     """Run the cases of TEST_FILE [hako-tests.toml] on the benches and check what each must show (events,
     checkpoints, lap bounds on every run or as a quantile, success rate). Exit 0: every case passed; 1: a
     case failed; 2: bad input or the run itself broke (a bench fault, a bench that died). See docs/CI.md."""
+    from testctl.interrupts import interrupts, stopped_by
+
+    with interrupts():
+        try:
+            _test(test_file, benches, scheduler, out, junit_file, json_file, pop_bench(bench))
+        except KeyboardInterrupt as e:  # before any test ran: run_suite says its own line once tests run
+            stopped_by(e)
+
+
+def _test(test_file: Path, benches: int | None, scheduler: str | None, out: Path | None, junit_file: Path | None,
+          json_file: Path | None, base: BenchOptions) -> None:
     import datetime as dt
 
     from testctl.suite import SuiteError, load_suite
     from testctl.suite_session import RunBroken, run_suite
 
     n = how_many_benches(benches, scheduler)
-    base = pop_bench(bench)
     try:
         cases = load_suite(test_file, dataclasses.replace(base, course=_absolute(base.course), app=_absolute(base.app)))
         out_dir = out or Path("runs") / f"test-{dt.datetime.now():%Y%m%d-%H%M%S}"
@@ -225,11 +243,8 @@ def test_command(test_file: Path, benches: int | None, scheduler: str | None, ou
         raise RunBroken(str(e)) from None
     except click.ClickException as e:
         raise RunBroken(e.message) from None
-    from testctl.interrupts import sigterm_interrupts
-
-    with sigterm_interrupts():
-        run_suite(test_file, cases, out_dir, benches=n, scheduler=scheduler, junit_file=junit_file,
-                  json_file=json_file)
+    run_suite(test_file, cases, out_dir, benches=n, scheduler=scheduler, junit_file=junit_file,
+              json_file=json_file)
 
 
 @main.command(context_settings=HELP)
@@ -267,7 +282,7 @@ def dashboard(run_dirs: tuple[Path, ...], host: str, port: int) -> None:
     improved on the best. Live: a campaign still running shows each set as it is decided. Needs the
     dashboard extra: pip install -e '.[dashboard]'."""
     from testctl.dashboard import DashboardError, make_app, make_server
-    from testctl.interrupts import sigterm_interrupts, stopped_by
+    from testctl.interrupts import interrupts, stopped_by
 
     try:
         server = make_server(make_app(run_dirs), host, port)
@@ -276,7 +291,7 @@ def dashboard(run_dirs: tuple[Path, ...], host: str, port: int) -> None:
     shown = host if ":" not in host else f"[{host}]"
     click.echo(f"hako dashboard: {len(run_dirs)} campaign{'s' * (len(run_dirs) > 1)} on "
                f"http://{shown}:{server.server_port}/dashboard (Ctrl-C stops)", err=True)
-    with sigterm_interrupts():
+    with interrupts():
         try:
             server.serve_forever()
         except KeyboardInterrupt as e:

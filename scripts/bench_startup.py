@@ -36,7 +36,8 @@ def wall_seconds(argv: list[str]) -> float:
 @click.command(context_settings={"help_option_names": ["-h", "--help"]})
 @click.option("--runs", type=click.IntRange(min=1), default=9, show_default=True, help="Measured runs per command.")
 def main(runs: int) -> None:
-    """Time `mazelog --help`, a text replay of a full 32x32 log, and `hako --help`."""
+    """Time `mazelog --help`, a text replay of a full 32x32 log, `hako --help`, `hako run --help` and
+    `hako test --help`."""
     with tempfile.TemporaryDirectory() as tmp:
         log = Path(tmp) / "japan2019hef-full.bin"
         log.write_bytes(encode_log(records_for(parse_maze(builtin_path("japan2019hef").read_text()))))
@@ -45,6 +46,8 @@ def main(runs: int) -> None:
             ("mazelog replay LOG --format text (32x32, 1984 records)",
              [str(BIN / "mazelog"), "replay", str(log), "--format", "text"], TARGET_S),
             ("hako --help", [str(BIN / "hako"), "--help"], None),
+            ("hako run --help", [str(BIN / "hako"), "run", "--help"], None),
+            ("hako test --help", [str(BIN / "hako"), "test", "--help"], None),
         ]
         rows = []
         with click.progressbar(commands, label="timing", file=sys.stderr) as bar:

@@ -30,7 +30,8 @@ import numpy as np
 
 from hakoniwa.wire.protocol import MAX_NOISE_SCALE
 from testctl.executor import Executor, SerialExecutor, TestSpec
-from testctl.journal import JOURNAL_FILE, Journal, JournalError, TestRecord, now_timestamp, read_journal
+from testctl.journal import (JOURNAL_FILE, PHASE_VALIDATION, Journal, JournalError, TestRecord, now_timestamp,
+                             read_journal)
 from testctl.noise_seed import noise_seed
 from testctl.objective import LEGACY_PENALTY_S, RepetitionRule, Verdict
 from testctl.result import TestResult
@@ -200,6 +201,7 @@ class Campaign:
     `bench_info` describes the bench (course, program, time limit) for the journal's header: a resumed
     campaign runs on the same bench. `on_sets` is given every set decided so far: none at the start, then
     whenever there are more (those of the journal first); the Optuna study mirror, `testctl.study`.
+    `header` holds further keys for a new journal's header that the campaign itself does not read.
     """
 
     def __init__(
@@ -212,9 +214,11 @@ class Campaign:
         on_sets: Callable[[tuple[SetResult, ...]], None] | None = None,
         resume: bool = False,
         bench_info: Mapping[str, Any] | None = None,
+        header: Mapping[str, Any] | None = None,
     ) -> None:
         self.config = config
         self.bench_info = dict(bench_info or {})
+        self.header = dict(header or {})
         self.out_dir = Path(out_dir)
         self.executor = executor if isinstance(executor, Executor) else SerialExecutor(executor)
         self.on_progress = on_progress
@@ -238,10 +242,10 @@ class Campaign:
             self._check_header(journal)
         else:
             self.out_dir.mkdir(parents=True, exist_ok=True)
-            journal = Journal.create(path, {**self.config.header(), "bench": self.bench_info})
+            journal = Journal.create(path, {**self.config.header(), "bench": self.bench_info, **self.header})
         with journal:
             n_before = len(journal.records)
-            by_set = self._group(journal.records)
+            by_set = self._group([r for r in journal.records if r.phase != PHASE_VALIDATION])
             self._report(len(journal.records), None)
             if self.on_sets is not None:
                 self.on_sets(())

@@ -15,9 +15,11 @@ that has lost every worker for NO_WORKERS_TIMEOUT_S, or its scheduler, cannot go
 from __future__ import annotations
 
 import logging
+import multiprocessing
 import os
+import shlex
 import shutil
-import signal
+import sys
 import tempfile
 import threading
 import time
@@ -38,6 +40,30 @@ CONNECT_TIMEOUT_S = 10
 NO_WORKERS_TIMEOUT_S = 60.0  # a cluster without a worker this long is not coming back by itself
 POLL_S = 0.05  # how often a wait for results looks for one
 LOOK_EVERY_S = 1.0  # and how often it asks the scheduler about the workers
+
+
+# What multiprocessing's resource tracker says when this process dies without closing the workers' queues
+# (SIGKILL): it unlinks their semaphores then, which is all there is to do, so it need not warn.
+TRACKER_QUIET = "ignore:resource_tracker:UserWarning:multiprocessing.resource_tracker"
+
+
+def deaf_interpreter() -> tempfile.TemporaryDirectory:
+    """Have multiprocessing start the local workers (a replacement too) with Ctrl-C ignored, and the
+    resource tracker quiet, through a folder holding the interpreter it starts them with.
+
+    The user's Ctrl-C goes to the whole process group, and it is the controller's to handle (testctl.interrupts):
+    a worker that heard it would die mid-test with a traceback. Python leaves a signal ignored at its start
+    ignored, and so do the benches a worker starts; but the controller must not ignore it itself, not even
+    while the cluster starts (that lost a Ctrl-C), and blocking it instead does not reach the workers
+    (multiprocessing unblocks it)."""
+    if TRACKER_QUIET not in sys.warnoptions:
+        sys.warnoptions.append(TRACKER_QUIET)  # what the processes it starts are given as -W
+    folder = tempfile.TemporaryDirectory(prefix="hako-python-")
+    python = Path(folder.name) / "python"
+    python.write_text(f"#!/bin/sh\ntrap '' INT\nexec {shlex.quote(sys.executable)} \"$@\"\n")
+    python.chmod(0o755)
+    multiprocessing.set_executable(str(python))
+    return folder
 
 
 class ClusterError(RuntimeError):
@@ -95,17 +121,12 @@ class DaskExecutor(Executor):
             for name in [n for n in logging.root.manager.loggerDict if n.split(".")[0] == "distributed"]:
                 logging.getLogger(name).setLevel(logging.CRITICAL)
         else:
-            # The workers must not see the user's Ctrl-C (it is the campaign's to handle): a signal ignored
-            # when a process starts stays ignored in the processes it starts.
-            previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
-            try:
-                # No dashboard; and the scheduler's HTTP server (which it starts even so) on a free port, not on
-                # 8787, where another campaign's or a notebook's would make every campaign warn.
-                self._cluster = LocalCluster(n_workers=benches, threads_per_worker=1, processes=True,
-                                             dashboard_address=None, silence_logs=logging.CRITICAL,
-                                             scheduler_kwargs={"dashboard": False, "dashboard_address": ":0"})
-            finally:
-                signal.signal(signal.SIGINT, previous)
+            self._interpreter = deaf_interpreter()
+            # No dashboard; and the scheduler's HTTP server (which it starts even so) on a free port, not on
+            # 8787, where another campaign's or a notebook's would make every campaign warn.
+            self._cluster = LocalCluster(n_workers=benches, threads_per_worker=1, processes=True,
+                                         dashboard_address=None, silence_logs=logging.CRITICAL,
+                                         scheduler_kwargs={"dashboard": False, "dashboard_address": ":0"})
             self.client = Client(self._cluster)
         try:
             self.client.wait_for_workers(1, timeout=CONNECT_TIMEOUT_S)
@@ -162,3 +183,5 @@ class DaskExecutor(Executor):
         self.client.close()
         if self._cluster is not None:
             self._cluster.close()
+            self._interpreter.cleanup()
+            multiprocessing.set_executable(sys.executable)

@@ -29,6 +29,7 @@ from typing import IO, Any
 from testctl.result import TestResult
 
 JOURNAL_FILE = "journal.jsonl"
+PHASE_VALIDATION = "validation"  # a draw of the best set's validation, past its repetitions: no test of the search
 FORMAT = 2
 READABLE_FORMATS = (1, 2)
 _KIND = "hakoniwa-campaign-journal"
@@ -109,11 +110,13 @@ class Journal:
         fh.seek(good_len)
         return cls(path, header, records, fh)
 
-    def append(self, record: TestRecord) -> None:
+    def append(self, record: TestRecord, keep: bool = True) -> None:
+        """Write `record` for good; `keep` adds it to `records` too (a long validation keeps none)."""
         self._fh.write(_line(record.to_json()))
         self._fh.flush()
         os.fsync(self._fh.fileno())
-        self.records.append(record)
+        if keep:
+            self.records.append(record)
 
     def close(self) -> None:
         self._fh.close()

@@ -28,6 +28,15 @@ if TYPE_CHECKING:
 
 SMOKE = {"trials": 2, "init_points": 2, "repeats": 1}  # a campaign that exercises every part in seconds
 
+# --validate, the best set's draws (testctl.validate):
+DEFAULT_DRAWS = 20
+SMOKE_DRAWS = 3  # `--smoke` is a campaign in seconds; its validation only shows the parts work
+# Past 1000 draws the estimates hardly move (the success rate's standard error is at most 1.6 points, the
+# p90 within +-9 ranks of 1000), while the bench's own bias does not shrink, and 1000 draws already take
+# about an hour on one bench. A longer look at a set: `hako test` with `from` and `seeds`.
+MAX_DRAWS = 1000
+VALIDATE_KEY = "validate"  # the journal header's --validate, which a resumed campaign keeps
+
 _OPTIONS = [
     click.option("--trials", type=click.IntRange(min=0), default=None,
                  help="Optimization iterations (sets) after the initial points [100]."),
@@ -75,6 +84,7 @@ class CampaignPlan:
     resume: bool
     bench: dict[str, Any]  # the bench the journal records (course, app, time limit), empty for a new one
     lock: RunDirLock  # held from the plan to the end of the campaign: one live campaign per folder
+    validate: int | None = None  # the journal's --validate (None: a new campaign, or a journal without it)
 
 
 def plan(trials: int | None, init_points: int | None, repeats: int | None, seed: int | None,
@@ -107,7 +117,7 @@ def plan(trials: int | None, init_points: int | None, repeats: int | None, seed:
             if (why := missing(config.optimizer)) is not None:
                 lock.release()
                 raise click.ClickException(f"{why} (the campaign in {resume} uses it)")
-            return CampaignPlan(config, resume, True, dict(header.get("bench", {})), lock)
+            return CampaignPlan(config, resume, True, dict(header.get("bench", {})), lock, header.get(VALIDATE_KEY))
         space = ParameterSpace.load(space_file) if space_file is not None else ParameterSpace.default()
         config = CampaignConfig(space=space, penalty_s=penalty_s, **{**(SMOKE if smoke else {}), **given})
         if (why := missing(config.optimizer)) is not None:

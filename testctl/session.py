@@ -15,7 +15,7 @@ from testctl.campaign import BenchBroken, Campaign, CampaignConfig, CampaignSumm
 from testctl.executor import Executor, TestSpec
 from testctl.interrupts import stopped_by
 from testctl.journal import JOURNAL_FILE, JournalError
-from testctl.options import CampaignPlan
+from testctl.options import VALIDATE_KEY, CampaignPlan
 from testctl.progress import ProgressLine
 from testctl.result import TestResult
 from testctl.runner import PhysicsGone
@@ -55,7 +55,8 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
             plain = None if sys.stderr.isatty() else lambda line: click.echo(f"{label}: {line}", err=True)
             mirror = StudyMirror(p.out_dir, lambda s, png: draw_set(p.config, s, trial_once, course_folder, png))
             summary = Campaign(p.config, p.out_dir, executor, on_progress=ProgressLine(bar, plain=plain),
-                               on_sets=mirror.update, resume=p.resume, bench_info=bench_info).run()
+                               on_sets=mirror.update, resume=p.resume, bench_info=bench_info,
+                               header={VALIDATE_KEY: validate}).run()
         patch = None
         if summary.best is not None and write_patch is not None:
             space = summary.config.space
@@ -67,7 +68,8 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
         if summary.best is not None and validate:
             with click.progressbar(length=validate, label=f"validating the best set on {validate} fresh draws",
                                    file=sys.stderr) as bar:
-                validation = validate_best(summary, executor, validate, lambda spec, result: bar.update(1))
+                validation = validate_best(summary, executor, validate, p.out_dir,
+                                           lambda spec, result: bar.update(1))
             write_best_json(p.out_dir / BEST_JSON, summary, validation.to_dict(),
                             patch.to_dict() if patch is not None else None)
             files.append(draw_validation(p.out_dir / VALIDATION_PNG, summary, validation))

@@ -5,7 +5,9 @@ little about how often the set fails on the robot. So `hako run` ends by running
 `--validate N` further draws and reporting its success rate and lap quantiles (`testctl.lapstats`) beside
 the campaign's estimate. The draws continue the best set's own repetitions past the campaign's `repeats`,
 numbers no test of the campaign ever used: fresh, and yet the same for the same campaign, so a resumed or
-re-run campaign validates on the same draws.
+re-run campaign validates on the same draws. Each draw goes to the campaign's journal as it finishes
+(phase `validation`, which the campaign's search never reads), so an interrupted validation resumes with
+the draws it lacks.
 """
 
 from __future__ import annotations
@@ -17,16 +19,15 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from testctl.executor import Executor, TestSpec
+from testctl.journal import JOURNAL_FILE, PHASE_VALIDATION, Journal, TestRecord, now_timestamp
 from testctl.lapstats import LapStats
 from testctl.noise_seed import noise_seed
 from testctl.result import TestResult
-from testctl.suite_run import run_specs
+from testctl.suite_run import bench_fault, results_of
 
 if TYPE_CHECKING:
     from testctl.campaign import CampaignSummary  # NumPy: not for `hako --help`
 
-DEFAULT_DRAWS = 20
-SMOKE_DRAWS = 3  # `--smoke` is a campaign in seconds; its validation only shows the parts work
 VALIDATION_PNG = "validation.png"
 
 
@@ -58,14 +59,29 @@ def validation_specs(summary: CampaignSummary, draws: int) -> list[TestSpec]:
                      config.space.slot_types) for rep in reps]
 
 
-def validate_best(summary: CampaignSummary, executor: Executor, draws: int,
+def validate_best(summary: CampaignSummary, executor: Executor, draws: int, out_dir: Path,
                   on_result: Callable[[TestSpec, TestResult], None] = lambda spec, result: None) -> Validation:
-    """Run the best set on `draws` fresh noise draws (a bench fault stops it: `suite_run.BenchFault`)."""
-    assert summary.best is not None
+    """Run the best set on the `draws` fresh noise draws that `out_dir`'s journal lacks, journaling each
+    (a bench fault is journaled, and stops it: `suite_run.BenchFault`). `on_result` hears of every draw,
+    the journaled ones first."""
+    best = summary.best
+    assert best is not None
     specs = validation_specs(summary, draws)
-    done = run_specs(executor, specs, on_result)
-    return Validation(tuple(s.noise_seed for s in specs), tuple(done[s.set_index, s.rep][0] for s in specs),
-                      summary.best.value)
+    with Journal.open(out_dir / JOURNAL_FILE) as journal:
+        done = {r.rep: r.result for r in journal.records
+                if r.phase == PHASE_VALIDATION and r.set_index == best.index and not r.result.bench_fault}
+        for spec in specs:
+            if spec.rep in done:
+                on_result(spec, done[spec.rep])
+        named = summary.config.space.to_named(best.x)
+        for spec, result, bench in results_of(executor, (s for s in specs if s.rep not in done)):
+            journal.append(TestRecord(best.index, PHASE_VALIDATION, named, spec.rep, result, now_timestamp(),
+                                      spec.noise_seed, bench), keep=False)
+            if result.bench_fault:
+                raise bench_fault(result, bench)
+            done[spec.rep] = result
+            on_result(spec, result)
+    return Validation(tuple(s.noise_seed for s in specs), tuple(done[s.rep] for s in specs), best.value)
 
 
 def draw_validation(path: Path, summary: CampaignSummary, validation: Validation) -> Path:

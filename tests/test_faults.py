@@ -177,3 +177,21 @@ def test_ctrl_c_or_sigterm_ends_a_campaign_with_the_resume_command(tmp_path, sig
     assert "Aborted" not in err and "Traceback" not in err and "leaked" not in err
     records = read_journal(out / JOURNAL_FILE)[1]
     assert all(r.result.event != Event.CRASH for r in records)  # the interrupt spoiled no result
+
+
+@pytest.mark.slow
+def test_a_sigkilled_campaign_leaves_no_leaked_semaphore_warning(tmp_path):
+    """The local workers' queues hold semaphores; multiprocessing's resource tracker, which outlives a
+    SIGKILLed `hako run`, unlinks them, and says nothing about it."""
+    out = tmp_path / "c"
+    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--trials", "20", "--repeats", "1",
+                             "--benches", "2", "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, start_new_session=True)
+    deadline = time.monotonic() + 300
+    while not ((out / JOURNAL_FILE).exists() and len(read_journal(out / JOURNAL_FILE)[1]) >= 1):
+        assert proc.poll() is None and time.monotonic() < deadline
+        time.sleep(0.1)
+    proc.kill()
+    _, err = proc.communicate(timeout=120)  # until the tracker and the workers, which share stderr, are gone
+    assert proc.returncode == -signal.SIGKILL
+    assert "leaked" not in err and "Traceback" not in err, err

@@ -9,7 +9,8 @@ import time
 
 import pytest
 
-from testctl.journal import JOURNAL_FILE, read_journal
+from testctl.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
+from testctl.options import SMOKE_DRAWS
 from conftest import hako
 
 
@@ -25,7 +26,9 @@ def test_smoke_campaign_writes_every_result_file(tmp_path):
         assert (out / name).stat().st_size > 0, name
     best = json.loads((out / "best.json").read_text())
     _, records = read_journal(out / JOURNAL_FILE)
-    assert len(records) == best["n_tests"] == 4  # 2 initial + 2 iterations, 1 test each
+    searched = [r for r in records if r.phase != PHASE_VALIDATION]
+    assert len(searched) == best["n_tests"] == 4  # 2 initial + 2 iterations, 1 test each
+    assert len(records) - len(searched) == SMOKE_DRAWS  # the validation's draws, journaled too
     assert best["success"] and 20 < best["lap_time_s"] < 60
 
 
