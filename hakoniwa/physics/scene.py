@@ -58,16 +58,19 @@ def _robot(look: RobotLook) -> str:
     half_track = b.track_width / 2
     tyre = min(0.022, half_track - hy - 0.002) / 2 if half_track - hy > 0.006 else 0.01
     spike = look.hub == SPIKE
+    # An EV3 brick is the robot's whole top; a SPIKE hub (88 x 56 mm) sits on a frame of the robot's colour.
+    top = (min(0.044, hx * .9), min(0.028, hy * .9)) if spike else (hx * .98, hy * .98)
     body_rgba, top_rgba = BODY_RGBA[look.hub], TOP_RGBA[look.hub]
-    screen = (f'<geom type="box" size="{hx * .45} {hy * .45} .0015" pos="{-0.01 + hx * .15} 0 {2 * hz + .001}" '
-              f'rgba=".08 .08 .08 1"/>' + "".join(
-                  f'<geom type="box" size=".004 .004 .001" pos="{-0.01 + hx * .15 + (i - 2) * hx * .17} '
-                  f'{(j - 2) * hy * .17} {2 * hz + .003}" rgba="1 .95 .75 1"/>'
-                  for i in range(5) for j in range(5) if (i + j) % 2 == 0)) if spike else (
-        f'<geom type="box" size="{hx * .35} {hy * .5} .0015" pos="{-0.01 + hx * .35} 0 {2 * hz + .001}" '
-        f'rgba=".55 .65 .55 1"/>'
-        f'<geom type="box" size="{hx * .12} {hy * .2} .002" pos="{-0.01 - hx * .35} 0 {2 * hz + .001}" '
-        f'rgba=".15 .15 .15 1"/>')
+    if spike:  # the hub's 5 x 5 light matrix, lit in a smile
+        lit = {(1, 1), (1, 3), (3, 0), (3, 4), (4, 1), (4, 2), (4, 3)}
+        screen = (f'<geom type="box" size=".019 .019 .0015" pos="-0.01 0 {2 * hz + .001}" rgba=".1 .1 .1 1"/>'
+                  + "".join(f'<geom type="box" size=".0028 .0028 .001" pos="{-0.01 + (2 - i) * .007} '
+                            f'{(2 - j) * .007} {2 * hz + .003}" rgba="1 .9 .6 1"/>' for i, j in sorted(lit)))
+    else:  # the EV3 brick's screen and its buttons
+        screen = (f'<geom type="box" size="{hx * .35} {hy * .5} .0015" pos="{-0.01 + hx * .35} 0 {2 * hz + .001}" '
+                  f'rgba=".55 .65 .55 1"/>'
+                  f'<geom type="box" size="{hx * .12} {hy * .2} .002" pos="{-0.01 - hx * .35} 0 {2 * hz + .001}" '
+                  f'rgba=".15 .15 .15 1"/>')
     front = -0.01 + hx
     eyes = (f'<geom type="box" size="{(b.ultrasonic_forward - front) / 2 + .004} .028 .012" '
             f'pos="{(b.ultrasonic_forward + front) / 2 - .004} 0 {hz}" rgba=".12 .12 .12 1"/>' + "".join(
@@ -87,7 +90,7 @@ def _robot(look: RobotLook) -> str:
     <body name="robot">
       <freejoint/>
       <geom type="box" size="{hx} {hy} {hz}" pos="-0.01 0 {hz}" rgba="{body_rgba}"/>
-      <geom type="box" size="{hx * .98} {hy * .98} .004" pos="-0.01 0 {2 * hz - .003}" rgba="{top_rgba}"/>
+      <geom type="box" size="{top[0]} {top[1]} .004" pos="-0.01 0 {2 * hz - .003}" rgba="{top_rgba}"/>
       {screen}{eyes}
       <geom type="sphere" size=".012" pos="{-hx + 0.005} 0 {0.012 - r}" rgba=".3 .3 .3 1"/>
       <geom type="box" size=".012 .012 {-sensor_z / 2}" pos="{b.color_sensor_forward} 0 {sensor_z / 2}" rgba=".12 .12 .12 1"/>

@@ -103,9 +103,11 @@ def project(gl_camera: mujoco.MjvGLCamera, point, width: int, height: int) -> tu
     v = np.asarray(point, dtype=float) - pos
     z = v @ fwd
     xs, ys = (v @ right) * gl_camera.frustum_near / z, (v @ up) * gl_camera.frustum_near / z
-    left = gl_camera.frustum_center - gl_camera.frustum_width
-    col = width * (xs - left) / (2 * gl_camera.frustum_width)
-    row = height * (gl_camera.frustum_top - ys) / (gl_camera.frustum_top - gl_camera.frustum_bottom)
+    top, bottom = gl_camera.frustum_top, gl_camera.frustum_bottom
+    half = gl_camera.frustum_width or (top - bottom) / 2 * width / height  # 0: from the viewport, as mjr_render
+    left = gl_camera.frustum_center - half
+    col = width * (xs - left) / (2 * half)
+    row = height * (top - ys) / (top - bottom)
     return float(col), float(row)
 
 
@@ -126,7 +128,8 @@ class Filmer:
         self.cam = mujoco.MjvCamera()
         self.title = title or f"{self.course.name} · {replay.robot.name}"
         self._font = _font(max(12, height // 24))
-        self._big = _font(max(18, height // 11))
+        self._big = _font(max(18, height // 12))
+        self._small = _font(max(10, height // 30))
 
     def render(self, t_us: float, overlay: bool = True) -> np.ndarray:
         r = self.replay
@@ -138,8 +141,10 @@ class Filmer:
         return self._overlay(pixels, t_us) if overlay else pixels
 
     def gl_camera(self) -> mujoco.MjvGLCamera:
-        """The camera of the last frame rendered, as MuJoCo placed it."""
-        return self.renderer.scene.camera[0]
+        """The camera of the last frame rendered, as MuJoCo placed it: a mono frame is seen from between the
+        two stereo eyes MuJoCo places (`mjv_averageCamera`)."""
+        scene = self.renderer.scene
+        return mujoco.mjv_averageCamera(scene.camera[0], scene.camera[1])
 
     def frames(self, fps: int, speed: float) -> Iterator[np.ndarray]:
         for t in frame_times_us(self.replay.duration_us, fps, speed):
@@ -164,9 +169,10 @@ class Filmer:
         text = f"t {t_us / US_PER_S:6.2f} s    lap {lap}    checkpoints {this_lap}/{n}"
         pad = bar // 4
         draw.text((pad, pad), text, font=self._font, fill=(255, 255, 255, 255))
-        right = self.title
-        w = draw.textlength(right, font=self._font)
-        draw.text((self.width - w - pad, pad), right, font=self._font, fill=(200, 205, 215, 255))
+        small = self._small
+        tw = draw.textlength(self.title, font=small)
+        draw.rectangle((0, self.height - small.size - 2 * pad, tw + 2 * pad, self.height), fill=(15, 18, 24, 140))
+        draw.text((pad, self.height - small.size - pad), self.title, font=small, fill=(215, 220, 230, 255))
         recent = [i for i, p in enumerate(r.passed_us) if p <= t_us < p + CHECKPOINT_NOTE_S * US_PER_S]
         if recent and not ended:
             i = recent[-1]
@@ -176,8 +182,8 @@ class Filmer:
         if ended:
             banner = _event_text(r)
             w = draw.textlength(banner, font=self._big)
-            y = self.height * 0.72
-            draw.rectangle((0, y - 8, self.width, y + self._big.size + 14), fill=(15, 18, 24, 170))
+            y = bar + pad
+            draw.rectangle((0, y - pad, self.width, y + self._big.size + 2 * pad), fill=(15, 18, 24, 150))
             draw.text(((self.width - w) / 2, y), banner, font=self._big, fill=_EVENT_COLOUR.get(r.event, (255, 255, 255)))
         return np.asarray(img)
 
