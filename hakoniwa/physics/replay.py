@@ -82,9 +82,8 @@ class Replay:
 
 def write_replay(path: Path, replay: Replay) -> None:
     """Written beside and renamed into place: a reader sees a whole file or none."""
-    doc = dataclasses.asdict(replay)
-    doc["version"] = REPLAY_VERSION
-    doc["states"] = [[round(v, 6) for v in s] for s in replay.states]
+    doc = dataclasses.asdict(dataclasses.replace(replay, times_us=(), states=()))  # asdict would copy every sample
+    doc.update(version=REPLAY_VERSION, times_us=replay.times_us, states=replay.states)  # floats exact, as repr
     tmp = path.with_name(path.name + ".tmp")
     tmp.write_text(json.dumps(doc, separators=(",", ":")))
     tmp.replace(path)
