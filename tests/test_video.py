@@ -240,3 +240,29 @@ def test_filming_a_trial_changes_nothing_it_reports_and_makes_a_five_second_clip
     again = hako("replay", str(tmp_path / "b"), "--video", str(tmp_path / "again.gif"), "--speed", "7x", "--fps", "10")
     assert again.returncode == 0, again.stderr
     assert (tmp_path / "again.gif").read_bytes() == (tmp_path / "lap.gif").read_bytes()
+
+
+@pytest.mark.slow
+def test_view_paces_the_lockstep_and_changes_nothing_it_reports(tmp_path: Path) -> None:
+    """On a virtual display (Xvfb): the viewer opens, the test takes at least its lap / speed of wall time,
+    and its result is byte for byte the unwatched one."""
+    import shutil
+    import subprocess
+
+    if shutil.which("Xvfb") is None:
+        pytest.skip("no Xvfb to give the viewer a display (apt-get install xvfb)")
+    display = f":{os.getpid() % 400 + 100}"
+    xvfb = subprocess.Popen(["Xvfb", display, "-screen", "0", "1280x1024x24"], stderr=subprocess.DEVNULL)
+    try:
+        time.sleep(1)
+        env = {**{k: v for k, v in os.environ.items() if k != "MUJOCO_GL"}, "DISPLAY": display}
+        plain = hako("trial", "--json", "--run-dir", str(tmp_path / "a"))
+        start = time.monotonic()
+        viewed = hako("trial", "--json", "--view", "--speed", "8x", "--run-dir", str(tmp_path / "b"), env=env)
+        wall = time.monotonic() - start
+    finally:
+        xvfb.terminate()
+        xvfb.wait()
+    assert viewed.returncode == 0, viewed.stderr
+    assert viewed.stdout == plain.stdout
+    assert wall >= json.loads(plain.stdout)["lap_time_s"] / 8

@@ -9,6 +9,7 @@ real emulator's `hakoniwa` mode results depend on speed anyway, as with Unity.
 
 from __future__ import annotations
 
+import threading
 import time
 import warnings
 
@@ -16,6 +17,7 @@ from hakoniwa.physics.environment import Environment
 from hakoniwa.wire.timebase import US_PER_S
 
 LOOK_PERIOD_US = 20_000  # 50 looks per simulated second: smooth at real time
+CLOSE_WAIT_S = 5.0  # for the viewer's thread to close its window
 
 
 class ViewerError(RuntimeError):
@@ -41,11 +43,15 @@ class LiveView:
                 why = glfw.get_error()[1]
                 raise ViewerError(f"--view: MuJoCo's viewer cannot open a window "
                                   f"({why.decode(errors='replace') if why else 'GLFW cannot start'})")
+        before = set(threading.enumerate())
         try:
             self.viewer = mujoco.viewer.launch_passive(self.scene.model, self.scene.data, show_left_ui=False,
                                                        show_right_ui=False)
         except Exception as e:  # GLFW raises what it raises: no display, no GL, a dead X server
             raise ViewerError(f"--view: MuJoCo's viewer cannot open a window ({e})") from None
+        # The viewer's own thread: it must have torn its window down before the process exits, or the exit
+        # may crash inside GL (SIGSEGV, seen on Xvfb) after the test's result was written.
+        self._threads = [t for t in threading.enumerate() if t not in before]
         self._wall0 = time.monotonic()
         env.scheduler.add("view", LOOK_PERIOD_US, self.look)
 
@@ -63,3 +69,5 @@ class LiveView:
 
     def close(self) -> None:
         self.viewer.close()
+        for thread in self._threads:
+            thread.join(timeout=CLOSE_WAIT_S)
