@@ -33,7 +33,6 @@ PASSED_RGBA = (0.1, 0.85, 0.25, 0.55)  # passed: solid
 # The robot's colours: an EV3 brick's light grey and dark frame; a SPIKE Prime hub's white and yellow.
 BODY_RGBA = {"ev3": ".82 .83 .80 1", SPIKE: ".96 .78 .10 1"}
 TOP_RGBA = {"ev3": ".20 .22 .24 1", SPIKE: ".95 .95 .93 1"}
-BODY_COLOUR = {hub: tuple(float(v) for v in rgba.split()[:3]) for hub, rgba in TOP_RGBA.items()}  # seen from above
 
 
 def floor_texture(course: Course) -> np.ndarray:
