@@ -18,6 +18,7 @@ import click
 
 from hakoniwa.clickutil import HELP, Float32, option_group
 from hakoniwa.physics.options import BenchOptions, bench_options, pop_bench
+from hakoniwa.physics.video_options import VideoOptions, check_video_path, film_options
 from hakoniwa.wire.processes import describe_exit, exit_status
 from hakoniwa.wire.rundir import TRAJECTORY_FILE, diagnose
 from testctl.launch import controller_command, run_physics
@@ -70,19 +71,62 @@ def _writable_file(path: Path, option: str) -> None:
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 @click.option("--trajectory", type=click.Path(dir_okay=False, path_type=Path), default=None,
               help="Draw the course and the robot's path into this PNG.")
+@click.option("--video", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help="Film the test into this .mp4 or .gif after it ran (MuJoCo renders it from the run's replay).")
+@click.option("--view", is_flag=True,
+              help="Watch the test live in MuJoCo's viewer, paced at --speed (needs a display).")
+@film_options
 def trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: float, run_dir: Path | None,
-          as_json: bool, trajectory: Path | None, **bench) -> None:
+          as_json: bool, trajectory: Path | None, video: Path | None, view: bool, camera: str, fps: int,
+          speed: float, **bench) -> None:
     """Run one test with the given parameters and print the event and lap time."""
     from testctl.interrupts import stopped_by
 
+    film = None
+    if video is not None:
+        film = VideoOptions(video, camera, fps, speed)
+        check_film(film)
+    if view:
+        check_display()
     try:
-        _trial(kp, ki, kd, power, seed, noise, run_dir, as_json, trajectory, pop_bench(bench))
+        _trial(kp, ki, kd, power, seed, noise, run_dir, as_json, trajectory, pop_bench(bench), film,
+               speed if view else None)
     except KeyboardInterrupt as e:
         stopped_by(e)
 
 
+def check_display() -> None:
+    """--view needs a window: without a display, one line and exit 1 before anything starts."""
+    if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+        raise click.ClickException("--view needs a display (DISPLAY is not set); film the test with --video "
+                                   "FILE instead")
+
+
+def check_film(film: VideoOptions) -> None:
+    """A video that cannot be made is one line before the test runs, not after."""
+    check_video_path(film.path, film.fps)
+    from hakoniwa.physics.video import gl_problem, writer_problem
+
+    problem = writer_problem(film.path) or gl_problem()
+    if problem:
+        raise click.ClickException(f"--video: {problem}")
+
+
+def make_film(run_dir: Path, film: VideoOptions, title: str = "") -> int:
+    from hakoniwa.physics.replay import ReplayError, read_replay
+    from hakoniwa.physics.video import VideoError, film as shoot
+
+    try:
+        return shoot(read_replay(run_dir), film, title=title)
+    except (ReplayError, VideoError) as e:
+        raise click.ClickException(str(e)) from None
+    except OSError as e:
+        raise click.ClickException(f"cannot write {film.path}: {e.strerror or e}") from None
+
+
 def _trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: float, run_dir: Path | None,
-           as_json: bool, trajectory: Path | None, options: BenchOptions) -> None:
+           as_json: bool, trajectory: Path | None, options: BenchOptions, film: VideoOptions | None = None,
+           view_speed: float | None = None) -> None:
     if trajectory is not None:
         _writable_file(trajectory, "--trajectory")
     with tempfile.TemporaryDirectory(prefix="hako-") as tmp:
@@ -95,8 +139,11 @@ def _trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: floa
         ctl = controller_command("trial", "--kp", repr(kp), "--ki", repr(ki), "--kd", repr(kd),
                                  "--power", repr(power), "--seed", str(seed), "--noise", repr(noise),
                                  "--out", str(out))
-        report_death(run_physics(options.physics_command(rd, ctl)), rd)
+        view = () if view_speed is None else ("--view", repr(view_speed))
+        report_death(run_physics(options.physics_command(rd, ctl, view)), rd)
         result = json.loads(out.read_text())
+        if film is not None:
+            make_film(rd, film)  # as `hako replay` films the run folder
         if trajectory is not None:
             from hakoniwa.physics.course import load_course
             from hakoniwa.physics.plot import draw_trajectory, read_trajectory
@@ -268,6 +315,25 @@ def build(app: Path, sdk: Path | None, toolchain: Path | None) -> None:
     except ImageError as e:
         raise click.ClickException(str(e)) from None
     click.echo(str(image))
+
+
+@main.command(context_settings=HELP)
+@click.argument("run_dir", type=click.Path(file_okay=False, path_type=Path))
+@click.option("--video", type=click.Path(dir_okay=False, path_type=Path), required=True,
+              help="The .mp4 or .gif to film the run's last test into.")
+@film_options
+def replay(run_dir: Path, video: Path, camera: str, fps: int, speed: float) -> None:
+    """Film the last test of RUN_DIR: a trial's --run-dir, a campaign folder (its best set's run), or a
+    failing case's folder of hako test (its worst run), from the replay the test left there."""
+    from hakoniwa.physics.replay import REPLAY_FILE
+
+    film = VideoOptions(video, camera, fps, speed)
+    check_film(film)
+    for folder in (run_dir, run_dir / "run"):  # a campaign's or a failing case's run folder is beside its report
+        if (folder / REPLAY_FILE).is_file():
+            run_dir = folder
+            break
+    click.echo(f"wrote {video} ({make_film(run_dir, film)} frames)")
 
 
 @main.command(context_settings=HELP)

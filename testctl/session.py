@@ -74,8 +74,14 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
                             patch.to_dict() if patch is not None else None)
             files.append(draw_validation(p.out_dir / VALIDATION_PNG, summary, validation))
         if summary.best is not None:
-            files.append(draw_best(summary, trial_once, course_folder, p.out_dir / BEST_TRAJECTORY_PNG))
-            attach(p.out_dir, files[-1])
+            from testctl.film import LAP_VIDEO
+
+            png, lap = draw_best(summary, trial_once, course_folder, p.out_dir / BEST_TRAJECTORY_PNG,
+                                 p.out_dir / LAP_VIDEO)
+            for f in (png, lap):
+                if f is not None:
+                    files.append(f)
+                    attach(p.out_dir, f)
         files.append(p.out_dir / STUDY_FILE)
     except JournalError as e:
         raise click.ClickException(str(e)) from None
@@ -123,8 +129,8 @@ def set_spec(config: CampaignConfig, s: SetResult) -> TestSpec:
 
 
 def draw_set(config: CampaignConfig, s: SetResult, trial_once: TrialOnce, course_folder: Path, out: Path,
-             what: str = "") -> Path:
-    """Run set `s`'s test again and draw its trajectory into `out`."""
+             what: str = "", film: Path | None = None) -> Path:
+    """Run set `s`'s test again and draw its trajectory into `out` (and, with `film`, film it there)."""
     from hakoniwa.physics.course import load_course
     from hakoniwa.physics.plot import draw_trajectory, read_trajectory
     from hakoniwa.wire.rundir import TRAJECTORY_FILE
@@ -134,9 +140,16 @@ def draw_set(config: CampaignConfig, s: SetResult, trial_once: TrialOnce, course
     names = " ".join(f"{k}={v:.3f}" for k, v in config.space.to_named(s.x).items())
     draw_trajectory(load_course(course_folder), read_trajectory(run_dir / TRAJECTORY_FILE), out,
                     title=f"{what}set {s.number}, {names}: {lap} (mean of the set {s.value:.2f} s)")
+    if film is not None:
+        from testctl.film import film_run
+
+        film_run(run_dir, film, f"{what}set {s.number}, {names}")
     return out
 
 
-def draw_best(summary: CampaignSummary, trial_once: TrialOnce, course_folder: Path, out: Path) -> Path:
+def draw_best(summary: CampaignSummary, trial_once: TrialOnce, course_folder: Path, out: Path,
+              film: Path) -> tuple[Path, Path | None]:
+    """The best set's trajectory, and its film (None where none can be made here)."""
     assert summary.best is not None
-    return draw_set(summary.config, summary.best, trial_once, course_folder, out, what="best: ")
+    png = draw_set(summary.config, summary.best, trial_once, course_folder, out, what="best: ", film=film)
+    return png, film if film.is_file() else None

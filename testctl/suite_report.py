@@ -73,5 +73,8 @@ def keep_case_files(out_dir: Path, run: CaseRun, worst: Callable[[CaseRun, Path]
         outcome = f"lap {result.lap_time_s:.2f} s" if result.lap_time_s is not None else result.event.name
         draw_trajectory(load_course(run.case.bench.course), read_trajectory(run_dir / TRAJECTORY_FILE),
                         folder / TRAJECTORY_PNG, title=f"case {run.case.name}, noise seed {seed}: {outcome}")
-        files += [folder / TRAJECTORY_PNG, run_dir]
+        from testctl.film import CASE_VIDEO, film_run
+
+        video = film_run(run_dir, folder / CASE_VIDEO, f"case {run.case.name}, noise seed {seed}")
+        files += [folder / TRAJECTORY_PNG, *([video] if video else []), run_dir]
     return files

@@ -10,6 +10,9 @@ import subprocess
 import sys
 from pathlib import Path
 
+# Films render headless: MuJoCo picks its OpenGL backend when first imported, by whichever test module that is.
+os.environ.setdefault("MUJOCO_GL", "egl")
+
 
 def interruptible() -> None:
     """preexec_fn for a child a test sends SIGINT (Ctrl-C): with the default action restored, so that

@@ -22,8 +22,22 @@ def test_smoke_campaign_writes_every_result_file(tmp_path):
     assert r.returncode == 0, r.stderr
     assert "best:" in r.stdout
     assert f"campaign {out}: sets 0/4, tests 0, benches" in r.stderr  # stderr is no terminal: plain progress
-    for name in ("journal.jsonl", "results.csv", "best.json", "fig8.png", "fig9.png", "best_trajectory.png"):
+    names = ["journal.jsonl", "results.csv", "best.json", "fig8.png", "fig9.png", "best_trajectory.png"]
+    from hakoniwa.physics.video import gl_problem
+
+    filmed = gl_problem() is None  # where MuJoCo can render: the best set's lap, filmed (tests/test_video.py)
+    if filmed:
+        names.append("best_lap.mp4")
+    for name in names:
         assert (out / name).stat().st_size > 0, name
+    if filmed:  # and in the study, beside the trajectory
+        import optuna
+        from optuna.artifacts import get_all_artifact_meta
+
+        from testctl.study import open_storage, study_name
+
+        study = optuna.load_study(study_name=study_name(out), storage=open_storage(out))
+        assert {"best_trajectory.png", "best_lap.mp4"} <= {m.filename for m in get_all_artifact_meta(study)}
     best = json.loads((out / "best.json").read_text())
     _, records = read_journal(out / JOURNAL_FILE)
     searched = [r for r in records if r.phase != PHASE_VALIDATION]

@@ -72,6 +72,12 @@ def test_an_impossible_bound_fails_the_case_naming_bound_and_lap(tmp_path):
     kept = out / "too-fast"
     assert (kept / "trajectory.png").stat().st_size > 0 and (kept / "run" / "trajectory.csv").exists()
     assert not (out / "ok" / "trajectory.png").exists() and (out / "ok" / "laps.png").exists()
+    from hakoniwa.physics.video import gl_problem
+
+    if gl_problem() is None:  # where MuJoCo can render, the failing run filmed beside its picture
+        assert (kept / "lap.mp4").stat().st_size > 0 and not (out / "ok" / "lap.mp4").exists()
+        again = hako("replay", str(kept), "--video", str(tmp_path / "again.gif"), "--speed", "8x", "--fps", "5")
+        assert again.returncode == 0, again.stderr
 
 
 @pytest.mark.slow

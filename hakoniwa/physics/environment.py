@@ -12,6 +12,7 @@ from collections.abc import Sequence
 
 from hakoniwa.physics.course import Course
 from hakoniwa.physics.noise import NoiseDraw
+from hakoniwa.physics.replay import Replay, RobotLook, State
 from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
 from hakoniwa.physics.scenario import Scenario
 from hakoniwa.physics.sensors import SensorModel, Sensors
@@ -27,6 +28,8 @@ class Environment:
     def __init__(self, course: Course, time_limit_us: int, robot: Robot = DEFAULT_ROBOT,
                  scenario: Scenario = Scenario(), objective: Objective = Objective.LAP) -> None:
         self.course = course
+        self.robot = robot
+        self.objective = objective
         self.world = World(course, robot.body, imu=robot.spike)
         # Under the completed objective the goal line is one more checkpoint: the program's notice ends the run.
         self.task = LapTask(course, time_limit_us, ends_at_goal=objective == Objective.LAP)
@@ -42,6 +45,7 @@ class Environment:
         self.completed_us: int | None = None
         self.sensors.begin(noise)
         self.trajectory: list[Pose] = []
+        self.states: list[tuple[int, State]] = []  # the replay's samples: at the trajectory's, and at the end
 
     def begin(self, noise: NoiseDraw | None) -> None:
         """A new test with this noise: the robot put down (with the test's start jitter), the clock at 0."""
@@ -95,3 +99,15 @@ class Environment:
 
     def _trace(self, now_us: int) -> None:
         self.trajectory.append((now_us, *self.world.pose()))
+        self.states.append((now_us, self.world.state()))
+
+    def replay(self) -> Replay:
+        """The test so far as a replay: its samples, and the state now if the test ended between two."""
+        states = self.states
+        if states[-1][0] < self.now_us:
+            states = [*states, (self.now_us, self.world.state())]
+        r = self.robot
+        return Replay(str(self.course.folder.resolve()), RobotLook(r.name, r.hub, r.body, tuple(k for _, k in r.sensors)),
+                      self.objective.name.lower(), len(self.course.checkpoints), self.event.name, self.event_us,
+                      tuple(self.task.passed_us), self.completed_us, tuple(t for t, _ in states),
+                      tuple(s for _, s in states))

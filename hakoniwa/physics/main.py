@@ -27,9 +27,11 @@ from hakoniwa.wire.rundir import COURSE_ENV, RUN_DIR_ENV, TIME_LIMIT_ENV, RunDir
 @click.command(context_settings={"ignore_unknown_options": True, **HELP})
 @click.option("--run-dir", type=click.Path(file_okay=False, path_type=Path), required=True,
               help="Folder for unity_mmap.bin, athrill_mmap.bin, logs and the last trajectory (one run each).")
+@click.option("--view", "view_speed", type=float, default=None, hidden=True,
+              help="Show the tests in MuJoCo's viewer, paced at this speed (hako trial --view).")
 @bench_options
 @click.argument("controller", nargs=-1, type=click.UNPROCESSED)
-def main(run_dir: Path, controller: tuple[str, ...], **bench) -> None:
+def main(run_dir: Path, controller: tuple[str, ...], view_speed: float | None, **bench) -> None:
     """Serve tests on COURSE until the end flag is set; CONTROLLER (after --) is started once the files exist
     and gets the run directory in $HAKO_RUN_DIR, the course folder in $HAKO_COURSE and the time limit in
     $HAKO_TIME_LIMIT_S."""
@@ -42,6 +44,9 @@ def main(run_dir: Path, controller: tuple[str, ...], **bench) -> None:
         lock.acquire()
     except (CourseError, RobotError, ScenarioError, RunDirBusy, ProgramError, OSError) as e:
         raise click.ClickException(str(e)) from None
+    if view_speed is not None:
+        os.environ["MUJOCO_GL"] = "glfw"  # a window, whatever a headless film would have used
+    view = None
     try:
         from hakoniwa.physics.server import PhysicsServer  # MuJoCo: only once the arguments are known to be good
 
@@ -49,10 +54,19 @@ def main(run_dir: Path, controller: tuple[str, ...], **bench) -> None:
                                time_limit_us=options.time_limit_us(world_course.time_limit_us), robot=robot,
                                scenario=scenario, objective=options.scored_by)
         program.finish_check(check)
+        if view_speed is not None:
+            from hakoniwa.physics.viewer import LiveView, ViewerError
+
+            try:
+                view = LiveView(server.env, view_speed)
+            except ViewerError as e:
+                raise click.ClickException(str(e)) from None
         code = serve(server, run_dir, world_course.folder, controller)
     except (ProgramError, LinkError) as e:
         raise click.ClickException(str(e)) from None
     finally:
+        if view is not None:
+            view.close()
         lock.release()
     sys.exit(code)
 

@@ -50,8 +50,9 @@ class BenchOptions:
         """The bench's objective; a journal from before objectives were recorded names none: the lap."""
         return Objective.LAP if self.objective is None else Objective[self.objective.upper()]
 
-    def physics_command(self, run_dir: Path, controller: list[str]) -> list[str]:
-        cmd = [sys.executable, "-m", "hakoniwa.physics.main", "--run-dir", str(run_dir)]
+    def physics_command(self, run_dir: Path, controller: list[str], extra: tuple[str, ...] = ()) -> list[str]:
+        """`extra`: options of the physics process alone, which are not the bench's (`--view`)."""
+        cmd = [sys.executable, "-m", "hakoniwa.physics.main", "--run-dir", str(run_dir), *extra]
         for option in _OPTIONS:
             value = getattr(self, option.field)
             if value is not None:

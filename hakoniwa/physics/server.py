@@ -37,6 +37,7 @@ from hakoniwa.physics.environment import Environment
 from hakoniwa.physics.lcd import draw_screen, forget_screen
 from hakoniwa.physics.noise import NoiseDraw
 from hakoniwa.physics.relay import open_transport
+from hakoniwa.physics.replay import REPLAY_FILE, write_replay
 from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
 from hakoniwa.physics.scenario import Scenario
 from hakoniwa.physics.slots import Report, Slots
@@ -217,6 +218,7 @@ class PhysicsServer:
             self._write_program_output(self.launcher.last_lines(proc, PROGRAM_OUTPUT_LINES))
         self.slots.report(report)
         self._write_trajectory()
+        write_replay(self.run_dir / REPLAY_FILE, self.env.replay())
         self.tests_run += 1
         why = f" ({crash.kind.name.lower()}: {crash})" if crash else ""
         if noise is not None:

@@ -153,6 +153,12 @@ class World:
         yaw = math.atan2(2 * (w * z + x_ * y_), 1 - 2 * (y_ * y_ + z * z))
         return float(q[0]), float(q[1]), yaw
 
+    def state(self) -> tuple[float, ...]:
+        """The robot's free joint (position, orientation quaternion) and wheel angles [rad]: what a replay
+        needs to show the robot as it was."""
+        q = self.data.qpos
+        return (*(float(v) for v in q[:7]), *(float(q[a]) for a in self._wheel_qpos))
+
     def touching_wall(self) -> bool:
         return self.data.sensordata[self._wall_contact] > 0
 
