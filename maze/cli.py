@@ -17,7 +17,7 @@ import click
 from .builtin import EXAMPLES, builtin_example, builtin_names, builtin_path
 from .compare import WallDiff, compare
 from .direction import LETTER
-from .errors import MazeError
+from .errors import EXIT_COMMAND_CAP, EXIT_INTERRUPTED, MazeError
 from .mazefile import dump_maze
 from .mazeio import read_maze
 from .mazejson import maze_to_json
@@ -539,11 +539,16 @@ def explore_mouse(program: str, truth: Maze, mazefile: Path, objective: str, dia
                                            f"{len(world.records)} walls sensed"], overlay=overlay)
     if animate is not None:
         film_mouse(world, mazefile, program, animate)
+    kept = f"the log of what it sensed so far is kept in {log_path}"
+    if run.at_command_cap:
+        click.echo(f"Error: --mouse: cut at {run.commands} commands, its search unfinished (give --max-steps or "
+                   f"--time-budget to end it sooner); {kept}", err=True)
+        raise click.exceptions.Exit(EXIT_COMMAND_CAP)
     if run.fault is not None:
-        message = f"--mouse: {run.fault} (the log of what it sensed so far is kept in {log_path})"
+        message = f"--mouse: {run.fault} ({kept})"
         if run.fault.startswith("interrupted"):
             click.echo(f"Error: {message}", err=True)
-            raise click.exceptions.Exit(130)  # as for any Ctrl-C
+            raise click.exceptions.Exit(EXIT_INTERRUPTED)
         raise MazeError(message)
 
 
