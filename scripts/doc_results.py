@@ -78,8 +78,8 @@ def validate_row(out: str) -> str:
 
 def validate_comment(out: str) -> str:
     best, val = _field(BEST, out), _field(VALIDATION, out)
-    return (f"# `{' '.join(VALIDATE[:6])}` finds {_params(best)} today: lap {best['lap']} s, {val['goals']}/"
-            f"{val['draws']} GOAL on {val['draws']} fresh draws, p50 {val['p50']} s, p90 {val['p90']} s\n")
+    return (f"# `{' '.join(VALIDATE[:6])}` now finds {_params(best)}: lap {best['lap']} s, {val['goals']}/"
+            f"{val['draws']} GOAL, p50 {val['p50']} s, p90 {val['p90']} s\n")
 
 
 def space_row(out: str) -> str:
