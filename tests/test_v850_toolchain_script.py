@@ -70,3 +70,25 @@ def test_the_gcc_configuration_is_the_shipped_toolchains(tmp_path):
     assert f"--with-as={tmp_path / 'prefix'}/bin/v850-elf-as" in ours
     assert without_paths(ours) == without_paths(configured_with(shipped))
     assert "gcc version 12.2.0" in subprocess.run([str(shipped), "-v"], capture_output=True, text=True).stderr
+
+
+PATCHES = SCRIPT.parent / "ev3rt-patches"
+SHARED = SCRIPT.parents[2] / "shared" / "third_party"
+
+
+@pytest.mark.parametrize("sdk, patches", [
+    ("ev3rt/ev3rt-athrill-v850e2m", ["01-ev3rt-gcc12-ruby3.diff", "02-ev3rt-cxx.diff"]),
+    ("raspike/raspike-athrill-v850e2m", ["raspike-gcc12-ruby3.diff"]),
+])
+def test_the_shipped_sdk_patches_are_what_the_patched_sdk_holds(tmp_path, sdk, patches):
+    """Undone in reverse order on a copy of ../shared's patched SDK, each applies exactly (no fuzz, no offset)."""
+    import shutil
+
+    if not (SHARED / sdk).is_dir():
+        pytest.skip(f"needs the patched SDK at {SHARED / sdk} (../shared)")
+    copy = tmp_path / "sdk"
+    shutil.copytree(SHARED / sdk, copy, symlinks=True, ignore=shutil.ignore_patterns("OBJ", "docker"))
+    for patch in reversed(patches):
+        r = subprocess.run(["patch", "-p1", "-R", "-F0", "-d", str(copy), "-i", str(PATCHES / patch)],
+                           capture_output=True, text=True, timeout=60)
+        assert r.returncode == 0 and "offset" not in r.stdout and "fuzz" not in r.stdout, r.stdout + r.stderr
