@@ -13,11 +13,21 @@ import tempfile
 from pathlib import Path
 from typing import Callable
 
+from athrill_sim.native import NativeBuildError
+from athrill_sim.v850 import ImageError
+
+CACHE_ENV = "XDG_CACHE_HOME"
+
 
 def cache_root() -> Path:
     """`${XDG_CACHE_HOME:-~/.cache}/hakoniwa-py`: native binaries, v850 images and the unpacked toolchain."""
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    base = os.environ.get(CACHE_ENV) or str(Path.home() / ".cache")
     return Path(base) / "hakoniwa-py"
+
+
+class CacheUnwritable(ImageError, NativeBuildError):
+    """The cache folder cannot be made (a read-only HOME): one line naming the variable that moves it, for the
+    native and the v850 build alike."""
 
 
 class CacheKey:
@@ -47,8 +57,13 @@ def cached_folder(entry: Path, find: Callable[[Path], Path | None], build: Calla
     done = find(entry)
     if done is not None:
         return done
-    entry.parent.mkdir(parents=True, exist_ok=True)
-    scratch = Path(tempfile.mkdtemp(prefix=entry.name + ".tmp-", dir=entry.parent))
+    try:
+        entry.parent.mkdir(parents=True, exist_ok=True)
+        scratch = Path(tempfile.mkdtemp(prefix=entry.name + ".tmp-", dir=entry.parent))
+    except OSError as e:
+        raise CacheUnwritable(f"cannot write the build cache at {entry.parent} ({e.strerror}): set {CACHE_ENV} "
+                              f"to a writable folder (the cache is ${CACHE_ENV}/hakoniwa-py, by default "
+                              f"~/.cache/hakoniwa-py)") from None
     try:
         build(scratch)
         try:

@@ -14,7 +14,7 @@ import subprocess
 import threading
 from pathlib import Path
 
-from athrill_sim.output import CappedOutput
+from hakoniwa.wire.output import CappedOutput
 from athrill_sim.programs import Program
 from hakoniwa.wire.rundir import ATHRILL_LOG
 

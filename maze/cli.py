@@ -17,7 +17,7 @@ import click
 from .builtin import EXAMPLES, builtin_example, builtin_names, builtin_path
 from .compare import WallDiff, compare
 from .direction import LETTER
-from .errors import MazeError
+from .errors import EXIT_COMMAND_CAP, EXIT_INTERRUPTED, MazeError
 from .mazefile import dump_maze
 from .mazeio import read_maze
 from .mazejson import maze_to_json
@@ -99,7 +99,11 @@ def size_option_for(with_maze: bool) -> Callable[[F], F]:
 
 size_option = size_option_for(with_maze=True)
 strict_option = click.option("--strict", is_flag=True,
-                             help="Refuse a log with any anomaly instead of skipping the bad records.")
+                             help="Refuse a log with any anomaly instead of skipping the bad records, and a .num or "
+                                  ".maz maze whose two cells beside a wall disagree about it instead of a warning.")
+maze_strict_option = click.option("--strict", is_flag=True,
+                                  help="Refuse a .num or .maz maze whose two cells beside a wall disagree about it "
+                                       "(a warning without).")
 timing_option = click.option("--timing", "timing_spec", default=None, metavar="NAME|FILE",
                              help="Time model of the mouse: built-in (classic, halfsize) or a TOML file "
                                   "[default: classic up to 16x16, halfsize above; see maze/data/mice.toml].")
@@ -162,6 +166,11 @@ def read_log(path: Path, size: int, strict: bool) -> LoadedLog:
     return log
 
 
+def load_maze(path: Path, strict: bool = False) -> Maze:
+    """A maze file as every command reads it: a wall its two cells disagree about is a warning on stderr."""
+    return read_maze(path, strict, warn=lambda message: click.echo(f"warning: {message}", err=True))
+
+
 def with_goals(maze: Maze, goals: tuple[Cell, ...]) -> Maze:
     for x, y in goals:
         if not maze.inside(x, y):
@@ -216,7 +225,7 @@ def replay(log: Path, size: int | None, drop_last: int, until: int | None, fmt: 
            strict: bool) -> None:
     """Restore the maze a wall log describes, starting from an all-unknown maze."""
     refuse_overwrite({"LOG": log, "--maze": truth_path}, {"--out": out, "--animate": animate})
-    truth = read_maze(truth_path) if truth_path else None
+    truth = load_maze(truth_path, strict) if truth_path else None
     if truth is not None and size is not None and size != truth.size:
         raise click.UsageError(f"--size {size} but the maze is {truth.size}x{truth.size}")
     size = truth.size if truth is not None else size or DEFAULT_SIZE
@@ -267,10 +276,11 @@ def draw_replay(log: Path, loaded: LoadedLog, records: list[WallRecord], drop_la
 @click.option("--png", type=OutFile, default=None, help="Also draw the maze into this PNG file.")
 @click.option("--out", type=OutFile, default=None,
               help="Also write the maze in the format its suffix names: .num (mms), .maz (16x16 binary), else text.")
-def show(mazefile: Path, png: Path | None, out: Path | None) -> None:
+@maze_strict_option
+def show(mazefile: Path, png: Path | None, out: Path | None, strict: bool) -> None:
     """Print a maze file (.txt, .num or .maz; checking it parses) with its size, start and goal."""
     refuse_overwrite({"MAZE": mazefile}, {"--png": png, "--out": out})
-    maze = read_maze(mazefile)
+    maze = load_maze(mazefile, strict)
     if out is not None:
         from .mazeformats import dump_maz, dump_num
 
@@ -354,7 +364,7 @@ def decode(log: Path, strict: bool) -> None:
 @strict_option
 def diff(mazefile: Path, log: Path, belief_path: Path | None, strict: bool) -> None:
     """Compare what LOG restores with the true maze in MAZE (inner walls only), and a mouse's belief with both."""
-    truth = read_maze(mazefile)
+    truth = load_maze(mazefile, strict)
     loaded = read_log(log, truth.size, strict)
     restored, _ = restore(loaded.records, truth.size)
     echo_diff("", compare(truth, restored), truth)
@@ -421,10 +431,11 @@ def objective_words(objective: str, diagonal: bool, mouse: MouseParams) -> str:
               help="--mouse: press mms's Reset button after this many cells (repeatable).")
 @click.option("--animate", type=OutFile, default=None, metavar="GIF",
               help="--mouse: a film of the walls it sensed with its own setColor/setText marks.")
+@maze_strict_option
 def explore(mazefile: Path, program: str | None, strategy: str | None, objective: str, diagonal: bool,
             timing_spec: str | None, log_path: Path, goal: tuple[Cell, ...], png: Path | None,
             power_cut: int | str | None, max_steps: int | None, time_budget: float | None, timeout: float,
-            reset_at: tuple[int, ...], animate: Path | None) -> None:
+            reset_at: tuple[int, ...], animate: Path | None, strict: bool) -> None:
     """Search MAZE with a virtual mouse (a built-in strategy, or your own mms program with --mouse) and write
     the wall log it would keep: for --mouse, the walls the simulator told the program, in order."""
     mouse_only = {"--max-steps": max_steps, "--time-budget": time_budget, "--reset-at": reset_at or None,
@@ -438,7 +449,7 @@ def explore(mazefile: Path, program: str | None, strategy: str | None, objective
         raise click.UsageError("--strategy and --mouse exclude each other")
     refuse_overwrite({"MAZE": mazefile}, {"--log": log_path, "--png": png, "--animate": animate,
                                           **(mouse_files(log_path) if program else {})})
-    truth = with_goals(read_maze(mazefile), goal)
+    truth = with_goals(load_maze(mazefile, strict), goal)
     timing = load_mouse(timing_spec, truth.size)
     if program is not None:
         explore_mouse(program, truth, mazefile, objective, diagonal, timing, log_path, png, power_cut, max_steps,
@@ -528,11 +539,16 @@ def explore_mouse(program: str, truth: Maze, mazefile: Path, objective: str, dia
                                            f"{len(world.records)} walls sensed"], overlay=overlay)
     if animate is not None:
         film_mouse(world, mazefile, program, animate)
+    kept = f"the log of what it sensed so far is kept in {log_path}"
+    if run.at_command_cap:
+        click.echo(f"Error: --mouse: cut at {run.commands} commands, its search unfinished (give --max-steps or "
+                   f"--time-budget to end it sooner); {kept}", err=True)
+        raise click.exceptions.Exit(EXIT_COMMAND_CAP)
     if run.fault is not None:
-        message = f"--mouse: {run.fault} (the log of what it sensed so far is kept in {log_path})"
+        message = f"--mouse: {run.fault} ({kept})"
         if run.fault.startswith("interrupted"):
             click.echo(f"Error: {message}", err=True)
-            raise click.exceptions.Exit(130)  # as for any Ctrl-C
+            raise click.exceptions.Exit(EXIT_INTERRUPTED)
         raise MazeError(message)
 
 
@@ -651,7 +667,7 @@ def read_maze_or_log(path: Path, size: int | None, truth: Maze | None, strict: b
     if (data[:1] in (b"o", b"+") and is_text(data)) or path.suffix.lower() in (".num", ".maz"):
         if size is not None or truth is not None:
             raise click.UsageError("--size and --maze are for a wall log; a maze file has its own")
-        return read_maze(path), "maze file", ""
+        return load_maze(path, strict), "maze file", ""
     if truth is not None and size is not None and size != truth.size:
         raise click.UsageError(f"--size {size} but the maze is {truth.size}x{truth.size}")
     assumed = ""
@@ -694,7 +710,7 @@ def path(source: Path, size: int | None, objective: str, diagonal: bool, timing_
     from .stepmap import pessimistic, shortest_path
 
     refuse_overwrite({"MAZE_OR_LOG": source, "--maze": truth_path}, {"--png": png})
-    maze, kind, assumed = read_maze_or_log(source, size, read_maze(truth_path) if truth_path else None, strict)
+    maze, kind, assumed = read_maze_or_log(source, size, load_maze(truth_path, strict) if truth_path else None, strict)
     if assumed and goal:
         assumed = assumed.replace(" with the central goal", "")
     if assumed:
@@ -772,7 +788,7 @@ def bench(mazes: tuple[Path, ...], programs: tuple[str, ...], strategies: tuple[
     entrants = [Entrant(p, program=p) for p in programs] + [Entrant(f"strategy {s}", strategy=s) for s in strategies]
     files = maze_files(mazes)
     for f in files:
-        read_maze(f)  # every maze checked before a worker starts: one line for a bad one
+        load_maze(f)  # every maze checked before a worker starts: one line for a bad one, a warning for a doubtful
     os.makedirs(out_dir, exist_ok=True)
     work = [Job(e, str(f), objective, diagonal, max_steps, timeout, str(entrant_folder(out_dir, e, i)))
             for i, e in enumerate(entrants) for f in files]

@@ -1,9 +1,11 @@
 """Runs a user's mms mouse program, unchanged, as a child process: its stdout lines are commands, the answers go
-to its stdin, its stderr to a file. Headless and as fast as the program can talk (no animation delays).
+to its stdin, its stderr to a file, capped as our own logs are (the head and the tail of it kept). Headless and as
+fast as the program can talk (no animation delays).
 
 Every way a run can go wrong ends it with one line in `MouseRun.fault` (and the world as it was, so the wall log
 written so far is kept): a line that is no mms command, no line for `timeout` seconds, the program exiting with
-an error status.
+an error status. A run cut at the command cap is no fault, but is marked (`MouseRun.at_command_cap`), since the
+search did not end and CI must be able to tell.
 """
 
 from __future__ import annotations
@@ -14,9 +16,12 @@ import selectors
 import shlex
 import shutil
 import subprocess
+import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
+
+from hakoniwa.wire.output import LOG_CAP_BYTES, CappedOutput
 
 from .errors import MazeError
 from .mms import ProtocolError, parse_command
@@ -25,7 +30,6 @@ from .mmsworld import MmsWorld
 READ_BYTES = 65536
 MAX_COMMANDS = 2_000_000  # mms's templates never stop on their own: a run ends here at the latest (minutes)
 MAX_LINE_BYTES = 1 << 16  # a longer line without a newline is no command: the program is printing garbage
-STDERR_TAIL_BYTES = 400
 KILL_WAIT_S = 2.0
 STARTUP_S = 30.0  # the wait for a program's first line at least: a JVM, or a loaded CI runner, starts slowly
 
@@ -38,6 +42,7 @@ class MouseRun:
     fault: str | None  # one line when the run ended because something went wrong
     status: int | None  # the program's exit status, if it exited
     wall_s: float
+    at_command_cap: bool = False  # ended by MAX_COMMANDS: the program never ended its search
 
 
 def program_argv(command: str) -> list[str]:
@@ -56,33 +61,29 @@ def program_argv(command: str) -> list[str]:
     return argv
 
 
-def _tail(path: Path) -> str:
-    try:
-        with open(path, "rb") as fp:
-            fp.seek(max(0, path.stat().st_size - STDERR_TAIL_BYTES))
-            lines = fp.read().decode("utf-8", "replace").strip().splitlines()
-    except OSError:
-        return ""
-    return lines[-1].strip() if lines else ""
-
-
 def run_mouse(argv: list[str], world: MmsWorld, stderr_path: Path, max_steps: int | None,
               time_budget: float | None, timeout: float) -> MouseRun:
     """Talk to the program until it exits, `max_steps` cells are entered or the modelled search time passes
     `time_budget`; a fault ends the run early and says why in one line."""
     t0 = time.perf_counter()
     with open(stderr_path, "wb") as err:
+        err_read, err_write = os.pipe()
         try:
-            proc = subprocess.Popen(argv, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=err, bufsize=0)
+            proc = subprocess.Popen(argv, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=err_write, bufsize=0)
         except OSError as e:
+            os.close(err_read)
             raise MazeError(f"--mouse: cannot start {argv[0]!r}: {e.strerror}") from None
+        finally:
+            os.close(err_write)
+        stderr = CappedOutput(open(err_read, "rb"), err, threading.Lock(), "the program", cap=LOG_CAP_BYTES,
+                              log_name=stderr_path.name, per="")
         out_fd, in_fd = proc.stdout.fileno(), proc.stdin.fileno()
         os.set_blocking(in_fd, False)  # a program that never reads its answers must not block us once the pipe is full
         selector = selectors.DefaultSelector()
         selector.register(out_fd, selectors.EVENT_READ)
         buffer, start = b"", 0  # lines are taken from `start` on, so a burst of lines is not copied line by line
         commands, lineno = 0, 0
-        ended, fault = "", None
+        ended, fault, capped = "", None, False
         last = "(none yet)"
         try:
             while True:
@@ -132,6 +133,7 @@ def run_mouse(argv: list[str], world: MmsWorld, stderr_path: Path, max_steps: in
                     break
                 if commands >= MAX_COMMANDS:
                     ended = f"{MAX_COMMANDS} commands sent (a program that never ends its search; see --max-steps)"
+                    capped = True
                     break
                 if time_budget is not None and world.search().seconds > time_budget:
                     ended = f"--time-budget {time_budget:g} s of modelled search time used up"
@@ -141,13 +143,14 @@ def run_mouse(argv: list[str], world: MmsWorld, stderr_path: Path, max_steps: in
         finally:
             selector.close()
             status = _finish(proc, ended == "the program exited")
+            stderr.join()  # its last words are in the file before the run is reported
     if ended == "the program exited" and status:
-        tail = _tail(stderr_path)
+        tail = " ".join(stderr.last_lines(1)).strip()
         how = f"was killed by signal {-status}" if status < 0 else f"exited with status {status}"
         fault = f"the program {how}" + (f": {tail}" if tail else "")
     if fault is not None:
         ended = "fault"
-    return MouseRun(world, commands, ended, fault, status, time.perf_counter() - t0)
+    return MouseRun(world, commands, ended, fault, status, time.perf_counter() - t0, capped and fault is None)
 
 
 def _send(fd: int, data: bytes, timeout: float) -> bool:

@@ -1,13 +1,16 @@
 """The two other maze formats mms users have: mms's `.num` text (one line per cell: `X Y N E S W`, 1 = wall) and
 the 256-byte binary `.maz` of the classic 16x16 collections (one byte per cell, column by column, bits
-1 north, 2 east, 4 south, 8 west). A wall either side of which is marked is a wall; outer walls are always closed.
+1 north, 2 east, 4 south, 8 west). Both formats give each inner wall twice, once from each cell beside it; a wall
+either side of which is marked is a wall, and one marked on one side only (a damaged or hand-made file) is a
+warning, or with `strict` an error, since the file then says two things about it. Outer walls are always closed.
 """
 
 from __future__ import annotations
 
 from math import isqrt
+from typing import Callable
 
-from .direction import EAST, NORTH, SOUTH, WEST
+from .direction import DELTA, EAST, NORTH, SOUTH, WEST, opposite
 from .errors import MazeError
 from .model import Maze
 from .stepmap import default_goals
@@ -17,35 +20,49 @@ MAZ_SIDE = 16
 MAZ_BYTES = MAZ_SIDE * MAZ_SIDE
 MAZ_BITS = ((1, NORTH), (2, EAST), (4, SOUTH), (8, WEST))
 NUM_ORDER = (NORTH, EAST, SOUTH, WEST)
+SIDE_NAMES = {EAST: "east", NORTH: "north", WEST: "west", SOUTH: "south"}
+
+Warn = Callable[[str], None]
+Side = tuple[int, int, int]  # a cell and one of its walls, as the file marks it
 
 
-def _finish(maze: Maze) -> Maze:
+def one_sided(size: int, marked: set[Side]) -> list[tuple[Side, Side]]:
+    """Each inner wall that one of its two cells marks and the other does not: (the marking side, the other)."""
+    found = []
+    for x, y, d in Maze(size).inner_walls():
+        dx, dy = DELTA[d]
+        here, there = (x, y, d), (x + dx, y + dy, opposite(d))
+        if (here in marked) != (there in marked):
+            found.append((here, there) if here in marked else (there, here))
+    return found
+
+
+def _build(size: int, marked: set[Side], strict: bool, warn: Warn | None) -> Maze:
+    """The maze whose walls are those either side marks; one-sided walls are reported (or refused if strict)."""
+    maze = Maze(size)
+    for x, y, d in maze.inner_walls():
+        dx, dy = DELTA[d]
+        maze.set(x, y, d, (x, y, d) in marked or (x + dx, y + dy, opposite(d)) in marked)
+    disagree = one_sided(size, marked)
+    if disagree:
+        (x, y, d), (ox, oy, od) = disagree[0]
+        n = len(disagree)
+        message = (f"{n} wall{'s' * (n > 1)} marked by one of {'their' if n > 1 else 'its'} two cells only "
+                   f"(first: cell ({x}, {y}) marks its {SIDE_NAMES[d]} wall, cell ({ox}, {oy}) not its {SIDE_NAMES[od]} wall)")
+        if strict:
+            raise MazeError(f"{message}: refused with --strict")
+        if warn is not None:
+            warn(f"{message}: taken as walls")
     maze.goals = default_goals(maze)
     return maze
 
 
-def _close(maze: Maze, x: int, y: int, d: int) -> None:
-    if not maze.is_outer(x, y, d):
-        maze.set(x, y, d, True)
-
-
-def _open_inner(size: int) -> Maze:
-    maze = Maze(size)
-    for x, y, d in maze.inner_walls():
-        maze.set(x, y, d, False)
-    return maze
-
-
-def parse_maz(data: bytes) -> Maze:
+def parse_maz(data: bytes, strict: bool = False, warn: Warn | None = None) -> Maze:
     if len(data) != MAZ_BYTES:
         raise MazeError(f"a .maz file is {MAZ_BYTES} bytes (16x16, one per cell), this one is {len(data)}")
-    maze = _open_inner(MAZ_SIDE)
-    for i, byte in enumerate(data):
-        x, y = divmod(i, MAZ_SIDE)
-        for bit, d in MAZ_BITS:
-            if byte & bit:
-                _close(maze, x, y, d)
-    return _finish(maze)
+    marked = {(x, y, d) for i, byte in enumerate(data) for x, y in [divmod(i, MAZ_SIDE)]
+              for bit, d in MAZ_BITS if byte & bit}
+    return _build(MAZ_SIDE, marked, strict, warn)
 
 
 def dump_maz(maze: Maze) -> bytes:
@@ -55,7 +72,7 @@ def dump_maz(maze: Maze) -> bytes:
                  for x in range(MAZ_SIDE) for y in range(MAZ_SIDE))
 
 
-def parse_num(text: str) -> Maze:
+def parse_num(text: str, strict: bool = False, warn: Warn | None = None) -> Maze:
     cells: dict[tuple[int, int], tuple[int, ...]] = {}
     for lineno, raw in enumerate(text.splitlines(), 1):
         words = raw.split()
@@ -76,12 +93,8 @@ def parse_num(text: str) -> Maze:
     size = isqrt(len(cells))
     if size * size != len(cells) or any(not (x < size and y < size) for x, y in cells):
         raise MazeError(f"{len(cells)} cells do not make a square maze with every cell listed once")
-    maze = _open_inner(size)
-    for (x, y), walls in cells.items():
-        for d, wall in zip(NUM_ORDER, walls):
-            if wall:
-                _close(maze, x, y, d)
-    return _finish(maze)
+    marked = {(x, y, d) for (x, y), walls in cells.items() for d, wall in zip(NUM_ORDER, walls) if wall}
+    return _build(size, marked, strict, warn)
 
 
 def dump_num(maze: Maze) -> str:

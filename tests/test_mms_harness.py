@@ -214,3 +214,33 @@ def test_power_cut_at_a_reset_that_never_came_cuts_nothing(tmp_path: Path) -> No
     assert r.exit_code == 0, r.output
     assert "(no reset happened, so no power cut)" in r.output
     assert not load_log(log.read_bytes(), 16).anomalies
+
+
+def test_a_chatty_mouse_s_stderr_is_capped_keeping_head_and_tail(tmp_path: Path, monkeypatch) -> None:
+    import maze.harness
+
+    cap = 2000
+    monkeypatch.setattr(maze.harness, "LOG_CAP_BYTES", cap)
+    r = run("explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'chatty.py'}", "--log", tmp_path / "c.bin")
+    assert r.exit_code == 1
+    assert "Error: --mouse: the program exited with status 3: last words" in r.output  # read from the kept tail
+    kept = (tmp_path / "c.stderr.txt").read_bytes()
+    printed = len(b"first words\nlast words\n") + sum(len(f"debug line {i}: still thinking\n") for i in range(5000))
+    assert kept.startswith(b"first words\n") and kept.endswith(b"debug line 4999: still thinking\nlast words\n")
+    assert f"[c.stderr.txt: the program printed {printed} bytes, more than the {cap} kept: ".encode() in kept
+    assert len(kept) < cap + 200
+
+
+def test_a_mouse_cut_at_the_command_cap_exits_with_its_own_status(tmp_path: Path, monkeypatch) -> None:
+    import maze.harness
+    from maze.errors import EXIT_COMMAND_CAP
+
+    monkeypatch.setattr(maze.harness, "MAX_COMMANDS", 300)
+    log = tmp_path / "cap.bin"
+    r = run("explore", "japan2019hef", "--mouse", f"{PY} {MICE / 'mms_python' / 'Main.py'}", "--log", log)
+    assert r.exit_code == EXIT_COMMAND_CAP != 0
+    errors = [line for line in r.stderr.splitlines() if line.startswith("Error:")]
+    assert errors == [f"Error: --mouse: cut at 300 commands, its search unfinished (give --max-steps or "
+                      f"--time-budget to end it sooner); the log of what it sensed so far is kept in {log}"]
+    assert "300 commands sent (a program that never ends its search" in r.stdout
+    assert len(log.read_bytes()) >= 2

@@ -1,5 +1,6 @@
 """Building native apps: the generated headers, app.cfg and Makefile.inc, the cache, and build errors."""
 
+import os
 import subprocess
 from pathlib import Path
 
@@ -175,3 +176,29 @@ def test_hako_trial_with_a_broken_c_app_fails_before_any_test(tmp_path):
     assert "Traceback" not in out.stderr and len(out.stderr.strip().splitlines()) == 1
     assert "broken.c does not build: broken.c:1:" in out.stderr and "error:" in out.stderr
     assert not (run_dir / "physics.log").exists()  # no test started
+
+
+@pytest.mark.parametrize("variable", ["HOME", "XDG_CACHE_HOME"])
+def test_an_unwritable_cache_names_the_variable_that_moves_it(tmp_path, variable):
+    """A read-only HOME (here a HOME the cache cannot be made under, as even root cannot write inside a file)."""
+    need_cc()
+    app = tmp_path / "app.c"
+    app.write_text('#include "ev3api.h"\nvoid main_task(intptr_t exinf) { ext_tsk(); }\n')
+    blocked = tmp_path / "a-file"
+    blocked.write_text("")
+    env = {**os.environ, "XDG_CACHE_HOME": "", variable: str(blocked)}
+    r = hako("trial", "--app", str(app), "--time-limit", "1", env=env, timeout=120)
+    assert r.returncode != 0 and "Traceback" not in r.stderr
+    (line,) = [line for line in r.stderr.splitlines() if line.startswith("Error:")]
+    assert line.startswith(f"Error: cannot write the build cache at {blocked}")
+    assert "set XDG_CACHE_HOME to a writable folder" in line
+
+
+def test_the_cache_error_is_caught_as_either_build_s_error(tmp_path, monkeypatch):
+    from athrill_sim.build_cache import cached_build
+    from athrill_sim.v850 import ImageError
+
+    (tmp_path / "a-file").write_text("")
+    for kind in (ImageError, NativeBuildError):
+        with pytest.raises(kind, match="XDG_CACHE_HOME"):
+            cached_build(tmp_path / "a-file" / "entry", "product", lambda scratch: None)

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim.output import CappedOutput
+from hakoniwa.wire.output import CappedOutput
 from conftest import hako, one_line_error, run_module
 from hakoniwa.wire.processes import BENCH_FAULT_MARKER, EXIT_BENCH_FAULT
 from hakoniwa.wire.protocol import ATHRILL_FILE
@@ -123,7 +123,7 @@ def test_the_log_keeps_head_and_tail_within_its_cap_and_says_so(tmp_path, sizes)
 
 @pytest.mark.slow
 def test_a_program_that_prints_without_end_leaves_a_capped_log(tmp_path):
-    from athrill_sim.output import LOG_CAP_BYTES
+    from hakoniwa.wire.output import LOG_CAP_BYTES
 
     (tmp_path / "noisy_app.py").write_text('def main_task(api):\n    while True:\n'
                                            '        print("x" * 65535, flush=True)\n        api.tslp_tsk(100_000)\n')

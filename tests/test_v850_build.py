@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from athrill_sim.v850 import ImageError
-from athrill_sim.v850.build import app_files, cache_key, first_error
+from athrill_sim.v850.build import app_files, cache_key, first_error, staged_sources, user_paths
 from athrill_sim.v850.elf import check_image
 from athrill_sim.v850.toolchain import Tools, unpack_toolchain
 from athrill_fixtures import ASP_IMAGE
@@ -63,6 +63,39 @@ def test_the_first_error_is_the_compilers_not_makes():
            "app.c:4:1: error: expected ';' before '}' token\n"
            "make[1]: *** [Makefile:420: app.o] Error 1\nmake: *** [Makefile:12: img] Error 2\n")
     assert first_error(out) == "app.c:3:5: error: 'foo' undeclared (first use in this function)"
+
+
+# what the SDK's link printed for an app.c without main_task (v850-elf gcc 12.2, ../shared's toolchain)
+NO_MAIN_TASK = ("/root/.cache/hakoniwa-py/toolchain/57bad064d14e66e4/v850-elf-gcc12/bin/../lib/gcc/v850-elf/12.2.0/"
+                "../../../../v850-elf/bin/ld: ./kernel_cfg.o:(.rodata+0x288): undefined reference to `main_task'\n"
+                "collect2: error: ld returned 1 exit status\nmake: *** [Makefile:385: asp] Error 1\n")
+
+
+def test_a_missing_main_task_is_said_as_the_native_build_says_it():
+    from athrill_sim.native.build import first_error as native_first_error
+
+    native = native_first_error("app.o: undefined reference to `main_task'\n", entries=["main_task"])
+    assert first_error(NO_MAIN_TASK) == native
+    assert native.startswith("the program defines no function main_task, a task or handler function")
+    assert first_error(NO_MAIN_TASK, cxx=True).endswith('in C++ it must be extern "C", as EV3RT\'s app.h declares it')
+    other = "ld: app.o: in function `main_task':\napp.c:(.text+0x8): undefined reference to `helper'\n"
+    assert "undefined reference to `helper'" in first_error(other)  # the program's own call: the linker's words
+
+
+def test_a_compile_error_names_the_users_file_not_the_scratch_copy(tmp_path):
+    (tmp_path / "tracer.c").write_text("")
+    (tmp_path / "gains.h").write_text("")
+    lone = staged_sources(*app_files(tmp_path / "tracer.c"))
+    assert user_paths("../workspace/hako_app/app.c:2:38: error: expected expression", lone) == \
+        f"{tmp_path / 'tracer.c'}:2:38: error: expected expression"
+    assert user_paths("In file included from /scratch/x/sdk/workspace/hako_app/gains.h:1,", lone) == \
+        f"In file included from {tmp_path / 'gains.h'}:1,"
+    assert user_paths("../workspace/hako_app/app.cfg:7: error", lone) == "app.cfg:7: error"  # one we wrote
+    folder = workspace(tmp_path / "ws")
+    (folder / "src").mkdir()
+    (folder / "src" / "pid.c").write_text("")
+    assert user_paths("../workspace/hako_app/src/pid.c:1:1: error: x", staged_sources(*app_files(folder))) == \
+        f"{folder / 'src' / 'pid.c'}:1:1: error: x"
 
 
 def test_an_elf_for_another_cpu_is_named(tmp_path):
@@ -122,7 +155,16 @@ def test_a_compile_error_is_one_line_with_the_compilers_message(tmp_path):
     (tmp_path / "broken").mkdir()  # app.c alone: app.cfg and app.h are written for it
     (tmp_path / "broken" / "app.c").write_text('#include "ev3api.h"\nvoid main_task(intptr_t x) { undeclared_thing = 1; }\n')
     r = hako("build", str(tmp_path / "broken"), timeout=900)
-    one_line_error(r, "does not build", "app.c", "error:", "undeclared_thing")
+    one_line_error(r, "does not build", f"{tmp_path / 'broken' / 'app.c'}:2:", "error:", "undeclared_thing")
+    assert "workspace" not in r.stderr  # the user's file, not the scratch copy's
+
+
+@pytest.mark.slow
+def test_a_v850_program_without_main_task_is_told_so_in_a_sentence(tmp_path):
+    need_v850_tools()
+    (tmp_path / "app.c").write_text('#include "ev3api.h"\nvoid other_task(intptr_t x) { }\n')
+    r = hako("build", str(tmp_path / "app.c"), timeout=900)
+    one_line_error(r, "does not build: the program defines no function main_task, a task or handler function")
 
 
 @pytest.mark.slow

@@ -237,6 +237,19 @@ def _run(cmd: list[str], cwd: Path, build_dir: Path, failure: str, entries: Coll
     return out.stdout
 
 
+def undefined_name(line: str) -> str | None:
+    """The function a linker's `undefined reference to` line names."""
+    missing = _UNDEFINED.search(line)
+    return missing.group(1) if missing else None
+
+
+def no_entry_point(name: str, cxx: bool) -> str:
+    """A task or handler function app.cfg names that the program lacks, in words (the native and v850 builds)."""
+    line = (f"the program defines no function {name}, a task or handler function that app.cfg names (a program "
+            "without app.cfg needs main_task)")
+    return line + ('; in C++ it must be extern "C", as EV3RT\'s app.h declares it' if cxx else "")
+
+
 def first_error(output: str, entries: Collection[str] = (), cxx: bool = False, subset: str = "EV3RT subset") -> str:
     """The compiler's (or linker's) first error as one line. A missing function is either one of the program's
     own entry points (`entries`: the task and handler functions app.cfg names, main_task without one), which
@@ -248,12 +261,9 @@ def first_error(output: str, entries: Collection[str] = (), cxx: bool = False, s
     line = (errors or lines or ["the compiler failed"])[0]
     if "undefined reference to " in line or "multiple definition of " in line:
         line = _LINKER_LOCATION.sub("", line)
-    missing = _UNDEFINED.search(line)
-    if missing and missing.group(1) in entries:
-        line = (f"the program defines no function {missing.group(1)}, a task or handler function that app.cfg "
-                "names (a program without app.cfg needs main_task)")
-        if cxx:
-            line += '; in C++ it must be extern "C", as EV3RT\'s app.h declares it'
+    missing = undefined_name(line)
+    if missing and missing in entries:
+        line = no_entry_point(missing, cxx)
     elif missing:
         line += f" (not in the native mock's {subset}, see docs/NATIVE.md)"
     return line

@@ -34,6 +34,7 @@ from typing import Callable
 from athrill_sim.build_cache import CacheKey, cache_root, cached_build
 from athrill_sim.elf_symbols import DEBUG_SUFFIX
 from athrill_sim.native import NativeBuildError, spike
+from athrill_sim.native.build import no_entry_point, undefined_name
 from athrill_sim.native.headers import LAYOUT_HEADER
 from athrill_sim.native.makefile import ETROBO_VARIABLES, ETROBOC_COMMON, NO_MAKEFILE, evaluate
 from athrill_sim.native.workspace import LONE_CXX_MAKEFILE_INC
@@ -69,6 +70,8 @@ extern void main_task(intptr_t exinf);
 
 _ERROR = re.compile(r"\berror: |undefined reference to |multiple definition of |No rule to make|\b[A-Z]\w*Error\b")
 _MAKE_SUMMARY = re.compile(r"^make(\[\d+\])?: \*\*\* .*Error \d+")
+_STAGED_PATH = re.compile(r"(?:[^\s:'\"`\u2018\u2019]*/)?" + APP_NAME + r"/([^\s:'\"`\u2018\u2019]+)")
+KERNEL_CFG = "kernel_cfg.o"  # what the SDK's cfg pass makes of app.cfg: what it references are app.cfg's entries
 
 
 def build_image(app: Path, *, sdk: Path | None = None, toolchain: Path | None = None,
@@ -153,7 +156,7 @@ def cache_key(root: Path, files: list[Path], lone: bool, tools: Tools, flags: tu
 
 def _build(root: Path, files: list[Path], lone: bool, tools: Tools, scratch: Path, cxx: bool,
            flags: tuple[str, ...]) -> None:
-    _make_image(root, files, lone, tools, scratch, flags)
+    _make_image(root, files, lone, tools, scratch, flags, cxx)
     if cxx:
         shutil.copyfile(scratch / IMAGE, scratch / DEBUG_IMAGE)
         strip = tools.gcc.with_name(tools.gcc.name.replace("gcc", "strip"))
@@ -165,7 +168,7 @@ def _build(root: Path, files: list[Path], lone: bool, tools: Tools, scratch: Pat
 
 
 def _make_image(root: Path, files: list[Path], lone: bool, tools: Tools, scratch: Path,
-                flags: tuple[str, ...]) -> None:
+                flags: tuple[str, ...], cxx: bool) -> None:
     sdk = scratch / tools.sdk.name
     shutil.copytree(tools.sdk, sdk, symlinks=True)
     for d, _, names in os.walk(sdk):  # a read-only source tree copies read-only
@@ -203,8 +206,8 @@ def _make_image(root: Path, files: list[Path], lone: bool, tools: Tools, scratch
         raise ImageError(f"{root}: make failed to run: {e}") from None
     (scratch / BUILD_LOG).write_text(out.stdout + out.stderr)
     if out.returncode != 0 or not (workspace / IMAGE).is_file():
-        message = first_error(out.stdout + "\n" + out.stderr).replace(f"{APP_NAME}/", "")
-        raise ImageError(f"{root} does not build: {message}")
+        message = first_error(out.stdout + "\n" + out.stderr, cxx)
+        raise ImageError(f"{root} does not build: {user_paths(message, staged_sources(root, files, lone))}")
     (workspace / IMAGE).rename(scratch / IMAGE)
     shutil.rmtree(sdk)
     shutil.rmtree(scratch / ETROBO_FOLDER)
@@ -226,12 +229,29 @@ def etroboc_files() -> dict[str, str]:
     return {ETROBOC_EXT.name: ETROBOC_EXT.read_text(), LAYOUT_HEADER: c_header()}
 
 
-def first_error(output: str) -> str:
-    """The build's first error as one line; make's own closing lines ("*** [...] Error 1") are never it."""
+def first_error(output: str, cxx: bool = False) -> str:
+    """The build's first error as one line; make's own closing lines ("*** [...] Error 1") are never it. A
+    function the cfg pass's kernel_cfg.o cannot find is a task app.cfg names: said as the native build says it."""
     lines = [line.strip() for line in output.splitlines() if line.strip()]
     errors = [line for line in lines if _ERROR.search(line) and not _MAKE_SUMMARY.match(line)
               and not line.startswith("collect2:")]
-    return (errors or [line for line in lines if not _MAKE_SUMMARY.match(line)] or ["the build failed"])[0]
+    line = (errors or [line for line in lines if not _MAKE_SUMMARY.match(line)] or ["the build failed"])[0]
+    missing = undefined_name(line)
+    return no_entry_point(missing, cxx) if missing and KERNEL_CFG in line else line
+
+
+def staged_sources(root: Path, files: list[Path], lone: bool) -> dict[str, Path]:
+    """The user's file behind each path in the staged workspace folder (a lone file is staged as app.c)."""
+    if lone:
+        return {f"app{files[0].suffix}": files[0], **{h.name: h for h in files[1:]}}
+    return {f.relative_to(root).as_posix(): f for f in files}
+
+
+def user_paths(message: str, sources: dict[str, Path]) -> str:
+    """The message with each path into the scratch copy's workspace folder (`../workspace/hako_app/app.c`)
+    replaced by the user's file it was copied from, so an editor can jump to it; a file the build wrote (a lone
+    file's app.cfg) keeps its name."""
+    return _STAGED_PATH.sub(lambda m: str(sources.get(m.group(1), m.group(1))), message)
 
 
 def _run(cmd: list[str], cwd: Path, failure: str) -> str:
