@@ -16,7 +16,7 @@ from pathlib import Path
 
 import click
 
-from hakoniwa.clickutil import HELP, Float32, option_group
+from hakoniwa.clickutil import HELP, Float32, option_group, writable_file
 from hakoniwa.physics.options import BenchOptions, bench_options, pop_bench
 from hakoniwa.physics.video_options import VideoOptions, check_video_path, film_options
 from hakoniwa.wire.processes import describe_exit, exit_status
@@ -46,16 +46,6 @@ def report_death(code: int, run_dir: Path) -> None:
 def main() -> None:
     """Hakoniwa-style robot test bench: MuJoCo physics, an Athrill (our mock, or the real TOPPERS emulator)
     running the robot program, and a test controller: three processes over memory-mapped files."""
-
-
-def _writable_file(path: Path, option: str) -> None:
-    if path.is_dir():
-        raise click.BadParameter(f"{path} is a folder", param_hint=option)
-    parent = path.parent.resolve()
-    if not parent.is_dir():
-        raise click.BadParameter(f"folder {path.parent} does not exist", param_hint=option)
-    if not os.access(parent, os.W_OK):
-        raise click.BadParameter(f"folder {path.parent} is not writable", param_hint=option)
 
 
 @main.command(context_settings=HELP)
@@ -128,7 +118,7 @@ def _trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: floa
            as_json: bool, trajectory: Path | None, options: BenchOptions, film: VideoOptions | None = None,
            view_speed: float | None = None) -> None:
     if trajectory is not None:
-        _writable_file(trajectory, "--trajectory")
+        writable_file(trajectory, "--trajectory")
     with tempfile.TemporaryDirectory(prefix="hako-") as tmp:
         rd = run_dir or Path(tmp)
         out = rd / "result.json"
@@ -282,7 +272,7 @@ def _test(test_file: Path, benches: int | None, scheduler: str | None, out: Path
         out_dir = out or Path("runs") / f"test-{dt.datetime.now():%Y%m%d-%H%M%S}"
         for path, option in ((junit_file, "--junit"), (json_file, "--json")):
             if path is not None and path.parent.resolve() != out_dir.resolve():  # the output folder: made below
-                _writable_file(path, option)
+                writable_file(path, option)
         for options in dict.fromkeys(c.bench for c in cases):
             check_bench(options, benches=None if scheduler else n)
         make_out_dir(out_dir)

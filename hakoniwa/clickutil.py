@@ -4,7 +4,9 @@ end up as float32 in the mapped files."""
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Callable
+from pathlib import Path
 
 import click
 
@@ -48,3 +50,14 @@ def option_group(options: list[Callable]) -> Callable[[Callable], Callable]:
         return f
 
     return decorate
+
+
+def writable_file(path: Path, option: str) -> None:
+    """An output file's folder is checked before the test, so a typo costs a line, not the run."""
+    if path.is_dir():
+        raise click.BadParameter(f"{path} is a folder", param_hint=option)
+    parent = path.parent.resolve()
+    if not parent.is_dir():
+        raise click.BadParameter(f"folder {path.parent} does not exist", param_hint=option)
+    if not os.access(parent, os.W_OK):
+        raise click.BadParameter(f"folder {path.parent} is not writable", param_hint=option)

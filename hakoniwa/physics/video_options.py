@@ -4,13 +4,12 @@ renderer itself (`video.py`: MuJoCo's OpenGL, the video writer) loads only when 
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass
 from pathlib import Path
 
 import click
 
-from hakoniwa.clickutil import option_group
+from hakoniwa.clickutil import option_group, writable_file
 
 CAMERAS = ("chase", "top")
 FORMATS = (".mp4", ".gif")
@@ -48,13 +47,7 @@ def check_video_path(path: Path, fps: int, option: str = "--video") -> None:
     """One line before anything runs: a format we write, a folder we can write into, a frame rate it holds."""
     if path.suffix.lower() not in FORMATS:
         raise click.BadParameter(f"{path}: a video is {' or '.join(FORMATS)}", param_hint=option)
-    if path.is_dir():
-        raise click.BadParameter(f"{path} is a folder", param_hint=option)
-    parent = path.parent.resolve()
-    if not parent.is_dir():
-        raise click.BadParameter(f"folder {path.parent} does not exist", param_hint=option)
-    if not os.access(parent, os.W_OK):
-        raise click.BadParameter(f"folder {path.parent} is not writable", param_hint=option)
+    writable_file(path, option)
     if path.suffix.lower() == ".gif" and fps > GIF_FPS_MAX:
         raise click.BadParameter(f"a GIF holds at most {GIF_FPS_MAX} frames/s, got {fps}", param_hint="--fps")
 
