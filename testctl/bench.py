@@ -47,11 +47,11 @@ class Bench:
         try:
             result = runner.run_test(spec.params, noise_seed=spec.noise_seed, noise_scale=spec.noise_scale,
                                      slot_types=spec.slot_types)
-        except PhysicsGone:
+        except PhysicsGone as gone:
             damage = diagnose(self.run_dir)
             assert self._proc is not None
             proc = self._proc
-            hung = proc.poll() is None  # alive, but no event within the runner's timeout: time stood still
+            hung = gone.stalled  # alive, but no event within the runner's timeout: time stood still
             self.close()
             cause = (BenchCause.FILE_DAMAGED if damage else BenchCause.TIME_STALLED if hung
                      else BenchCause.PHYSICS_KILLED)

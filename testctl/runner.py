@@ -26,7 +26,13 @@ POLL_S = 0.002  # a test takes about a second; a 2 ms nap costs nothing and leav
 
 
 class PhysicsGone(RuntimeError):
-    """The physics process stopped answering; no further test can run in this run directory."""
+    """The physics process stopped answering; no further test can run in this run directory. `stalled`: it
+    still ran but reported nothing in time (said here, since whether a just-killed process has been reaped
+    yet is a race)."""
+
+    def __init__(self, message: str, *, stalled: bool = False) -> None:
+        super().__init__(message)
+        self.stalled = stalled
 
 
 class TrialRunner:
@@ -116,7 +122,7 @@ class TrialRunner:
             if not pid_alive(self._physics_pid):
                 raise PhysicsGone(f"physics process {self._physics_pid} is gone (waiting for {what})")
             if time.monotonic() > deadline:
-                raise PhysicsGone(f"no {what} within {self.test_timeout_s:.0f} s")
+                raise PhysicsGone(f"no {what} within {self.test_timeout_s:.0f} s", stalled=True)
 
         wait_for(condition, check, spin_s=0.0, nap_s=POLL_S)
 
