@@ -55,6 +55,7 @@ class _Stop:
         self.at = 0.0
         self.raised = False
         self.said = False
+        self.hint = ""  # what the line adds once the command knows it (the resume command)
 
     @property
     def status(self) -> int:
@@ -94,7 +95,7 @@ def safe_to_raise(frame: FrameType | None) -> bool:
 
 def _hard_exit(stop: _Stop) -> NoReturn:
     if not stop.said:
-        os.write(2, (stop.line() + "\n").encode())
+        os.write(2, (stop.line(stop.hint) + "\n").encode())
     os._exit(stop.status)
 
 
@@ -147,6 +148,13 @@ def _end() -> None:
         sys.stdout.flush()
         sys.stderr.flush()
         os._exit(_stop.status)
+
+
+def on_stop_say(hint: str) -> None:
+    """What the one line says if a stop comes from here on, also when the deadline ends the process before
+    the interrupt has unwound to `stopped_by` (a loaded machine's slow cleanup)."""
+    if _stop is not None:
+        _stop.hint = hint
 
 
 def stopped_by(interrupt: KeyboardInterrupt, hint: str = "") -> NoReturn:

@@ -13,7 +13,7 @@ import click
 
 from testctl.campaign import BenchBroken, Campaign, CampaignConfig, CampaignSummary, SetResult
 from testctl.executor import Executor, TestSpec
-from testctl.interrupts import stopped_by
+from testctl.interrupts import on_stop_say, stopped_by
 from testctl.journal import JOURNAL_FILE, JournalError
 from testctl.options import VALIDATE_KEY, CampaignPlan
 from testctl.progress import ProgressLine
@@ -47,6 +47,7 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
     from testctl.suite_run import BenchFault
     from testctl.validate import VALIDATION_PNG, draw_validation, validate_best
 
+    on_stop_say(resume_hint(p.out_dir))
     validation = None
     label = f"campaign {p.out_dir}"
     try:
@@ -128,6 +129,28 @@ def set_spec(config: CampaignConfig, s: SetResult) -> TestSpec:
     return TestSpec(s.index, first.rep, space.to_offsets(s.x), first.noise_seed, config.noise, space.slot_types)
 
 
+def trial_for_picture(trial_once: TrialOnce, spec: TestSpec, tries: int = 2) -> tuple[TestResult, Path]:
+    """The campaign's own bench reruns a set for its picture; a bench fault there (its physics process killed,
+    a damaged file) says nothing of the set, so the test runs again on the rebuilt bench before the campaign
+    gives up with one line."""
+    from hakoniwa.wire.protocol import ProtocolError
+    from testctl.suite_run import BenchFault
+
+    for attempt in range(1, tries + 1):
+        try:
+            result, run_dir = trial_once(spec)
+        except (ProtocolError, PhysicsGone) as e:
+            if attempt == tries:
+                raise PhysicsGone(f"the campaign's own bench, rerunning set {spec.set_index} for its picture: {e}")
+            continue
+        if not result.bench_fault or attempt == tries:
+            break
+    if result.bench_fault:
+        raise BenchFault(f"the campaign's own bench spoiled set {spec.set_index}'s picture twice "
+                         f"({result.crash_reason()})")
+    return result, run_dir
+
+
 def draw_set(config: CampaignConfig, s: SetResult, trial_once: TrialOnce, course_folder: Path, out: Path,
              what: str = "", film: Path | None = None) -> Path:
     """Run set `s`'s test again and draw its trajectory into `out` (and, with `film`, film it there)."""
@@ -135,7 +158,7 @@ def draw_set(config: CampaignConfig, s: SetResult, trial_once: TrialOnce, course
     from hakoniwa.physics.plot import draw_trajectory, read_trajectory
     from hakoniwa.wire.rundir import TRAJECTORY_FILE
 
-    result, run_dir = trial_once(set_spec(config, s))
+    result, run_dir = trial_for_picture(trial_once, set_spec(config, s))
     lap = f"lap {result.lap_time_s:.2f} s" if result.lap_time_s is not None else result.event.name
     names = " ".join(f"{k}={v:.3f}" for k, v in config.space.to_named(s.x).items())
     draw_trajectory(load_course(course_folder), read_trajectory(run_dir / TRAJECTORY_FILE), out,

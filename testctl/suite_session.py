@@ -11,7 +11,7 @@ from pathlib import Path
 import click
 
 from hakoniwa.wire.protocol import ProtocolError
-from testctl.interrupts import stopped_by
+from testctl.interrupts import on_stop_say, stopped_by
 from testctl.junit import write_junit
 from testctl.runner import PhysicsGone
 from testctl.suite import Case
@@ -31,6 +31,7 @@ def run_suite(test_file: Path, cases: Sequence[Case], out_dir: Path, *, benches:
     """Run and judge every case, print the table, write the files, and exit 1 if a case failed."""
     from testctl.cluster import ClusterError  # Dask: not for `hako --help`
 
+    on_stop_say("nothing is judged")
     try:
         with click.progressbar(length=sum(len(c.seeds) for c in cases), label=f"hako test {test_file}",
                                item_show_func=lambda s: s, file=sys.stderr) as bar:

@@ -10,7 +10,7 @@ import sys
 import threading
 import time
 
-from testctl.interrupts import interrupts, stopped_by
+from testctl.interrupts import interrupts, on_stop_say, stopped_by
 
 
 def spin(seconds: float) -> None:
@@ -37,6 +37,7 @@ def main(moment: str, signum: int) -> None:
 
     sent: list[bool] = []
     with interrupts():
+        on_stop_say("the hint")  # said also when the deadline ends the process before the interrupt unwinds
         try:
             if moment.startswith("gc"):
                 gc.callbacks.append(in_gc)
