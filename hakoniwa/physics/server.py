@@ -216,9 +216,9 @@ class PhysicsServer:
         draw_screen(self.run_dir)  # before the report: whoever sees the event sees the screen
         if crash is not None and crash.kind == CrashKind.PROGRAM and proc is not None and proc.poll() is not None:
             self._write_program_output(self.launcher.last_lines(proc, PROGRAM_OUTPUT_LINES))
-        self.slots.report(report)
-        self._write_trajectory()
+        self._write_trajectory()  # before the report too: whoever sees the event reads this test's files
         write_replay(self.run_dir / REPLAY_FILE, self.env.replay())
+        self.slots.report(report)
         self.tests_run += 1
         why = f" ({crash.kind.name.lower()}: {crash})" if crash else ""
         if noise is not None:
