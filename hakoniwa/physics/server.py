@@ -42,7 +42,7 @@ from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
 from hakoniwa.physics.scenario import Scenario
 from hakoniwa.physics.slots import Report, Slots
 from hakoniwa.physics.sync import SYNC_LOOPS, AthrillCrash, unity_time_us
-from hakoniwa.wire.protocol import BenchCause, CrashKind, Event, Objective, Tx
+from hakoniwa.wire.protocol import BenchCause, CrashKind, Event, Objective
 from hakoniwa.wire.rundir import PHYSICS_LOG, PROGRAM_OUTPUT_FILE, SERIAL_INPUT, TRAJECTORY_FILE
 from hakoniwa.wire.timebase import Scheduler
 from hakoniwa.wire.wallclock import WallCeiling
@@ -78,7 +78,6 @@ class PhysicsServer:
         self.env = Environment(course, time_limit_us, robot, scenario, objective)
         (self.run_dir / SERIAL_INPUT).write_text(scenario.serial_lines())
         self.slots = Slots(self.run_dir)
-        self.athrill = self.slots.athrill
         self._log = open(self.run_dir / PHYSICS_LOG, "a")
         self.transport = open_transport(program, self.slots, self.run_dir, self._note)
         self.launcher = AthrillLauncher(self.run_dir, program)
@@ -89,7 +88,7 @@ class PhysicsServer:
         self._ceiling = WallCeiling(self.env.task.time_limit_us)  # each test's own, from its start
         self._controller_gone = threading.Event()
 
-    # -- what the sync loops use ---------------------------------------------------------------------
+    # -- what the sync loops use (`hakoniwa.physics.sync.SyncServer`, with the attributes above) ----------
     @property
     def now_us(self) -> int:
         return self.env.now_us
@@ -269,9 +268,9 @@ class PhysicsServer:
             while True:
                 if controller is not None and controller.poll() is not None:
                     return controller.returncode
-                if self.slots.flag(Tx.END) == 1:
+                if self.slots.end_requested():
                     return controller.wait() if controller is not None else 0
-                start = self.slots.flag(Tx.START)
+                start = self.slots.start_flag()
                 if start == 1 and not in_test:
                     try:
                         self.run_test()

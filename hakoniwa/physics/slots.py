@@ -1,8 +1,8 @@
 """The mapped files as the physics side reads and writes them: sensor snapshots and the test report into
 RX (`unity_mmap.bin`), motor commands and reset requests out of TX (`athrill_mmap.bin`).
 
-Only this module knows which slot holds what for the physics side; the layout itself is
-`hakoniwa.wire.protocol`'s. Writes that a reader waits on come last (the unity time after a snapshot, the
+Only this module knows which slot holds what for the physics side (the sync loops read Athrill's clock and
+answers through its named accessors); the layout itself is `hakoniwa.wire.protocol`'s. Writes that a reader waits on come last (the unity time after a snapshot, the
 event after a report), so whoever sees them sees everything that belongs to them.
 """
 
@@ -14,11 +14,13 @@ from pathlib import Path
 
 from hakoniwa.physics.course import CourseInfo
 from hakoniwa.physics.sensors import Sensors
-from hakoniwa.wire.protocol import (ETROBOC_EXT, BenchCause, MOTOR_PORTS, CrashKind, Event, Header, Objective,
-                                    MappedFile, Rx, SyncMode, Tx, goal_time_words, open_athrill, open_unity)
+from hakoniwa.wire.protocol import (ETROBOC_EXT, HEADER_SIZE, BenchCause, MOTOR_PORTS, CrashKind, Event, Header,
+                                    Objective, MappedFile, Rx, SyncMode, Tx, goal_time_words, open_athrill,
+                                    open_unity)
 from hakoniwa.wire.waiting import futex_wake
 
 ACTUATORS_END = Tx.GYRO_RESET + 4  # TX body bytes a test starts with cleared
+COMMAND_WORDS = (Tx.MOTOR_POWER, (ACTUATORS_END - Tx.MOTOR_POWER) // 4)  # TX words of powers, brakes, resets
 OUR_EXT = (Rx.TEST_SEQ, Rx.CRASH_DETAIL + 4)  # RX bytes of our extension the physics side writes
 # EV3RT reads the battery from RX (uart_dri_get_data_battery); Unity leaves those slots 0, which no program
 # expects of a running brick, so the physics side writes a charged EV3 pack idling there.
@@ -57,6 +59,8 @@ class Slots:
         self.athrill: MappedFile = open_athrill(run_dir, create=True)
         self.unity.write_u32(Rx.PHYSICS_PID, os.getpid())
         self._unity_time_address = self.unity.address(Header.UNITY_TIME)
+        self.answer_address = self.athrill.address(HEADER_SIZE + Tx.ANSWER_SEQ)  # a lockstep Athrill rings here
+        self.clock_address = self.athrill.address(Header.ATHRILL_TIME)  # a patched Athrill rings here when it stops
 
     def repair(self) -> list[str]:
         """Repair the files if anyone damaged them; what was wrong with each (a path names the file)."""
@@ -140,5 +144,32 @@ class Slots:
         self.unity.write_u32(Rx.GOAL_TIME_LO, lo)
         self.unity.write_i32(Rx.EVENT, int(event))  # last: the controller reads everything else after it
 
-    def flag(self, which: int) -> int:
-        return self.athrill.read_i32(which)
+    # -- what Athrill wrote: its clock and answers for the sync loops, the controller's flags -----------
+    def athrill_time_us(self) -> int:
+        return self.athrill.athrill_time_us
+
+    def clock_word(self) -> int:
+        """The word at `clock_address` (the clock's low half): what a waiter on the patched Athrill compares."""
+        return self.athrill.athrill_time_us & 0xFFFFFFFF
+
+    def answer_seq(self) -> int:
+        """Athrill's answer counter (lockstep): bumped last whenever it has published its outputs."""
+        return self.athrill.read_u32(Tx.ANSWER_SEQ)
+
+    def athrill_pid(self) -> int:
+        """The pid the mock wrote once it runs (the real Athrill writes none)."""
+        return self.athrill.read_u32(Tx.ATHRILL_PID)
+
+    def next_wake_us(self) -> int:
+        """When the program's task wakes next (lockstep): the instant physics steps to."""
+        return int(self.athrill.read("q", Tx.NEXT_WAKE))
+
+    def command_words(self) -> tuple[int, ...]:
+        """The TX words of powers, brakes and resets as they stand: a change is a new command."""
+        return self.athrill.read_i32s(*COMMAND_WORDS)
+
+    def start_flag(self) -> int:
+        return self.athrill.read_i32(Tx.START)
+
+    def end_requested(self) -> bool:
+        return self.athrill.read_i32(Tx.END) == 1

@@ -25,8 +25,9 @@ horizon, so which cycle reads which snapshot depends on nothing but the image an
 image, parameters and noise draw give the same result to the microsecond under any load. The time
 difference is at most one step plus the cycles of one instruction.
 
-Both loops leave the test when the physics server raises an event, and raise `AthrillCrash` when Athrill
-dies, goes silent or breaks the protocol.
+All three leave the test when the physics server raises an event, and raise `AthrillCrash` when Athrill
+dies, goes silent or breaks the protocol. What they need of the server is `SyncServer`, and all they read of
+Athrill they read through `Slots`.
 """
 
 from __future__ import annotations
@@ -34,19 +35,54 @@ from __future__ import annotations
 import subprocess
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING, Callable, Protocol
 
 from hakoniwa.wire.processes import CpuUse, cpu_use, describe_exit, take_bench_fault
-from hakoniwa.wire.protocol import HEADER_SIZE, BenchCause, CrashKind, Header, SyncMode, Tx
-from hakoniwa.wire.timebase import ALLOWED_TIME_DIFF_US, PHYSICS_STEP_US
+from hakoniwa.wire.protocol import BenchCause, CrashKind, SyncMode
+from hakoniwa.wire.timebase import ALLOWED_TIME_DIFF_US, PHYSICS_STEP_US, Scheduler
 from hakoniwa.wire.waiting import wait_word
 
 if TYPE_CHECKING:
-    from hakoniwa.physics.server import PhysicsServer
+    from hakoniwa.physics.relay import Transport
+    from hakoniwa.physics.slots import Slots
 
-TX_COMMANDS = (Tx.MOTOR_POWER, (Tx.GYRO_RESET + 4 - Tx.MOTOR_POWER) // 4)  # TX words of powers, brakes, resets
 HAKONIWA_START_US = 1  # the real Unity's clock starts at 1 us: a unity time of 0 lets Athrill run unchecked
 SPINNING_CPU_SHARE = 0.1  # a silent Athrill that had this share of a core or more was running: the program spins
+
+
+class SyncServer(Protocol):
+    """What a sync loop needs of the physics server (`hakoniwa.physics.server.PhysicsServer`): the test's
+    clock and its steps, the files and their transport, and the watchdog's limits. Nothing else of the server
+    is the loops' business, so a loop can be read, and driven in a test, against these alone."""
+
+    @property
+    def slots(self) -> Slots: ...
+    @property
+    def transport(self) -> Transport: ...
+    @property
+    def scheduler(self) -> Scheduler: ...
+    @property
+    def now_us(self) -> int: ...
+    @property
+    def run_dir(self) -> Path: ...
+    @property
+    def athrill_timeout_s(self) -> float: ...
+    @property
+    def answer_before_start(self) -> int:
+        """Athrill's answer counter before this test (`Slots.begin`): the first answer is the next one."""
+        ...
+
+    def advance_to(self, target_us: int) -> bool:
+        """Step the test to `target_us`; True once it has an event."""
+        ...
+
+    def check_ceiling(self) -> None:
+        """Raise `AthrillCrash` (a bench fault) once the test is past its wall-clock ceiling."""
+        ...
+
+    def note_time_diff(self, diff_us: int) -> None: ...
+    def publish_sensors(self) -> None: ...
+    def apply_actuators(self) -> None: ...
 
 
 class AthrillCrash(Exception):
@@ -73,7 +109,7 @@ def exit_crash(proc: subprocess.Popen, *, started: bool, run_dir: Path) -> Athri
     return AthrillCrash(CrashKind.PROGRAM, code, f"athrill {describe_exit(code)}")
 
 
-def watchdog(server: PhysicsServer, proc: subprocess.Popen, progress: Callable[[], int],
+def watchdog(server: SyncServer, proc: subprocess.Popen, progress: Callable[[], int],
              started: Callable[[], bool], *, emulator: bool = False) -> Callable[[], None]:
     """An `on_idle` check for waits on Athrill: raises when it exits, when the test is past its wall-clock
     ceiling (`PhysicsServer.check_ceiling`), or when `progress()` (its clock or its answer counter) has not
@@ -124,23 +160,20 @@ def silent_crash(silent_s: float, use: CpuUse | None, cpu_at: float, stopped: bo
     return AthrillCrash(CrashKind.SILENT, 0, f"athrill silent for {silent_s:.0f} s, blocked outside tslp_tsk")
 
 
-def run_lockstep(server: PhysicsServer, proc: subprocess.Popen) -> None:
-    a = server.athrill
-    answer_address = a.address(HEADER_SIZE + Tx.ANSWER_SEQ)  # Athrill rings here when it has answered
-
-    def answer() -> int:
-        return a.read_u32(Tx.ANSWER_SEQ)
+def run_lockstep(server: SyncServer, proc: subprocess.Popen) -> None:
+    slots = server.slots
+    answer = slots.answer_seq
 
     def await_answer(last: int) -> int:
         """Wait for Athrill's answer to the snapshot at `server.now_us`; apply it and return its wake time."""
-        check = watchdog(server, proc, answer, lambda: a.read_u32(Tx.ATHRILL_PID) == proc.pid)
-        wait_word(answer_address, answer, lambda: answer() != last, check)
+        check = watchdog(server, proc, answer, lambda: slots.athrill_pid() == proc.pid)
+        wait_word(slots.answer_address, answer, lambda: answer() != last, check)
         now = server.now_us
-        next_wake = a.read("q", Tx.NEXT_WAKE)
-        diff = a.athrill_time_us - now
+        next_wake = slots.next_wake_us()
+        diff = slots.athrill_time_us() - now
         server.note_time_diff(diff)
         if abs(diff) > ALLOWED_TIME_DIFF_US:
-            raise AthrillCrash(CrashKind.PROTOCOL, 0, f"athrill time {a.athrill_time_us} us, physics {now} us")
+            raise AthrillCrash(CrashKind.PROTOCOL, 0, f"athrill time {slots.athrill_time_us()} us, physics {now} us")
         if next_wake <= now:
             raise AthrillCrash(CrashKind.PROTOCOL, 0, f"athrill wakes at {next_wake} us, physics is at {now} us")
         server.apply_actuators()
@@ -159,40 +192,40 @@ def run_lockstep(server: PhysicsServer, proc: subprocess.Popen) -> None:
             next_wake = await_answer(last)
 
 
-def run_hakoniwa(server: PhysicsServer, proc: subprocess.Popen) -> None:
-    a = server.athrill
+def run_hakoniwa(server: SyncServer, proc: subprocess.Popen) -> None:
+    clock = server.slots.athrill_time_us
     link = server.transport  # over UDP, what Athrill sent reaches the TX file when the loop receives it
-    check = watchdog(server, proc, lambda: a.athrill_time_us, lambda: a.athrill_time_us > 0, emulator=True)
+    check = watchdog(server, proc, clock, lambda: clock() > 0, emulator=True)
     sched = server.scheduler
     while True:
         link.receive()
         now = server.now_us
         # Whole steps that keep physics at most the allowed difference ahead of Athrill's clock.
-        steps = (a.athrill_time_us + ALLOWED_TIME_DIFF_US - now) // PHYSICS_STEP_US
+        steps = (clock() + ALLOWED_TIME_DIFF_US - now) // PHYSICS_STEP_US
         if steps <= 0:
-            link.wait_for(lambda: a.athrill_time_us + ALLOWED_TIME_DIFF_US - server.now_us >= PHYSICS_STEP_US, check)
+            link.wait_for(lambda: clock() + ALLOWED_TIME_DIFF_US - server.now_us >= PHYSICS_STEP_US, check)
             continue
-        server.note_time_diff(a.athrill_time_us - now)
+        server.note_time_diff(clock() - now)
         server.apply_actuators()
         if server.advance_to(min(sched.next_tick(), now + steps * PHYSICS_STEP_US)):
             return
         server.publish_sensors()
-        server.note_time_diff(a.athrill_time_us - server.now_us)
+        server.note_time_diff(clock() - server.now_us)
         check()
 
 
-def run_repeatable(server: PhysicsServer, proc: subprocess.Popen) -> None:
-    a = server.athrill
-    clock_address = a.address(Header.ATHRILL_TIME)  # the patched Athrill rings here when it stops
-    check = watchdog(server, proc, lambda: a.athrill_time_us, lambda: a.athrill_time_us > 0, emulator=True)
+def run_repeatable(server: SyncServer, proc: subprocess.Popen) -> None:
+    slots = server.slots
+    clock = slots.athrill_time_us
+    check = watchdog(server, proc, clock, lambda: clock() > 0, emulator=True)
     applied = None  # the TX commands last applied: a command is applied (and draws its noise) once, when new
     while True:
         horizon = unity_time_us(SyncMode.REPEATABLE, server.now_us)  # published with the last snapshot
-        wait_word(clock_address, lambda: a.athrill_time_us & 0xFFFFFFFF, lambda: a.athrill_time_us >= horizon, check)
-        server.note_time_diff(a.athrill_time_us - server.now_us)
-        if a.read_i32s(*TX_COMMANDS) != applied:
+        wait_word(slots.clock_address, slots.clock_word, lambda: clock() >= horizon, check)
+        server.note_time_diff(clock() - server.now_us)
+        if slots.command_words() != applied:
             server.apply_actuators()
-            applied = a.read_i32s(*TX_COMMANDS)  # after the reset requests it took were cleared
+            applied = slots.command_words()  # after the reset requests it took were cleared
         if server.advance_to(horizon):
             return
         server.check_ceiling()
@@ -208,4 +241,5 @@ def unity_time_us(sync: SyncMode, now_us: int) -> int:
     return max(now_us, HAKONIWA_START_US) if sync == SyncMode.HAKONIWA else now_us
 
 
-SYNC_LOOPS = {SyncMode.LOCKSTEP: run_lockstep, SyncMode.HAKONIWA: run_hakoniwa, SyncMode.REPEATABLE: run_repeatable}
+SYNC_LOOPS: dict[SyncMode, Callable[[SyncServer, subprocess.Popen], None]] = {
+    SyncMode.LOCKSTEP: run_lockstep, SyncMode.HAKONIWA: run_hakoniwa, SyncMode.REPEATABLE: run_repeatable}
