@@ -23,13 +23,14 @@ from dataclasses import asdict, dataclass
 from fractions import Fraction
 
 from hakoniwa.clickutil import FLOAT32_MAX
+from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.params import FLOAT_TYPES, INT_TYPES
 
 KINDS = ("define", "symbol", "file", "source")  # besides `offset`, which needs nothing of the physics side
 SPACE_TYPES = ("float", "int", *FLOAT_TYPES, *INT_TYPES)  # what a space's `type` may say
 
 
-class BindingError(ValueError):
+class BindingError(HakoError, ValueError):
     """A binding cannot reach the program; the message is one line with the fix."""
 
 

@@ -9,11 +9,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from hakoniwa.wire.protocol import (ATHRILL_FILE, UNITY_FILE, MappedFile, ProtocolError, guest_to_body, open_athrill,
+from hakoniwa.wire.protocol import (ATHRILL_FILE, UNITY_FILE, MappedFile, LayoutError, guest_to_body, open_athrill,
                                open_unity)
 
 
-class BusError(ProtocolError):
+class BusError(LayoutError):
     """An access outside the mapped guest memory (a wild pointer in the robot program)."""
 
 
@@ -36,14 +36,14 @@ class MemoryBus:
         f, off = self._resolve(addr)
         try:
             return f.read(fmt, off)
-        except ProtocolError as e:
+        except LayoutError as e:
             raise BusError(f"0x{addr:08X}: {e}") from None
 
     def write(self, fmt: str, addr: int, value: int | float) -> None:
         f, off = self._resolve(addr)
         try:
             f.write(fmt, off, value)
-        except ProtocolError as e:
+        except LayoutError as e:
             raise BusError(f"0x{addr:08X}: {e}") from None
 
     def read_f32(self, addr: int) -> float:

@@ -17,12 +17,13 @@ from athrill_sim.apps import load_app
 from athrill_sim.bus import MemoryBus
 from athrill_sim.ev3api import Ev3Api
 from athrill_sim.kernel import Kernel, KernelExit, wait_for_test
-from hakoniwa.clickutil import HELP
-from hakoniwa.wire.processes import EXIT_BENCH_FAULT, mark_bench_fault
-from hakoniwa.wire.protocol import ProtocolError
+from hakoniwa.clickutil import HELP, OneLineErrors
+from hakoniwa.wire.exits import EXIT_BENCH_FAULT
+from hakoniwa.wire.processes import mark_bench_fault
+from hakoniwa.wire.protocol import LayoutError
 
 
-@click.command(context_settings=HELP)
+@click.command(cls=OneLineErrors, context_settings=HELP)
 @click.option("--run-dir", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Folder holding unity_mmap.bin and athrill_mmap.bin.")
 @click.option("--app", required=True, help="Robot program: a built-in name or module:function taking an Ev3Api.")
@@ -31,10 +32,7 @@ from hakoniwa.wire.protocol import ProtocolError
 @click.option("--check", is_flag=True, help="Only check that the program can be loaded, and exit.")
 def main(run_dir: Path | None, app: str, test_seq: int | None, check: bool) -> None:
     """Run a robot program on the mock EV3RT until the physics process stops it."""
-    try:
-        task = load_app(app)
-    except ValueError as e:
-        raise click.ClickException(str(e)) from None
+    task = load_app(app)
     if not callable(task):
         raise click.ClickException(f"--app {app}: {type(task).__name__} {task!r} is not a function (a robot "
                                    "program is a function taking the Ev3Api)")
@@ -44,7 +42,7 @@ def main(run_dir: Path | None, app: str, test_seq: int | None, check: bool) -> N
         raise click.UsageError("--run-dir is required to run a program")
     try:
         bus = MemoryBus(run_dir)
-    except ProtocolError as e:
+    except LayoutError as e:
         click.echo(f"athrill-sim: bench fault: {e}", err=True)
         mark_bench_fault(run_dir, str(e))
         sys.exit(EXIT_BENCH_FAULT)
@@ -59,7 +57,7 @@ def main(run_dir: Path | None, app: str, test_seq: int | None, check: bool) -> N
     except KernelExit as e:
         click.echo(f"athrill-sim: {e}", err=True)
         sys.exit(0)
-    except ProtocolError as e:  # a wild pointer in the program; other bugs show their traceback
+    except LayoutError as e:  # a wild pointer in the program; other bugs show their traceback
         raise click.ClickException(f"robot program stopped: {e}") from None
 
 

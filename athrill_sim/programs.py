@@ -27,6 +27,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.processes import die_with_parent
 from hakoniwa.wire.protocol import ATHRILL_FILE, UNITY_FILE, SyncMode
 from hakoniwa.wire.rundir import SDCARD_DIR
@@ -80,7 +81,7 @@ UDP_MEMORY_CONFIG = "memory.txt"
 UDP_DEVICE_CONFIG = "device_config.txt"
 
 
-class ProgramError(ValueError):
+class ProgramError(HakoError, ValueError):
     """`--app` (or `--athrill2`) names nothing that can run; the message is one line."""
 
 

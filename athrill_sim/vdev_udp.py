@@ -24,6 +24,8 @@ import socket
 from dataclasses import dataclass
 from pathlib import Path
 
+from hakoniwa.wire.errors import HakoError
+
 TX_ADDR_KEY, TX_PORT_KEY = "DEBUG_FUNC_VDEV_TX_IPADDR", "DEBUG_FUNC_VDEV_TX_PORTNO"  # where physics listens
 RX_ADDR_KEY, RX_PORT_KEY = "DEBUG_FUNC_VDEV_RX_IPADDR", "DEBUG_FUNC_VDEV_RX_PORTNO"  # where athrill2 binds
 ENABLE_KEY, SYNC_TYPE_KEY = "DEBUG_FUNC_ENABLE_VDEV", "DEBUG_FUNC_VDEV_SIMSYNC_TYPE"
@@ -39,7 +41,7 @@ PORT_RANGE = (20000, 32768)
 _DELIMITERS = re.compile(r"[\s,:]+")
 
 
-class LinkError(ValueError):
+class LinkError(HakoError, ValueError):
     """A device config or a port the bench cannot use; the message is one line."""
 
 

@@ -16,10 +16,11 @@ from pathlib import Path
 
 import click
 
-from hakoniwa.clickutil import HELP, Float32, option_group, writable_file
+from hakoniwa.clickutil import HELP, Float32, OneLineErrorsGroup, option_group, writable_file
 from hakoniwa.physics.options import BenchOptions, bench_options, pop_bench
 from hakoniwa.physics.video_options import VideoOptions, check_video_path, film_options
-from hakoniwa.wire.processes import describe_exit, exit_status
+from hakoniwa.wire.exits import exit_status
+from hakoniwa.wire.processes import describe_exit
 from hakoniwa.wire.rundir import TRAJECTORY_FILE, diagnose
 from testctl.launch import controller_command, run_physics
 from testctl import paper
@@ -41,7 +42,7 @@ def report_death(code: int, run_dir: Path) -> None:
     raise SystemExit(exit_status(code))
 
 
-@click.group(context_settings=HELP)
+@click.group(cls=OneLineErrorsGroup, context_settings=HELP)
 @click.version_option(package_name="hakoniwa-py")
 def main() -> None:
     """Hakoniwa-style robot test bench: MuJoCo physics, an Athrill (our mock, or the real TOPPERS emulator)
@@ -103,13 +104,18 @@ def check_film(film: VideoOptions) -> None:
 
 
 def make_film(run_dir: Path, film: VideoOptions, title: str = "") -> int:
-    from hakoniwa.physics.replay import ReplayError, read_replay
-    from hakoniwa.physics.video import VideoError, film as shoot
+    """The film of the run in `run_dir`; how many frames it has.
+
+    Raises:
+        ReplayError: the run left no readable replay.
+        VideoError: the film cannot be made (no encoder, no OpenGL).
+        click.ClickException: the film cannot be written.
+    """
+    from hakoniwa.physics.replay import read_replay
+    from hakoniwa.physics.video import film as shoot
 
     try:
         return shoot(read_replay(run_dir), film, title=title)
-    except (ReplayError, VideoError) as e:
-        raise click.ClickException(str(e)) from None
     except OSError as e:
         raise click.ClickException(f"cannot write {film.path}: {e.strerror or e}") from None
 
@@ -220,10 +226,7 @@ def _run(benches: int | None, scheduler: str | None, validate: int | None, optio
     from testctl.fingerprint import FILES_KEY
     from testctl.session import run_campaign
 
-    try:
-        executor = DaskExecutor(bench, benches=None if scheduler else n, scheduler=scheduler)
-    except ClusterError as e:
-        raise click.ClickException(str(e)) from None
+    executor = DaskExecutor(bench, benches=None if scheduler else n, scheduler=scheduler)
     local = Bench(bench, run_dir)
     try:
         run_campaign(p, executor, bench_info={**bench_info(bench), FILES_KEY: files},
@@ -263,7 +266,8 @@ def _test(test_file: Path, benches: int | None, scheduler: str | None, out: Path
           json_file: Path | None, base: BenchOptions) -> None:
     import datetime as dt
 
-    from testctl.suite import SuiteError, load_suite
+    from hakoniwa.wire.errors import HakoError
+    from testctl.suite import load_suite
     from testctl.suite_session import RunBroken, run_suite
 
     n = how_many_benches(benches, scheduler)
@@ -276,7 +280,7 @@ def _test(test_file: Path, benches: int | None, scheduler: str | None, out: Path
         for options in dict.fromkeys(c.bench for c in cases):
             check_bench(options, benches=None if scheduler else n)
         make_out_dir(out_dir)
-    except SuiteError as e:
+    except HakoError as e:  # a bad suite, course or program: the run is broken before it starts (exit 2)
         raise RunBroken(str(e)) from None
     except click.ClickException as e:
         raise RunBroken(e.message) from None
@@ -296,14 +300,10 @@ def build(app: Path, sdk: Path | None, toolchain: Path | None) -> None:
     """Build APP (an EV3RT app.c or workspace folder) into a v850 image for the real athrill2 and print its
     path. Images are cached by their sources, the SDK and the compiler; `hako trial --app APP --emulator
     athrill2` builds and runs in one go."""
-    from athrill_sim.v850 import ImageError
     from athrill_sim.v850.build import build_image
 
-    try:
-        announce = (lambda what: click.echo(what + " ...", err=True)) if sys.stderr.isatty() else None
-        image = build_image(app, sdk=sdk, toolchain=toolchain, announce=announce)
-    except ImageError as e:
-        raise click.ClickException(str(e)) from None
+    announce = (lambda what: click.echo(what + " ...", err=True)) if sys.stderr.isatty() else None
+    image = build_image(app, sdk=sdk, toolchain=toolchain, announce=announce)
     click.echo(str(image))
 
 
@@ -337,13 +337,10 @@ def dashboard(run_dirs: tuple[Path, ...], host: str, port: int) -> None:
     parameter importances, slice and contour plots, every set's tests and the trajectories of the sets that
     improved on the best. Live: a campaign still running shows each set as it is decided. Needs the
     dashboard extra: pip install -e '.[dashboard]'."""
-    from testctl.dashboard import DashboardError, make_app, make_server
+    from testctl.dashboard import make_app, make_server
     from testctl.interrupts import interrupts, stopped_by
 
-    try:
-        server = make_server(make_app(run_dirs), host, port)
-    except DashboardError as e:
-        raise click.ClickException(str(e)) from None
+    server = make_server(make_app(run_dirs), host, port)
     shown = host if ":" not in host else f"[{host}]"
     click.echo(f"hako dashboard: {len(run_dirs)} campaign{'s' * (len(run_dirs) > 1)} on "
                f"http://{shown}:{server.server_port}/dashboard (Ctrl-C stops)", err=True)
@@ -357,14 +354,15 @@ def dashboard(run_dirs: tuple[Path, ...], host: str, port: int) -> None:
 
 
 def time_limit_s(bench: BenchOptions) -> float:
-    """The bench's time limit: what a failed test scores in a campaign."""
-    from hakoniwa.physics.course import CourseError, load_course
+    """The bench's time limit: what a failed test scores in a campaign.
+
+    Raises:
+        CourseError: the course cannot be loaded.
+    """
+    from hakoniwa.physics.course import load_course
     from hakoniwa.wire.timebase import US_PER_S
 
-    try:
-        return bench.time_limit_us(load_course(bench.course).time_limit_us) / US_PER_S
-    except CourseError as e:
-        raise click.ClickException(str(e)) from None
+    return bench.time_limit_us(load_course(bench.course).time_limit_us) / US_PER_S
 
 
 def patch_writer(program):
@@ -380,41 +378,43 @@ def patch_writer(program):
 def check_bench(bench: BenchOptions, benches: int | None = 1):
     """Load the course and check the program here, once, so that a bad one is one line before any worker
     starts (and a C program is built once, into the cache every local worker then hits); the program.
-    `benches` is how many run on this machine at once (None: a cluster's, elsewhere)."""
-    from hakoniwa.physics.bench import load_bench
-    from hakoniwa.physics.course import CourseError
-    from hakoniwa.physics.robots import RobotError
-    from hakoniwa.physics.scenario import ScenarioError
-    from athrill_sim.programs import ProgramError
-    from athrill_sim.vdev_udp import TX_PORT_KEY, RX_PORT_KEY, LinkError, check_free
+    `benches` is how many run on this machine at once (None: a cluster's, elsewhere).
 
-    try:
-        load_bench(bench)
-        program = bench.program()
-        if program.udp is not None and program.udp.fixed:
-            if benches is not None and benches > 1:
-                raise click.ClickException(
-                    f"--device-config {bench.device_config} fixes athrill2's UDP ports ({program.udp.physics}, "
-                    f"{program.udp.athrill}), which {benches} benches cannot share: use --benches 1, or delete "
-                    f"its {TX_PORT_KEY} and {RX_PORT_KEY} lines (each bench then adds ports of its own)")
-            check_free(program.udp)
-        program.finish_check(program.start_check())
-    except (CourseError, RobotError, ScenarioError, ProgramError, LinkError) as e:
-        raise click.ClickException(str(e)) from None
+    Raises:
+        CourseError, RobotError, ScenarioError: the course, robot or scenario cannot be loaded.
+        ProgramError: the program cannot run (or build).
+        LinkError: its UDP ports are taken.
+        click.ClickException: fixed UDP ports and several benches.
+    """
+    from hakoniwa.physics.bench import load_bench
+    from athrill_sim.vdev_udp import TX_PORT_KEY, RX_PORT_KEY, check_free
+
+    load_bench(bench)
+    program = bench.program()
+    if program.udp is not None and program.udp.fixed:
+        if benches is not None and benches > 1:
+            raise click.ClickException(
+                f"--device-config {bench.device_config} fixes athrill2's UDP ports ({program.udp.physics}, "
+                f"{program.udp.athrill}), which {benches} benches cannot share: use --benches 1, or delete "
+                f"its {TX_PORT_KEY} and {RX_PORT_KEY} lines (each bench then adds ports of its own)")
+        check_free(program.udp)
+    program.finish_check(program.start_check())
     return program
 
 
 def repeatable_bench(bench: BenchOptions) -> bool:
     """Whether the bench runs the real emulator in the repeatable mode, where a set's tests without noise
-    all give the same result."""
-    from athrill_sim.programs import ProgramError, program_recipe
+    all give the same result.
+
+    Raises:
+        ProgramError: --app names nothing that can run.
+    """
+    from athrill_sim.programs import program_recipe
     from hakoniwa.wire.protocol import SyncMode
 
-    try:  # what --app names, not built yet: a tuned program builds only with its parameters' values
-        recipe = program_recipe(bench.app, athrill2=bench.athrill2, emulator=bench.emulator, sync=bench.sync,
-                                transport=bench.transport, device_config=bench.device_config)
-    except ProgramError as e:
-        raise click.ClickException(str(e)) from None
+    # what --app names, not built yet: a tuned program builds only with its parameters' values
+    recipe = program_recipe(bench.app, athrill2=bench.athrill2, emulator=bench.emulator, sync=bench.sync,
+                            transport=bench.transport, device_config=bench.device_config)
     return recipe.sync == SyncMode.REPEATABLE
 
 

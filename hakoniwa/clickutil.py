@@ -1,5 +1,5 @@
-"""What every command line of the bench shares: `-h` as well as `--help`, and the checks on numbers that
-end up as float32 in the mapped files."""
+"""What every command line of the bench shares: `-h` as well as `--help`, its errors as one line, and the
+checks on numbers that end up as float32 in the mapped files."""
 
 from __future__ import annotations
 
@@ -10,10 +10,27 @@ from pathlib import Path
 
 import click
 
+from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.protocol import MAX_NOISE_SCALE
 
 HELP = {"help_option_names": ["-h", "--help"]}
 FLOAT32_MAX = 3.4028234663852886e38
+
+
+class OneLineErrors(click.Command):
+    """The one place a command line turns a `HakoError`, from whatever its command called, into click's
+    one-line error and exit status 1. A command catches an error itself only to say more, or to exit
+    otherwise (`hako test`'s status 2)."""
+
+    def invoke(self, ctx: click.Context) -> object:
+        try:
+            return super().invoke(ctx)
+        except HakoError as e:
+            raise click.ClickException(str(e)) from None
+
+
+class OneLineErrorsGroup(OneLineErrors, click.Group):
+    """`OneLineErrors` for a group: its subcommands run inside its `invoke`."""
 
 
 class Float32(click.ParamType):

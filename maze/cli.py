@@ -14,10 +14,12 @@ from typing import TYPE_CHECKING, Any, Callable, TypeVar
 
 import click
 
+from hakoniwa.wire.exits import EXIT_COMMAND_CAP, EXIT_INTERRUPTED
+
 from .builtin import EXAMPLES, builtin_example, builtin_names, builtin_path
 from .compare import WallDiff, compare
 from .direction import LETTER
-from .errors import EXIT_COMMAND_CAP, EXIT_INTERRUPTED, MazeError
+from .errors import MazeError, MazelogError
 from .mazefile import dump_maze
 from .mazeio import read_maze
 from .mazejson import maze_to_json
@@ -134,12 +136,12 @@ goal_option = click.option("--goal", multiple=True, callback=parse_cell, metavar
 
 
 class MazeGroup(click.Group):
-    """Turns MazeError from any command into click's one-line error and exit status 1."""
+    """Turns MazelogError from any command into click's one-line error and exit status 1."""
 
     def invoke(self, ctx: click.Context) -> object:
         try:
             return super().invoke(ctx)
-        except MazeError as e:
+        except MazelogError as e:
             raise click.ClickException(str(e)) from None
         except BrokenPipeError:
             # the reader (say `head`) has gone; silence the flush at exit, as the Python docs advise

@@ -24,7 +24,7 @@ from pathlib import Path
 from hakoniwa.wire.output import LOG_CAP_BYTES, CappedOutput
 
 from .errors import MazeError
-from .mms import ProtocolError, parse_command
+from .mms import MmsCommandError, parse_command
 from .mmsworld import MmsWorld
 
 READ_BYTES = 65536
@@ -110,7 +110,7 @@ def run_mouse(argv: list[str], world: MmsWorld, stderr_path: Path, max_steps: in
                     continue
                 try:
                     cmd = parse_command(line)
-                except ProtocolError as e:
+                except MmsCommandError as e:
                     if not e.fatal:  # no answer was due: mms drops it and the program carries on
                         world.warnings.append(f"line {lineno} of the program's output: {e} (ignored, as mms does)")
                         continue

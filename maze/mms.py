@@ -2,7 +2,7 @@
 
 One command per line on the program's stdout; the simulator answers on its stdin the commands that have an
 answer. mms drops a line it cannot parse without a reply, so a program waiting for one hangs: here such a line
-is a ProtocolError naming the line instead, and the harness stops the run with that one line.
+is an MmsCommandError naming the line instead, and the harness stops the run with that one line.
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ STATS = ("total-distance", "total-turns", "best-run-distance", "best-run-turns",
 MAX_TEXT = 10  # mms shows at most this many characters in a cell
 
 
-class ProtocolError(MazeError):
+class MmsCommandError(MazeError):
     """A line the mouse printed that no mms command matches. `fatal` unless it names a command that gets no
     answer (setWall, setColor, ...): mms ignores those, the program does not wait, and the run can go on."""
 
@@ -66,16 +66,16 @@ def _int(token: str, what: str) -> int:
 
 
 def parse_command(line: str) -> Command:
-    """One line as the program printed it (without its newline); ProtocolError says what is wrong with it."""
+    """One line as the program printed it (without its newline); MmsCommandError says what is wrong with it."""
     head, _, rest = line.strip(" \r\t").partition(" ")
     if head not in COMMANDS:
         shown = line if len(line) <= 60 else line[:57] + "..."
-        raise ProtocolError(f"unknown command {shown!r} (mms would ignore it and the program would wait forever)")
+        raise MmsCommandError(f"unknown command {shown!r} (mms would ignore it and the program would wait forever)")
     spec, answered = COMMANDS[head]
     try:
         return _parse_args(head, spec, rest)
     except ValueError as e:
-        raise ProtocolError(str(e), fatal=answered) from None
+        raise MmsCommandError(str(e), fatal=answered) from None
 
 
 def _parse_args(head: str, spec: str, rest: str) -> Command:

@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.protocol import MAX_NOISE_SCALE
 from testctl.executor import Executor, SerialExecutor, TestSpec
 from testctl.journal import (JOURNAL_FILE, PHASE_VALIDATION, Journal, JournalError, TestRecord, now_timestamp,
@@ -44,7 +45,7 @@ PHASE_BO = "bo"  # an optimization round, whichever sampler proposes it
 MAX_BENCH_FAULTS_IN_A_ROW = 5  # then the bench is broken, not unlucky: stop rather than spin
 
 
-class BenchBroken(RuntimeError):
+class BenchBroken(HakoError, RuntimeError):
     """The bench spoiled test after test; the campaign stops (its journal is intact and resumable)."""
 
 

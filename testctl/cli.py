@@ -9,25 +9,17 @@ from pathlib import Path
 
 import click
 
-from hakoniwa.clickutil import HELP, SECONDS, Float32
-from hakoniwa.wire.protocol import ProtocolError
+from hakoniwa.clickutil import HELP, SECONDS, Float32, OneLineErrorsGroup
 from testctl import paper
 from testctl.executor import SerialExecutor, TestSpec
 from testctl.options import campaign_options, noise_options, plan
-from testctl.runner import PhysicsGone, TrialRunner
+from testctl.runner import TrialRunner
 from hakoniwa.wire.rundir import COURSE_ENV, RUN_DIR_ENV, TIME_LIMIT_ENV
 
 RUN_DIR_OPTION = click.option("--run-dir", envvar=RUN_DIR_ENV, required=True,
                               type=click.Path(file_okay=False, exists=True, path_type=Path),
                               help="The physics process's run directory [env: HAKO_RUN_DIR].")
-def connect(run_dir: Path) -> TrialRunner:
-    try:
-        return TrialRunner(run_dir)
-    except ProtocolError as e:
-        raise click.ClickException(str(e)) from None
-
-
-@click.group(context_settings=HELP)
+@click.group(cls=OneLineErrorsGroup, context_settings=HELP)
 def main() -> None:
     """Drive tests on a running physics process through the mapped files."""
 
@@ -44,11 +36,9 @@ def main() -> None:
               help="Where to write the result as JSON.")
 def trial(run_dir: Path, kp: float, ki: float, kd: float, power: float, seed: int, noise: float, out: Path) -> None:
     """Run one test with the given parameters, write its result, and end the physics process."""
-    runner = connect(run_dir)
+    runner = TrialRunner(run_dir)
     try:
         result = runner.run_test(paper.line_trace_params(kp, ki, kd, power), noise_seed=seed, noise_scale=noise)
-    except PhysicsGone as e:
-        raise click.ClickException(str(e)) from None
     finally:
         runner.end()
     params = {"kp": kp, "ki": ki, "kd": kd, "power": power}
@@ -73,7 +63,7 @@ def campaign(run_dir: Path, course: str, time_limit: float, **options) -> None:
         raise click.ClickException("--space: define, symbol, file and source parameters need a bench that knows "
                                    "where they go, which this one was started without: run the campaign with "
                                    "hako run")
-    runner = connect(run_dir)
+    runner = TrialRunner(run_dir)
 
     def run_test(spec: TestSpec):
         return runner.run_test(spec.params, noise_seed=spec.noise_seed, noise_scale=spec.noise_scale,

@@ -30,6 +30,7 @@ from distributed import Client, LocalCluster, as_completed, get_worker
 from distributed.diagnostics.plugin import WorkerPlugin
 
 from hakoniwa.physics.options import BenchOptions
+from hakoniwa.wire.errors import HakoError
 from testctl.bench import Bench
 from testctl.executor import Executor, TestSpec
 from testctl.result import TestResult
@@ -66,7 +67,7 @@ def deaf_interpreter() -> tempfile.TemporaryDirectory:
     return folder
 
 
-class ClusterError(RuntimeError):
+class ClusterError(HakoError, RuntimeError):
     """The cluster cannot be reached or has no workers; the message is one line."""
 
 

@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Any, BinaryIO
 
 from optuna.storages import BaseStorage
 
+from hakoniwa.wire.errors import HakoError
 from testctl.journal import JOURNAL_FILE
 from testctl.study import ARTIFACT_DIR, STUDY_FILE, open_storage
 
@@ -33,7 +34,7 @@ if TYPE_CHECKING:
 INSTALL = "pip install -e '.[dashboard]' (or pip install optuna-dashboard)"
 
 
-class DashboardError(RuntimeError):
+class DashboardError(HakoError, RuntimeError):
     """A one-line reason the dashboard cannot start."""
 
 

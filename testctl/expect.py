@@ -18,6 +18,7 @@ import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
+from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.protocol import Event
 from testctl.lapstats import lap_or_inf, percentile, success_rate
 from testctl.result import TestResult
@@ -37,7 +38,7 @@ _BOUND = re.compile(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*(<=|>=|==|<|>)\s*(\S+)\s*")
 _EVENT = re.compile(r"\s*(not\s+)?([A-Z_]+)\s*")
 
 
-class ExpectationError(ValueError):
+class ExpectationError(HakoError, ValueError):
     """An expectation that cannot be read; the message names what is wrong in one line."""
 
 

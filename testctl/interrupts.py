@@ -29,9 +29,8 @@ from typing import NoReturn
 
 import click
 
-from hakoniwa.wire.processes import INTERRUPTED
+from hakoniwa.wire.exits import EXIT_INTERRUPTED, EXIT_TERMINATED
 
-TERMINATED = 128 + signal.SIGTERM
 RETRY_S = 0.02  # how often an interrupt that came at a bad moment looks for a good one
 EXIT_WITHIN_S = 0.5  # from the signal to the end of the process, whatever it is doing (the promise: 1 s)
 
@@ -59,7 +58,7 @@ class _Stop:
 
     @property
     def status(self) -> int:
-        return TERMINATED if self.signum == signal.SIGTERM else INTERRUPTED
+        return EXIT_TERMINATED if self.signum == signal.SIGTERM else EXIT_INTERRUPTED
 
     def line(self, hint: str = "") -> str:
         how = "terminated" if self.signum == signal.SIGTERM else "interrupted"

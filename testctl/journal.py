@@ -26,6 +26,7 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import IO, Any
 
+from hakoniwa.wire.errors import HakoError
 from testctl.result import TestResult
 
 JOURNAL_FILE = "journal.jsonl"
@@ -35,7 +36,7 @@ READABLE_FORMATS = (1, 2)
 _KIND = "hakoniwa-campaign-journal"
 
 
-class JournalError(RuntimeError):
+class JournalError(HakoError, RuntimeError):
     """The journal cannot be used: missing, damaged, or written for different settings."""
 
 

@@ -9,6 +9,8 @@ import importlib
 import importlib.util
 from typing import TYPE_CHECKING
 
+from hakoniwa.wire.errors import HakoError
+
 if TYPE_CHECKING:
     from testctl.sampler import Sampler
 
@@ -26,7 +28,7 @@ HELP = ("gpyopt: Bayesian optimization with EI (the paper's); tpe, cmaes, optuna
 _NEEDS = {"optuna-gp": (("torch",), "pip install -e '.[gp]' (PyTorch, CPU build enough)")}
 
 
-class OptimizerUnavailable(ValueError):
+class OptimizerUnavailable(HakoError, ValueError):
     """The optimizer's extra dependency is not installed; the message says what to install."""
 
 

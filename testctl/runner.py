@@ -15,9 +15,10 @@ import time
 from pathlib import Path
 from typing import Callable, Mapping
 
+from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.params import SLOT_FORMATS, encode, fits_area
 from hakoniwa.wire.protocol import (MAX_NOISE_SCALE, BenchCause, CrashKind, Event, LayoutFile, Objective,
-                                    ProtocolError, Rx, SyncMode, Tx, goal_time_from_words, poll_athrill, poll_unity)
+                                    LayoutError, Rx, SyncMode, Tx, goal_time_from_words, poll_athrill, poll_unity)
 from hakoniwa.wire.rundir import PROGRAM_OUTPUT_FILE
 from hakoniwa.wire.waiting import pid_alive, wait_for
 from testctl.result import TestResult
@@ -25,7 +26,7 @@ from testctl.result import TestResult
 POLL_S = 0.002  # a test takes about a second; a 2 ms nap costs nothing and leaves the CPU to the bench
 
 
-class PhysicsGone(RuntimeError):
+class PhysicsGone(HakoError, RuntimeError):
     """The physics process stopped answering; no further test can run in this run directory. `stalled`: it
     still ran but reported nothing in time (said here, since whether a just-killed process has been reaped
     yet is a race)."""
@@ -47,8 +48,8 @@ class TrialRunner:
                 if runner._physics_pid == physics.pid:
                     return runner
                 runner.close()
-                problem: Exception = ProtocolError(f"{run_dir}: the physics process {physics.pid} made no files")
-            except ProtocolError as e:
+                problem: Exception = LayoutError(f"{run_dir}: the physics process {physics.pid} made no files")
+            except LayoutError as e:
                 problem = e
             if physics.poll() is not None or time.monotonic() > deadline:
                 raise problem
@@ -67,7 +68,7 @@ class TrialRunner:
         for offset, value in params.items():
             kind = (slot_types or {}).get(offset, "f32")
             if not fits_area(offset, kind):
-                raise ProtocolError(f"parameter offset {offset} ({kind}) is outside the parameter area")
+                raise LayoutError(f"parameter offset {offset} ({kind}) is outside the parameter area")
             self.unity.write(SLOT_FORMATS[kind], offset, encode(kind, float(value)))
 
     def write_noise(self, seed: int, scale: float) -> None:

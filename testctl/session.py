@@ -14,7 +14,7 @@ import click
 from testctl.campaign import BenchBroken, Campaign, CampaignConfig, CampaignSummary, SetResult
 from testctl.executor import Executor, TestSpec
 from testctl.interrupts import on_stop_say, stopped_by
-from testctl.journal import JOURNAL_FILE, JournalError
+from testctl.journal import JOURNAL_FILE
 from testctl.options import VALIDATE_KEY, CampaignPlan
 from testctl.progress import ProgressLine
 from testctl.result import TestResult
@@ -84,8 +84,6 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
                     files.append(f)
                     attach(p.out_dir, f)
         files.append(p.out_dir / STUDY_FILE)
-    except JournalError as e:
-        raise click.ClickException(str(e)) from None
     except (BenchBroken, BenchFault, PhysicsGone, *failures) as e:
         raise click.ClickException(f"{e}; {resume_hint(p.out_dir)}") from None
     except OSError as e:
@@ -133,13 +131,13 @@ def trial_for_picture(trial_once: TrialOnce, spec: TestSpec, tries: int = 2) -> 
     """The campaign's own bench reruns a set for its picture; a bench fault there (its physics process killed,
     a damaged file) says nothing of the set, so the test runs again on the rebuilt bench before the campaign
     gives up with one line."""
-    from hakoniwa.wire.protocol import ProtocolError
+    from hakoniwa.wire.protocol import LayoutError
     from testctl.suite_run import BenchFault
 
     for attempt in range(1, tries + 1):
         try:
             result, run_dir = trial_once(spec)
-        except (ProtocolError, PhysicsGone) as e:
+        except (LayoutError, PhysicsGone) as e:
             if attempt == tries:
                 raise PhysicsGone(f"the campaign's own bench, rerunning set {spec.set_index} for its picture: {e}")
             continue

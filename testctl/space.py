@@ -28,6 +28,7 @@ from typing import Any
 
 from athrill_sim.bindings import KINDS, SPACE_TYPES, Binding, to_json
 from hakoniwa.clickutil import FLOAT32_MAX
+from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.params import (CARRIER, FIRST_SLOT, FLOAT_TYPES, INT_TYPES, SLOT_ALIGN, fits_area, int_range,
                                   slot_size)
 from hakoniwa.wire.protocol import PARAM_END, Rx
@@ -38,7 +39,7 @@ _KIND_KEYS = ("offset", *KINDS)
 _VIA_KEYS = {"template", "template_file"}  # besides the kind's own key
 
 
-class SpaceError(ValueError):
+class SpaceError(HakoError, ValueError):
     """A parameter-space description is unusable; the message is one line naming the problem."""
 
 

@@ -41,6 +41,7 @@ import click
 
 from hakoniwa.clickutil import NOISE_SCALE
 from hakoniwa.physics.options import BENCH_FIELDS, BenchOptions, bench_options
+from hakoniwa.wire.errors import HakoError
 from testctl.expect import Expectation, ExpectationError, parse_expectation
 from testctl.journal import JOURNAL_FILE, JournalError, read_journal
 from testctl.noise_seed import SEED_BITS, noise_seed
@@ -56,7 +57,7 @@ DEFAULT_SEEDS = 5
 DEFAULT_NOISE = 1.0  # the course's own noise levels: a test sees the bench a campaign tunes on
 
 
-class SuiteError(ValueError):
+class SuiteError(HakoError, ValueError):
     """The test file cannot be used; the message is one line naming the file, the case and the problem."""
 
 

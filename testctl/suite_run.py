@@ -15,6 +15,7 @@ from itertools import islice
 from pathlib import Path
 
 from hakoniwa.physics.options import BenchOptions
+from hakoniwa.wire.errors import HakoError
 from testctl.bench import Bench
 from testctl.executor import Executor, SerialExecutor, TestSpec
 from testctl.expect import Check
@@ -26,7 +27,7 @@ from testctl.suite import Case
 WINDOW_PER_BENCH = 2  # tests handed to the executor per bench ahead of their results: none waits for work
 
 
-class BenchFault(RuntimeError):
+class BenchFault(HakoError, RuntimeError):
     """A bench spoiled a test: the run is broken (exit 2), whatever the cases would have shown."""
 
 

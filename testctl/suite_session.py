@@ -10,8 +10,9 @@ from pathlib import Path
 
 import click
 
-from hakoniwa.wire.protocol import ProtocolError
+from hakoniwa.wire.protocol import LayoutError
 from testctl.interrupts import on_stop_say, stopped_by
+from hakoniwa.wire.exits import EXIT_CASES_FAILED, EXIT_RUN_BROKEN
 from testctl.junit import write_junit
 from testctl.runner import PhysicsGone
 from testctl.suite import Case
@@ -23,7 +24,7 @@ class RunBroken(click.ClickException):
     """Exit 2: the input is bad or the run itself broke, so nothing was shown of the program; exit 1 is kept
     for a case that fails."""
 
-    exit_code = 2
+    exit_code = EXIT_RUN_BROKEN
 
 
 def run_suite(test_file: Path, cases: Sequence[Case], out_dir: Path, *, benches: int, scheduler: str | None,
@@ -46,7 +47,7 @@ def run_suite(test_file: Path, cases: Sequence[Case], out_dir: Path, *, benches:
         if junit_file is not None:
             write_junit(junit_file, test_file.stem, runs)
             written.append(junit_file)
-    except (BenchFault, PhysicsGone, ClusterError, ProtocolError) as e:
+    except (BenchFault, PhysicsGone, ClusterError, LayoutError) as e:
         raise RunBroken(f"the test run broke, nothing is judged: {e}") from None
     except OSError as e:
         raise RunBroken(f"cannot write {e.filename or 'the results'}: {e.strerror or e}") from None
@@ -54,4 +55,4 @@ def run_suite(test_file: Path, cases: Sequence[Case], out_dir: Path, *, benches:
         stopped_by(e, "nothing is judged")
     click.echo("wrote " + ", ".join(str(f) for f in written))
     if not all(r.passed for r in runs):
-        sys.exit(1)
+        sys.exit(EXIT_CASES_FAILED)

@@ -170,10 +170,10 @@ def test_a_physics_process_that_never_reports_is_stopped_and_the_test_spoiled(tm
 def test_the_campaigns_own_bench_failing_under_a_picture_reruns_it(tmp_path):
     """A killed physics process on the bench that reruns a set for its picture once ended the campaign with a
     traceback; now the set runs again on the rebuilt bench."""
-    from hakoniwa.wire.protocol import ProtocolError
+    from hakoniwa.wire.protocol import LayoutError
     from testctl.session import trial_for_picture
 
-    outcomes = [ProtocolError("unity_mmap.bin: no such file"), result(Event.GOAL, 31.0)]
+    outcomes = [LayoutError("unity_mmap.bin: no such file"), result(Event.GOAL, 31.0)]
 
     def trial_once(s: TestSpec):
         outcome = outcomes.pop(0)

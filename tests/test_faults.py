@@ -13,7 +13,8 @@ from pathlib import Path
 import pytest
 
 from bench_fixtures import PAPER, physics
-from hakoniwa.wire.processes import BENCH_FAULT_MARKER, EXIT_BENCH_FAULT
+from hakoniwa.wire.exits import EXIT_BENCH_FAULT
+from hakoniwa.wire.processes import BENCH_FAULT_MARKER
 from hakoniwa.wire.protocol import ATHRILL_FILE, HEADER_SIZE, UNITY_FILE, BenchCause, CrashKind, Event, Rx
 from hakoniwa.wire.rundir import PHYSICS_LOG
 from hakoniwa.physics.sync import exit_crash

@@ -23,9 +23,9 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("cli", ("hakoniwa.cli",)),  # the user's `hako`: imported by nothing
 ]
 STANDALONE = ("maze",)  # imports nothing of the bench, and nothing of the bench imports it
-# What maze may use of the bench: the capped copy of a child's output, standard library only, so that a
-# user's mouse and a test's Athrill are logged by one piece of code.
-SHARED_WITH_STANDALONE = ("hakoniwa.wire.output",)
+# What maze may use of the bench, standard library only: the capped copy of a child's output, so that a
+# user's mouse and a test's Athrill are logged by one piece of code, and the exit statuses.
+SHARED_WITH_STANDALONE = ("hakoniwa.wire.output", "hakoniwa.wire.exits")
 
 
 def modules() -> dict[str, Path]:

@@ -233,7 +233,7 @@ def test_a_chatty_mouse_s_stderr_is_capped_keeping_head_and_tail(tmp_path: Path,
 
 def test_a_mouse_cut_at_the_command_cap_exits_with_its_own_status(tmp_path: Path, monkeypatch) -> None:
     import maze.harness
-    from maze.errors import EXIT_COMMAND_CAP
+    from hakoniwa.wire.exits import EXIT_COMMAND_CAP
 
     monkeypatch.setattr(maze.harness, "MAX_COMMANDS", 300)
     log = tmp_path / "cap.bin"

@@ -5,7 +5,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from maze.direction import EAST, NORTH, SOUTH, WEST
-from maze.mms import COMMANDS, STATS, Command, ProtocolError, parse_command
+from maze.mms import COMMANDS, STATS, Command, MmsCommandError, parse_command
 
 
 @pytest.mark.parametrize("line, expected", [
@@ -42,7 +42,7 @@ def test_commands_parse(line: str, expected: Command) -> None:
     ("setText 1", "needs X Y TEXT"),
 ])
 def test_bad_lines_say_what_is_wrong(line: str, words: str) -> None:
-    with pytest.raises(ProtocolError, match=words):
+    with pytest.raises(MmsCommandError, match=words):
         parse_command(line)
 
 
@@ -50,7 +50,7 @@ def test_bad_lines_say_what_is_wrong(line: str, words: str) -> None:
 def test_any_line_parses_or_gives_a_protocol_error(line: str) -> None:
     try:
         cmd = parse_command(line)
-    except ProtocolError as e:
+    except MmsCommandError as e:
         assert "\n" not in str(e).strip() or "\n" in line  # one line, unless the input itself had one
         return
     assert cmd.name in COMMANDS
@@ -85,7 +85,7 @@ def test_well_formed_commands_round_trip(name: str, x: int, y: int, n: int, d: s
     ("clearText a b", False),
 ])
 def test_which_bad_lines_end_the_run(line: str, fatal: bool) -> None:
-    with pytest.raises(ProtocolError) as e:
+    with pytest.raises(MmsCommandError) as e:
         parse_command(line)
     assert e.value.fatal is fatal
 

@@ -15,7 +15,7 @@ from athrill_sim.ev3api import (COLOR_SENSOR, ENTER_BUTTON, EV3_FONT_MEDIUM, EV3
                                 LED_ORANGE, LEFT_BUTTON, MEDIUM_MOTOR, TOUCH_SENSOR, ULTRASONIC_SENSOR, Ev3Api,
                                 FileInfo, MemFile, RgbRaw)
 from athrill_sim.kernel import Kernel
-from hakoniwa.wire.processes import EXIT_BENCH_FAULT
+from hakoniwa.wire.exits import EXIT_BENCH_FAULT
 from hakoniwa.wire.protocol import NEVER_WAKES, Rx, Tx
 from hakoniwa.wire.rundir import LCD_LOG, SDCARD_DIR, SERIAL_INPUT, SERIAL_LOG
 from native_fixtures import FakePhysics, build, finish

@@ -14,7 +14,8 @@ import pytest
 
 from hakoniwa.wire.output import CappedOutput
 from conftest import hako, one_line_error, run_module
-from hakoniwa.wire.processes import BENCH_FAULT_MARKER, EXIT_BENCH_FAULT
+from hakoniwa.wire.exits import EXIT_BENCH_FAULT
+from hakoniwa.wire.processes import BENCH_FAULT_MARKER
 from hakoniwa.wire.protocol import ATHRILL_FILE
 from native_fixtures import FakePhysics, build, need_cc
 

@@ -10,7 +10,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from hakoniwa.wire.protocol import (ATHRILL_FILE, COURSE_BLOCK_POSITIONS, FILE_SIZE, HEADER_SIZE, RX_GUEST_BASE, TX_GUEST_BASE, UNITY_FILE,
-                               WINDOW_SIZE, ColorId, Event, Header, ProtocolError, Rx, Tx, c_header,
+                               WINDOW_SIZE, ColorId, Event, Header, LayoutError, Rx, Tx, c_header,
                                goal_time_from_words, goal_time_words, guest_to_body, open_athrill, open_unity)
 
 # The README's tables, written out independently of protocol.py.
@@ -162,7 +162,7 @@ def test_bad_files_are_clear_errors(tmp_path, damage, message):
         pass
     path = tmp_path / UNITY_FILE
     path.write_bytes(damage(path.read_bytes()))
-    with pytest.raises(ProtocolError, match=message):
+    with pytest.raises(LayoutError, match=message):
         open_unity(tmp_path)
 
 
@@ -170,12 +170,12 @@ def test_wrong_file_kind_is_refused(tmp_path):
     with open_athrill(tmp_path, create=True):
         pass
     (tmp_path / UNITY_FILE).write_bytes((tmp_path / ATHRILL_FILE).read_bytes())
-    with pytest.raises(ProtocolError, match="magic"):
+    with pytest.raises(LayoutError, match="magic"):
         open_unity(tmp_path)
 
 
 def test_missing_file_is_a_clear_error(tmp_path):
-    with pytest.raises(ProtocolError, match="no such file"):
+    with pytest.raises(LayoutError, match="no such file"):
         open_unity(tmp_path)
 
 
@@ -199,9 +199,9 @@ def test_the_owner_repairs_a_damaged_file(tmp_path, damage):
 def test_access_outside_the_window_is_refused(tmp_path):
     with open_unity(tmp_path, create=True) as u:
         u.read_f32(WINDOW_SIZE - 4)  # the whole 4 KiB window is readable, as in the real Athrill
-        with pytest.raises(ProtocolError):
+        with pytest.raises(LayoutError):
             u.read_f32(WINDOW_SIZE - 2)
-        with pytest.raises(ProtocolError):
+        with pytest.raises(LayoutError):
             u.write_i32(-4, 0)
 
 

@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Callable
 
 from athrill_sim.ev3api import Ev3Api
+from athrill_sim.programs import ProgramError
 
 App = Callable[[Ev3Api], None]
 
@@ -18,12 +19,17 @@ C_BUILTIN = {"line_trace_c": Path(__file__).with_name("line_trace.c")}
 
 
 def load_app(spec: str) -> App:
+    """The robot program `spec` names: a built-in name or module:function.
+
+    Raises:
+        ProgramError: `spec` names no app, or its module cannot be imported.
+    """
     target = BUILTIN.get(spec, spec)
     module_name, _, func_name = target.partition(":")
     if not func_name:
-        raise ValueError(f"unknown app {spec!r}: use one of {', '.join(BUILTIN)} or module:function")
+        raise ProgramError(f"unknown app {spec!r}: use one of {', '.join(BUILTIN)} or module:function")
     try:
         func = getattr(importlib.import_module(module_name), func_name)
     except (ImportError, AttributeError) as e:
-        raise ValueError(f"cannot load app {spec!r}: {e}") from None
+        raise ProgramError(f"cannot load app {spec!r}: {e}") from None
     return func

@@ -7,6 +7,8 @@ files itself and keeps the same deterministic lockstep as the Python mock, with 
 
 from __future__ import annotations
 
+from hakoniwa.wire.errors import HakoError
 
-class NativeBuildError(ValueError):
+
+class NativeBuildError(HakoError, ValueError):
     """The program cannot be built; the message is one line (the compiler's first error, if it got that far)."""

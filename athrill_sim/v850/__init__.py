@@ -8,6 +8,8 @@ image before any test is charged to it.
 
 from __future__ import annotations
 
+from hakoniwa.wire.errors import HakoError
 
-class ImageError(ValueError):
+
+class ImageError(HakoError, ValueError):
     """No image can be built or run from what was given; the message is one line that says what to do."""

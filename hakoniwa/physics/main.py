@@ -10,21 +10,17 @@ from pathlib import Path
 
 import click
 
-from hakoniwa.physics.course import CourseError
-from hakoniwa.physics.robots import RobotError
-from hakoniwa.physics.scenario import ScenarioError
 from hakoniwa.physics.bench import load_bench
-from hakoniwa.clickutil import HELP
+from hakoniwa.clickutil import HELP, OneLineErrors
 from hakoniwa.physics.options import BenchOptions, bench_options
 from hakoniwa.wire.timebase import US_PER_S
+from hakoniwa.wire.exits import EXIT_INTERRUPTED, exit_status
 from hakoniwa.wire.processes import describe_exit, die_with_parent
-from athrill_sim.programs import ProgramError
-from athrill_sim.vdev_udp import LinkError
-from hakoniwa.wire.rundir import COURSE_ENV, RUN_DIR_ENV, TIME_LIMIT_ENV, RunDirBusy, RunDirLock
+from hakoniwa.wire.rundir import COURSE_ENV, RUN_DIR_ENV, TIME_LIMIT_ENV, RunDirLock
 
 
 
-@click.command(context_settings={"ignore_unknown_options": True, **HELP})
+@click.command(cls=OneLineErrors, context_settings={"ignore_unknown_options": True, **HELP})
 @click.option("--run-dir", type=click.Path(file_okay=False, path_type=Path), required=True,
               help="Folder for unity_mmap.bin, athrill_mmap.bin, logs and the last trajectory (one run each).")
 @click.option("--view", "view_speed", type=float, default=None, hidden=True,
@@ -42,7 +38,7 @@ def main(run_dir: Path, controller: tuple[str, ...], view_speed: float | None, *
         world_course, robot, scenario = load_bench(options)
         lock = RunDirLock(run_dir)
         lock.acquire()
-    except (CourseError, RobotError, ScenarioError, RunDirBusy, ProgramError, OSError) as e:
+    except OSError as e:
         raise click.ClickException(str(e)) from None
     if view_speed is not None:
         os.environ["MUJOCO_GL"] = "glfw"  # a window, whatever a headless film would have used
@@ -55,15 +51,10 @@ def main(run_dir: Path, controller: tuple[str, ...], view_speed: float | None, *
                                scenario=scenario, objective=options.scored_by)
         program.finish_check(check)
         if view_speed is not None:
-            from hakoniwa.physics.viewer import LiveView, ViewerError
+            from hakoniwa.physics.viewer import LiveView
 
-            try:
-                view = LiveView(server.env, view_speed)
-            except ViewerError as e:
-                raise click.ClickException(str(e)) from None
+            view = LiveView(server.env, view_speed)
         code = serve(server, run_dir, world_course.folder, controller)
-    except (ProgramError, LinkError) as e:
-        raise click.ClickException(str(e)) from None
     finally:
         if view is not None:
             view.close()
@@ -84,10 +75,10 @@ def serve(server, run_dir: Path, course_folder: Path, controller: tuple[str, ...
     try:
         code = server.serve(proc)
     except KeyboardInterrupt:  # Ctrl-C reached the whole process group: the controller says what to do next
-        code = proc.wait() if proc is not None else 130
+        code = proc.wait() if proc is not None else EXIT_INTERRUPTED
     if code < 0:
         click.echo(f"hakoniwa-physics: the test controller (pid {proc.pid}) {describe_exit(code)}", err=True)
-        code = 128 - code
+        code = exit_status(code)
     return code
 
 

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from hakoniwa.physics.robot import Body
+from hakoniwa.wire.errors import HakoError
 
 REPLAY_FILE = "replay.json"  # the last test of a run directory, for `hako replay` and --video
 REPLAY_VERSION = 1
@@ -25,7 +26,7 @@ State = tuple[float, ...]
 STATE_SIZE = 9
 
 
-class ReplayError(ValueError):
+class ReplayError(HakoError, ValueError):
     """A run directory without a usable replay; the message says which and why, in one line."""
 
 

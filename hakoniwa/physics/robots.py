@@ -36,6 +36,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from hakoniwa.physics.robot import DEFAULT_WIRING, EV3_BODY, HACKSPI_BODY, Body, Wiring
+from hakoniwa.wire.errors import HakoError
 
 EV3, SPIKE = "ev3", "spike"
 HUB_PORTS = {EV3: ("1", "2", "3", "4"), SPIKE: ("A", "B", "C", "D", "E", "F")}  # sensor ports, by hub
@@ -46,7 +47,7 @@ DEFAULT_BODY = {EV3: "ev3", SPIKE: "hackspi"}
 FORWARD = {"positive": 1, "negative": -1}
 
 
-class RobotError(ValueError):
+class RobotError(HakoError, ValueError):
     """A robot description is unusable; the message names the problem."""
 
 

@@ -12,6 +12,7 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
+from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.rundir import SERIAL_PORTS
 from hakoniwa.wire.timebase import US_PER_S
 
@@ -21,7 +22,7 @@ EV3_PORTS = 4
 SPIKE_PORTS = "ABCDEF"
 
 
-class ScenarioError(ValueError):
+class ScenarioError(HakoError, ValueError):
     """A scenario file is unusable; the message names the problem."""
 
 

@@ -23,6 +23,7 @@ import numpy as np
 from hakoniwa.physics.course import Course, load_course
 from hakoniwa.physics.replay import Replay
 from hakoniwa.physics.video_options import VideoOptions
+from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.timebase import US_PER_S
 
 CHASE_DISTANCE_M = 0.9
@@ -32,7 +33,7 @@ CHASE_LAG_S = 0.5  # the chase camera turns after the robot with this time const
 CHECKPOINT_NOTE_S = 1.5  # how long "checkpoint 2 at 10.35 s" stays on screen
 
 
-class VideoError(RuntimeError):
+class VideoError(HakoError, RuntimeError):
     """No film can be made here (no OpenGL, no writer); the message says why and what to install."""
 
 

@@ -14,13 +14,14 @@ import time
 import warnings
 
 from hakoniwa.physics.environment import Environment
+from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.timebase import US_PER_S
 
 LOOK_PERIOD_US = 20_000  # 50 looks per simulated second: smooth at real time
 CLOSE_WAIT_S = 5.0  # for the viewer's thread to close its window
 
 
-class ViewerError(RuntimeError):
+class ViewerError(HakoError, RuntimeError):
     """The viewer's window cannot open (no display, no OpenGL); one line."""
 
 

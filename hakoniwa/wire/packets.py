@@ -24,6 +24,7 @@ from __future__ import annotations
 import struct
 from dataclasses import dataclass
 
+from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.protocol import (ATHRILL_MAGIC, EXT_OFF, EXT_SIZE, HEADER_SIZE, LAYOUT_VERSION, PACKET_SIZE,
                                     PARAM_END, UNITY_MAGIC, MappedFile, Tx)
 
@@ -40,7 +41,7 @@ _TX_HEADER = struct.Struct("<4sIQQII")  # magic, version, athrill time, unity ti
 _RX_HEADER = struct.Struct("<4sI8xQII")  # magic, version, reserved, unity time, ext_off, ext_size
 
 
-class PacketError(ValueError):
+class PacketError(HakoError, ValueError):
     """A datagram that is not the packet its sender should send; the message says what is wrong."""
 
 

@@ -1,5 +1,5 @@
-"""What every process of the bench needs to know about its children: that they die with it, what their
-exit statuses mean, and the statuses the bench itself uses.
+"""What every process of the bench needs to know about its children: that they die with it and what their
+exit statuses mean (the statuses the bench itself uses are `hakoniwa.wire.exits`'s).
 
 Whose fault an Athrill's exit is cannot be read from its status: a user's program may `exit(3)` as well as
 we can. So an Athrill (the mock and the C runtime alike) that stops for a fault of the bench first writes a
@@ -15,9 +15,7 @@ from pathlib import Path
 from typing import NamedTuple
 
 _PR_SET_PDEATHSIG = 1
-EXIT_BENCH_FAULT = 3  # what a mock or native Athrill that could not use the mapped files exits with (beside the marker)
 BENCH_FAULT_MARKER = "athrill-bench-fault."  # + the pid: the file that makes an Athrill's exit a bench fault
-INTERRUPTED = 130  # the exit status of a campaign stopped with Ctrl-C (the controller prints how to resume)
 
 
 def die_with_parent() -> None:
@@ -56,11 +54,6 @@ def describe_exit(code: int) -> str:
         except ValueError:
             return f"was killed by signal {-code}"
     return f"exited with status {code}"
-
-
-def exit_status(code: int) -> int:
-    """What a parent should exit with after a child ended with `code`: 128 + N for a death by signal N."""
-    return 128 - code if code < 0 else code
 
 
 class CpuUse(NamedTuple):

@@ -24,7 +24,9 @@ import os
 import struct
 from pathlib import Path
 
-from hakoniwa.wire.processes import BENCH_FAULT_MARKER, EXIT_BENCH_FAULT
+from hakoniwa.wire.errors import HakoError
+from hakoniwa.wire.exits import EXIT_BENCH_FAULT
+from hakoniwa.wire.processes import BENCH_FAULT_MARKER
 
 FILE_SIZE = 8192
 HEADER_SIZE = 32
@@ -252,26 +254,26 @@ def guest_to_body(addr: int) -> tuple[str, int]:
                      f"0x{RX_GUEST_BASE:08X}..0x{TX_GUEST_BASE + WINDOW_SIZE - 1:08X}")
 
 
-class ProtocolError(RuntimeError):
+class LayoutError(HakoError, RuntimeError):
     """A mapped file is not what the layout says it should be."""
 
 
 def check_file(path: Path, magic: bytes) -> None:
-    """Raise ProtocolError unless `path` is a whole, well-formed file of its kind. Reads it with plain file
+    """Raise LayoutError unless `path` is a whole, well-formed file of its kind. Reads it with plain file
     I/O, so it is safe on a file that someone truncated under a mapping."""
     try:
         with open(path, "rb") as f:
             size = os.fstat(f.fileno()).st_size
             head = f.read(8)
     except FileNotFoundError:
-        raise ProtocolError(f"{path}: no such file (is the physics process running?)") from None
+        raise LayoutError(f"{path}: no such file (is the physics process running?)") from None
     if size != FILE_SIZE:
-        raise ProtocolError(f"{path}: size {size} bytes, expected {FILE_SIZE}")
+        raise LayoutError(f"{path}: size {size} bytes, expected {FILE_SIZE}")
     got_magic, version = struct.unpack("<4sI", head)
     if got_magic != magic:
-        raise ProtocolError(f"{path}: magic {got_magic!r}, expected {magic!r}")
+        raise LayoutError(f"{path}: magic {got_magic!r}, expected {magic!r}")
     if version != LAYOUT_VERSION:
-        raise ProtocolError(f"{path}: layout version {version}, expected {LAYOUT_VERSION}")
+        raise LayoutError(f"{path}: layout version {version}, expected {LAYOUT_VERSION}")
 
 
 def _fresh_header(magic: bytes) -> bytes:
@@ -325,7 +327,7 @@ class LayoutFile:
     # Body, by body offset.
     def _at(self, offset: int, size: int) -> int:
         if not 0 <= offset <= WINDOW_SIZE - size:
-            raise ProtocolError(f"body offset {offset} (+{size}) is outside the {WINDOW_SIZE}-byte window")
+            raise LayoutError(f"body offset {offset} (+{size}) is outside the {WINDOW_SIZE}-byte window")
         return HEADER_SIZE + offset
 
     def read(self, fmt: str, offset: int) -> int | float:
@@ -405,7 +407,7 @@ class MappedFile(LayoutFile):
         looking is safe after a truncation."""
         try:
             check_file(self.path, self.magic)
-        except ProtocolError as e:
+        except LayoutError as e:
             return str(e)
         return None
 

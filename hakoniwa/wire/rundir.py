@@ -11,7 +11,8 @@ import fcntl
 import os
 from pathlib import Path
 
-from hakoniwa.wire.protocol import ATHRILL_FILE, ATHRILL_MAGIC, UNITY_FILE, UNITY_MAGIC, ProtocolError, check_file
+from hakoniwa.wire.errors import HakoError
+from hakoniwa.wire.protocol import ATHRILL_FILE, ATHRILL_MAGIC, UNITY_FILE, UNITY_MAGIC, LayoutError, check_file
 
 LOCK_FILE = ".hako.lock"
 TRAJECTORY_FILE = "trajectory.csv"  # the last test's path, for pictures
@@ -39,12 +40,12 @@ def diagnose(run_dir: Path) -> str | None:
     for name, magic in ((UNITY_FILE, UNITY_MAGIC), (ATHRILL_FILE, ATHRILL_MAGIC)):
         try:
             check_file(Path(run_dir) / name, magic)
-        except ProtocolError as e:
+        except LayoutError as e:
             problems.append(str(e))
     return "; ".join(problems) or None
 
 
-class RunDirBusy(RuntimeError):
+class RunDirBusy(HakoError, RuntimeError):
     pass
 
 
