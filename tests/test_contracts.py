@@ -6,6 +6,7 @@ from __future__ import annotations
 import ast
 import importlib
 import inspect
+import os
 import re
 from pathlib import Path
 
@@ -107,3 +108,52 @@ def test_exit_statuses_are_named_in_one_module(pkg):
 def test_the_exit_statuses_are_a_shells():
     assert (exits.EXIT_INTERRUPTED, exits.EXIT_TERMINATED) == (130, 143)
     assert exits.exit_status(-9) == 137 and exits.exit_status(3) == 3
+
+
+class FakeAthrill:
+    """Slots and transport at once: Athrill's clock moves 7 ms each time the loop receives."""
+
+    def __init__(self) -> None:
+        self.clock_us = 0
+
+    def athrill_time_us(self) -> int:
+        return self.clock_us
+
+    def receive(self) -> None:
+        self.clock_us += 7000
+
+    def wait_for(self, ready, on_idle) -> None:
+        while not ready():
+            self.receive()
+
+
+class FakeServer:
+    """A SyncServer without MuJoCo: what `run_hakoniwa` does is read off the steps it asks for."""
+
+    def __init__(self, end_us: int) -> None:
+        self.slots = self.transport = FakeAthrill()
+        self.scheduler = type("Ticks", (), {"next_tick": staticmethod(lambda: 10**12)})()
+        self.now_us, self.end_us, self.answer_before_start = 0, end_us, 0
+        self.run_dir, self.athrill_timeout_s = ROOT, 10.0
+        self.ahead_us: list[int] = []
+
+    def advance_to(self, target_us: int) -> bool:
+        self.now_us = target_us
+        self.ahead_us.append(target_us - self.slots.clock_us)
+        return target_us >= self.end_us
+
+    def check_ceiling(self) -> None: ...
+    def note_time_diff(self, diff_us: int) -> None: ...
+    def publish_sensors(self) -> None: ...
+    def apply_actuators(self) -> None: ...
+
+
+def test_a_sync_loop_runs_against_the_protocol_alone():
+    from hakoniwa.physics.sync import run_hakoniwa
+    from hakoniwa.wire.timebase import ALLOWED_TIME_DIFF_US, PHYSICS_STEP_US
+
+    server = FakeServer(end_us=100_000)
+    proc = type("Proc", (), {"pid": os.getpid(), "poll": staticmethod(lambda: None)})()
+    run_hakoniwa(server, proc)
+    assert server.now_us >= server.end_us and server.now_us % PHYSICS_STEP_US == 0
+    assert max(server.ahead_us) <= ALLOWED_TIME_DIFF_US

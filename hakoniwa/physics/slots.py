@@ -2,8 +2,9 @@
 RX (`unity_mmap.bin`), motor commands and reset requests out of TX (`athrill_mmap.bin`).
 
 Only this module knows which slot holds what for the physics side (the sync loops read Athrill's clock and
-answers through its named accessors); the layout itself is `hakoniwa.wire.protocol`'s. Writes that a reader waits on come last (the unity time after a snapshot, the
-event after a report), so whoever sees them sees everything that belongs to them.
+answers through its named accessors); the layout itself is `hakoniwa.wire.protocol`'s. Writes that a reader
+waits on come last (the unity time after a snapshot, the event after a report), so whoever sees them sees
+everything that belongs to them.
 """
 
 from __future__ import annotations
