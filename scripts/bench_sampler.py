@@ -22,7 +22,7 @@ from typing import Protocol
 import click
 import numpy as np
 
-from testctl.objective import LEGACY_PENALTY_S as PENALTY_S
+from testctl.objective import PAPER_PENALTY_S as PENALTY_S
 from testctl.sampler import LIES, GPyOptSampler, RandomSampler
 from testctl.space import ParameterSpace
 

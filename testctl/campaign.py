@@ -29,90 +29,25 @@ from typing import Any
 import numpy as np
 
 from hakoniwa.wire.errors import HakoError
-from hakoniwa.wire.protocol import MAX_NOISE_SCALE
 from testctl.executor import Executor, SerialExecutor, TestSpec
+# The configuration lives apart so that --help can read its defaults without NumPy; importers of the campaign
+# find it here too.
+from testctl.campaign_config import PHASE_INIT as PHASE_INIT
+from testctl.campaign_config import CampaignConfig as CampaignConfig
 from testctl.journal import (JOURNAL_FILE, PHASE_VALIDATION, Journal, JournalError, TestRecord, now_timestamp,
                              read_journal)
 from testctl.noise_seed import noise_seed
-from testctl.objective import LEGACY_PENALTY_S, RepetitionRule, Verdict
+from testctl.objective import Verdict
 from testctl.result import TestResult
-from testctl.optimizers import OPTIMIZERS, make_sampler
+from testctl.optimizers import make_sampler
 from testctl.sampler import RandomSampler, Sampler
 from testctl.space import ParameterSpace
 
-PHASE_INIT = "init"  # the random initial design
-PHASE_BO = "bo"  # an optimization round, whichever sampler proposes it
 MAX_BENCH_FAULTS_IN_A_ROW = 5  # then the bench is broken, not unlucky: stop rather than spin
 
 
 class BenchBroken(HakoError, RuntimeError):
     """The bench spoiled test after test; the campaign stops (its journal is intact and resumable)."""
-
-
-@dataclass(frozen=True)
-class CampaignConfig:
-    """Everything that determines a campaign's sets and results. Only `trials` may change on resume (to
-    extend a campaign); the rest is checked against the journal's header."""
-
-    space: ParameterSpace = field(default_factory=ParameterSpace.default)
-    trials: int = 100
-    init_points: int = 5
-    repeats: int = 5
-    max_crashes: int = 3
-    seed: int = 0
-    optimizer: str = "gpyopt"
-    batch: int = 1
-    noise: float = 1.0
-    penalty_s: float = LEGACY_PENALTY_S  # the bench's time limit, set by the options from course and --time-limit
-
-    def __post_init__(self) -> None:
-        if self.optimizer not in OPTIMIZERS:
-            raise ValueError(f"unknown optimizer {self.optimizer!r}; choose from {', '.join(OPTIMIZERS)}")
-        if self.trials < 0:
-            raise ValueError(f"trials must be at least 0, got {self.trials}")
-        if self.init_points < 1:
-            raise ValueError(f"init_points must be at least 1, got {self.init_points}")
-        if self.seed < 0:
-            raise ValueError(f"seed must be at least 0, got {self.seed}")
-        if self.batch < 1:
-            raise ValueError(f"batch must be at least 1, got {self.batch}")
-        if not 0.0 <= self.noise <= MAX_NOISE_SCALE:
-            raise ValueError(f"noise must be a scale in 0..{MAX_NOISE_SCALE:g}, got {self.noise}")
-        self.rule  # validates repeats, max_crashes and penalty_s
-
-    @property
-    def rule(self) -> RepetitionRule:
-        return RepetitionRule(self.repeats, self.max_crashes, self.penalty_s)
-
-    @property
-    def total_sets(self) -> int:
-        return self.init_points + self.trials
-
-    def phase(self, index: int) -> str:
-        return PHASE_INIT if index < self.init_points else PHASE_BO
-
-    def rounds(self) -> list[range]:
-        """The set indices of each round: the initial design, then batches of `batch` sets."""
-        out = [range(0, min(self.init_points, self.total_sets))]
-        start = self.init_points
-        while start < self.total_sets:
-            out.append(range(start, min(start + self.batch, self.total_sets)))
-            start += self.batch
-        return out
-
-    def header(self) -> dict[str, Any]:
-        options = {f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name != "space"}
-        return {"space": self.space.to_dict(), "options": options}
-
-    @classmethod
-    def from_header(cls, header: Mapping[str, Any]) -> CampaignConfig:
-        """The configuration in a journal's header. A format-1 journal (before batches and noise) was a
-        one-set-at-a-time campaign on a noise-free bench."""
-        try:
-            options = {"batch": 1, "noise": 0.0, **header["options"]}
-            return cls(space=ParameterSpace.from_dict(header["space"]), **options)
-        except (KeyError, TypeError, ValueError) as e:  # SpaceError is a ValueError
-            raise JournalError(f"the journal header does not describe a campaign: {e}") from None
 
 
 @dataclass(frozen=True)

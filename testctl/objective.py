@@ -26,7 +26,9 @@ from dataclasses import dataclass
 from hakoniwa.wire.protocol import Event
 from testctl.result import TestResult
 
-LEGACY_PENALTY_S = 60.0  # what journals written before the penalty was recorded scored a failure: their time limit
+# The paper's time limit (section 4.1), what a failure scores where no bench says otherwise: a rule made
+# without a bench, and a journal written before campaigns recorded their bench's limit (all were 60 s then).
+PAPER_PENALTY_S = 60.0
 # Under the lap objective, COMPLETED is the program's own end of its run (ET Robocon's completion notice)
 # before any lap: it ends the test early, as a program that stops driving ends it at the time limit, and
 # scores as that would: a failure. Under the completed objective it is the success (`TestResult.success`),
@@ -53,7 +55,7 @@ class RepetitionRule:
 
     repeats: int = 5
     max_crashes: int = 3
-    penalty_s: float = LEGACY_PENALTY_S  # the bench's time limit: a failure scores as a test that used it all
+    penalty_s: float = PAPER_PENALTY_S  # the bench's time limit: a failure scores as a test that used it all
 
     def __post_init__(self) -> None:
         if self.repeats < 1:

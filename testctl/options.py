@@ -12,19 +12,18 @@ import datetime as dt
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import click
 
 from hakoniwa.clickutil import NOISE_SCALE, option_group
 from hakoniwa.wire.rundir import RunDirBusy, RunDirLock
+from testctl.campaign_config import CampaignConfig
+from testctl.journal import JOURNAL_FILE, JournalError, read_journal
 from testctl.optimizers import HELP as OPTIMIZER_HELP
 from testctl.optimizers import OPTIMIZERS, missing
-from testctl.journal import JOURNAL_FILE, JournalError, read_journal
+from testctl.paper import GAIN_RANGE, MOTOR_POWER
 from testctl.space import ParameterSpace, SpaceError
-
-if TYPE_CHECKING:
-    from testctl.campaign import CampaignConfig
 
 SMOKE = {"trials": 2, "init_points": 2, "repeats": 1}  # a campaign that exercises every part in seconds
 
@@ -37,38 +36,50 @@ SMOKE_DRAWS = 3  # `--smoke` is a campaign in seconds; its validation only shows
 MAX_DRAWS = 1000
 VALIDATE_KEY = "validate"  # the journal header's --validate, which a resumed campaign keeps
 
+_DEFAULT = CampaignConfig()  # the help text's defaults are the configuration's own
+_RULE = _DEFAULT.rule
+
+
+def _count(n: int, thing: str) -> str:
+    return f"{n} {thing}{'' if n == 1 else 's'}"
+
+
 _OPTIONS = [
     click.option("--trials", type=click.IntRange(min=0), default=None,
-                 help="Optimization iterations (sets) after the initial points [100]."),
-    click.option("--init-points", type=click.IntRange(min=1), default=None, help="Random initial parameter sets [5]."),
+                 help=f"Optimization iterations (sets) after the initial points [{_DEFAULT.trials}]."),
+    click.option("--init-points", type=click.IntRange(min=1), default=None,
+                 help=f"Random initial parameter sets [{_DEFAULT.init_points}]."),
     click.option("--repeats", type=click.IntRange(min=1), default=None,
-                 help="Tests per set at most; the first to a majority decides (3 of 5) [5]."),
+                 help=f"Tests per set at most; the first to a majority decides ({_RULE.needed} of {_RULE.repeats}) "
+                      f"[{_DEFAULT.repeats}]."),
     click.option("--seed", type=click.IntRange(min=0), default=None,
-                 help="Seed of the initial design, the optimizer and every test's noise [0]."),
+                 help=f"Seed of the initial design, the optimizer and every test's noise [{_DEFAULT.seed}]."),
     click.option("--optimizer", type=click.Choice(list(OPTIMIZERS)), default=None,
-                 help=f"{OPTIMIZER_HELP} [gpyopt]."),
+                 help=f"{OPTIMIZER_HELP} [{_DEFAULT.optimizer}]."),
     click.option("--batch", type=click.IntRange(min=1), default=None,
-                 help="Sets proposed per optimization round (constant liar) [1, as in the paper; the same "
-                      "command is the same campaign on any number of benches]."),
+                 help=f"Sets proposed per optimization round (constant liar) [{_DEFAULT.batch}, as in the paper; the "
+                      "same command is the same campaign on any number of benches]."),
     click.option("--noise", type=NOISE_SCALE, default=None,
                  help="Scale of the course's sensor, motor and start-pose noise; 0 = an exactly repeatable "
-                      "bench [1]."),
+                      f"bench [{_DEFAULT.noise:g}]."),
     click.option("--space", "space_file", type=click.Path(dir_okay=False, path_type=Path), default=None,
-                 help="Parameter-space TOML (names, data offsets, ranges, fixed values); default: Kp, Ki, Kd "
-                      "in [0, 5], power 15. See docs/space-example.toml."),
+                 help=f"Parameter-space TOML (names, data offsets, ranges, fixed values); default: "
+                      f"{', '.join(_DEFAULT.space.names)} in [{GAIN_RANGE[0]:g}, {GAIN_RANGE[1]:g}], power "
+                      f"{MOTOR_POWER:g}. See docs/space-example.toml."),
     click.option("--out", type=click.Path(file_okay=False, path_type=Path), default=None,
                  help="Output directory (journal, results.csv, best.json, plots) [runs/campaign-TIME]."),
     click.option("--resume", type=click.Path(file_okay=False, path_type=Path), default=None,
                  help="Continue the campaign journaled in this directory (--trials may extend it)."),
     click.option("--smoke", is_flag=True,
-                 help="A tiny campaign for CI: 2 initial points, 2 iterations, 1 test each."),
+                 help=f"A tiny campaign for CI: {_count(SMOKE['init_points'], 'initial point')}, "
+                      f"{_count(SMOKE['trials'], 'iteration')}, {_count(SMOKE['repeats'], 'test')} each."),
 ]
 
 
 _NOISE_OPTIONS = [
     click.option("--seed", type=click.IntRange(0, 2**32 - 1), default=0, show_default=True,
                  help="Which noise draw the test gets."),
-    click.option("--noise", type=NOISE_SCALE, default=1.0, show_default=True,
+    click.option("--noise", type=NOISE_SCALE, default=_DEFAULT.noise, show_default=True,
                  help="Scale of the course's noise levels; 0 = an exactly repeatable bench."),
 ]
 
@@ -92,8 +103,6 @@ def plan(trials: int | None, init_points: int | None, repeats: int | None, seed:
          out: Path | None, resume: Path | None, smoke: bool, *, penalty_s: float) -> CampaignPlan:
     """Turn the options into a campaign, or fail with a one-line click error. `penalty_s`, the bench's time
     limit, is what a failure scores in a new campaign; a resumed one keeps its journal's."""
-    from testctl.campaign import CampaignConfig  # NumPy: not for --help
-
     given = {k: v for k, v in {"trials": trials, "init_points": init_points, "repeats": repeats, "seed": seed,
                                "optimizer": optimizer, "batch": batch, "noise": noise}.items() if v is not None}
     try:

@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 
 from campaign_doubles import result
 from hakoniwa.wire.protocol import Event
-from testctl.objective import LEGACY_PENALTY_S, RepetitionRule
+from testctl.objective import PAPER_PENALTY_S, RepetitionRule
 from testctl.result import TestResult
 
 G, T, W, C = Event.GOAL, Event.TIME_OVER, Event.HIT_WALL, Event.CRASH
@@ -28,8 +28,8 @@ def test_three_successes_decide_success_with_mean_lap() -> None:
 
 def test_three_failures_decide_failure_with_penalty() -> None:
     v = judge(RepetitionRule(), [G, W, T, G, W])
-    assert (v.decided, v.success, v.value) == (True, False, LEGACY_PENALTY_S)
-    assert LEGACY_PENALTY_S == 60.0  # the paper's time limit, what journals without a penalty used
+    assert (v.decided, v.success, v.value) == (True, False, PAPER_PENALTY_S)
+    assert PAPER_PENALTY_S == 60.0  # the paper's time limit, what journals without a penalty used
 
 
 def test_a_failure_scores_the_time_limit_it_ran_under() -> None:
@@ -69,7 +69,7 @@ def test_crashes_beyond_the_allowance_count_as_failures() -> None:
     v = judge(rule, [C] * 5)
     assert (v.decided, v.failures) == (False, 2)
     v = judge(rule, [C] * 6)
-    assert (v.decided, v.success, v.value, v.crashes) == (True, False, LEGACY_PENALTY_S, 6)
+    assert (v.decided, v.success, v.value, v.crashes) == (True, False, PAPER_PENALTY_S, 6)
 
 
 def test_none_is_not_a_test_outcome() -> None:
