@@ -188,7 +188,8 @@ def run_repeatable(server: PhysicsServer, proc: subprocess.Popen) -> None:
     applied = None  # the TX commands last applied: a command is applied (and draws its noise) once, when new
     while True:
         horizon = unity_time_us(SyncMode.REPEATABLE, server.now_us)  # published with the last snapshot
-        wait_word(clock_address, lambda: a.athrill_time_us & 0xFFFFFFFF, lambda: a.athrill_time_us >= horizon, check)
+        wait_word(clock_address, lambda: a.athrill_time_us & 0xFFFFFFFF,
+                  lambda: a.athrill_time_us >= horizon, check)  # noqa: B023 (waited on in this turn only)
         server.note_time_diff(a.athrill_time_us - server.now_us)
         if a.read_i32s(*TX_COMMANDS) != applied:
             server.apply_actuators()
