@@ -51,7 +51,7 @@ class CampaignConfig:
             raise ValueError(f"batch must be at least 1, got {self.batch}")
         if not 0.0 <= self.noise <= MAX_NOISE_SCALE:
             raise ValueError(f"noise must be a scale in 0..{MAX_NOISE_SCALE:g}, got {self.noise}")
-        self.rule  # validates repeats, max_crashes and penalty_s
+        self.rule  # noqa: B018 (validates repeats, max_crashes and penalty_s)
 
     @property
     def rule(self) -> RepetitionRule:

@@ -139,7 +139,8 @@ def trial_for_picture(trial_once: TrialOnce, spec: TestSpec, tries: int = 2) -> 
             result, run_dir = trial_once(spec)
         except (LayoutError, PhysicsGone) as e:
             if attempt == tries:
-                raise PhysicsGone(f"the campaign's own bench, rerunning set {spec.set_index} for its picture: {e}")
+                raise PhysicsGone(f"the campaign's own bench, rerunning set {spec.set_index} for its picture: "
+                                  f"{e}") from e
             continue
         if not result.bench_fault or attempt == tries:
             break

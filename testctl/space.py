@@ -162,7 +162,7 @@ class ParameterSpace:
                 raise SpaceError(f"{p.name!r}: low {p.low} must be below high {p.high}")
         for f in self.fixed:
             _check_value(f, "value", f.value)
-        self.slots  # allocates, or says the area is full
+        self.slots  # noqa: B018 (allocates, or says the area is full)
 
     @property
     def every(self) -> tuple[Parameter, ...]:

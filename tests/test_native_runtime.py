@@ -105,7 +105,7 @@ API_CALLS = [
     ("ev3_lcd_fill_rect(1, 2, 30, 40, EV3_LCD_BLACK)", lambda a: a.ev3_lcd_fill_rect(1, 2, 30, 40, EV3_LCD_BLACK)),
     ("ev3_lcd_fill_rect(1, 2, 3, 4, EV3_LCD_WHITE)", lambda a: a.ev3_lcd_fill_rect(1, 2, 3, 4, EV3_LCD_WHITE)),
     ("({ memfile_t m; ER e = ev3_memfile_load(\"data.bin\", &m); e * 1000 + (int)m.filesz; })",
-     lambda a: (e := a.ev3_memfile_load("data.bin", m := MemFile())) * 1000 + m.filesz),
+     lambda a: a.ev3_memfile_load("data.bin", m := MemFile()) * 1000 + m.filesz),
     ('({ memfile_t m; ev3_memfile_load("missing.bin", &m); })', lambda a: a.ev3_memfile_load("missing.bin", MemFile())),
     ("ev3_memfile_load(NULL, NULL)", lambda a: a.ev3_memfile_load(None, None)),
     ("ev3_memfile_free(NULL)", lambda a: a.ev3_memfile_free(None)),

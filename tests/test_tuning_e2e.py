@@ -157,7 +157,7 @@ type = "f64"
 low = 0.0
 high = 5.0
 """
-F, D, I = 1.2345678901234567, 3.0000000000000004, 41.6  # what no float32 holds, what only a double does
+F, D, I = 1.2345678901234567, 3.0000000000000004, 41.6  # noqa: E741 (I: the int); what no float32 holds, what only a double does
 
 
 def report(tmp_path: Path, space_text: str, x: tuple[float, ...], **bench) -> bytes:
