@@ -221,7 +221,8 @@ def run_repeatable(server: SyncServer, proc: subprocess.Popen) -> None:
     applied = None  # the TX commands last applied: a command is applied (and draws its noise) once, when new
     while True:
         horizon = unity_time_us(SyncMode.REPEATABLE, server.now_us)  # published with the last snapshot
-        wait_word(slots.clock_address, slots.clock_word, lambda: clock() >= horizon, check)  # noqa: B023 (waited on in this turn only)
+        # B023: the horizon is waited on in this turn only
+        wait_word(slots.clock_address, slots.clock_word, lambda: clock() >= horizon, check)  # noqa: B023
         server.note_time_diff(clock() - server.now_us)
         if slots.command_words() != applied:
             server.apply_actuators()
