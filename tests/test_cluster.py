@@ -33,8 +33,9 @@ def hako_run(*args: str, timeout: float = 600) -> subprocess.CompletedProcess:
 def wait_for_workers(address: str, n: int) -> None:
     from distributed import Client
 
-    with Client(address, timeout=30) as client:
-        client.wait_for_workers(n, timeout=60)
+    # Generous: on a loaded 2-core CI runner a `dask worker` took over a minute to import and connect.
+    with Client(address, timeout=120) as client:
+        client.wait_for_workers(n, timeout=240)
 
 
 class LocalDask:
