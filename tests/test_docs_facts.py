@@ -20,10 +20,9 @@ from click.testing import CliRunner
 from hakoniwa.physics.course import course_file
 from hakoniwa.physics.noise import DEFAULT_NOISE, NoiseLevels
 from hakoniwa.wire import timebase
-from hakoniwa.wire.processes import EXIT_BENCH_FAULT, INTERRUPTED
+from hakoniwa.wire.exits import EXIT_BENCH_FAULT, EXIT_INTERRUPTED, EXIT_TERMINATED
 from hakoniwa.wire.protocol import BenchCause, CrashKind, Objective, Rx, SyncMode, Tx
 from testctl.campaign_config import CampaignConfig
-from testctl.interrupts import TERMINATED
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs"
@@ -124,9 +123,9 @@ def test_the_time_table_gives_the_timebase_constants():
 def test_the_docs_exit_statuses_are_the_code_s():
     """Where a page gives the status of an interrupted or a bench-faulted process, it is the code's."""
     ci = {int(row[0]): row[1] for row in table(DOCS / "CI.md", ["exit", "meaning"])}
-    assert "Ctrl-C" in ci[INTERRUPTED] and "SIGTERM" in ci[TERMINATED]
+    assert "Ctrl-C" in ci[EXIT_INTERRUPTED] and "SIGTERM" in ci[EXIT_TERMINATED]
     said = re.search(r"Ctrl-C exits (\d+) after that line, SIGTERM (\d+)", DESIGN.read_text())
-    assert said is not None and tuple(map(int, said.groups())) == (INTERRUPTED, TERMINATED)
+    assert said is not None and tuple(map(int, said.groups())) == (EXIT_INTERRUPTED, EXIT_TERMINATED)
     native = re.findall(r"exit (\d+) \(EXIT_BENCH_FAULT\)", (DOCS / "NATIVE.md").read_text())
     assert native and set(map(int, native)) == {EXIT_BENCH_FAULT}
 
