@@ -21,10 +21,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from elftools.common.exceptions import ELFError
+from elftools.dwarf.compileunit import CompileUnit
 from elftools.dwarf.die import DIE
 from elftools.elf.elffile import ELFFile
 from elftools.elf.relocation import RelocationSection
-from elftools.elf.sections import SymbolTableSection
+from elftools.elf.sections import Symbol, SymbolTableSection
 
 from athrill_sim.bindings import BindingError
 
@@ -35,7 +36,9 @@ DEBUG_SUFFIX = ".debug"  # athrill_sim.v850.build's DEBUG_IMAGE is IMAGE + this
 # What a relocation against a section symbol reaches, S + A + one of these: an absolute one S + A; an x86-64
 # RIP-relative one the end of its instruction, after the 4-byte displacement and up to 4 bytes of immediate.
 _X86_64_PC_RELATIVE = (2, 4, 9, 24, 41, 42)  # R_X86_64_PC32, PLT32, GOTPCREL, PC64, GOTPCRELX, REX_GOTPCRELX
-_PC_REACH, _ABSOLUTE_REACH = (4, 5, 6, 8), (0,)
+_PC_REACH: tuple[int, ...] = (4, 5, 6, 8)
+_ABSOLUTE_REACH: tuple[int, ...] = (0,)
+_ANY_REACH = (*_ABSOLUTE_REACH, *_PC_REACH)
 _NUMBER_ENCODINGS = {0x04: "f", 0x05: "i", 0x06: "i", 0x07: "u", 0x08: "u", 0x02: "u"}  # DW_ATE_*: float,
 # signed, signed char, unsigned, unsigned char, boolean
 FOLD_FIX = "make it a non-const global, e.g. float g_kp = 0.8f;"
@@ -120,7 +123,7 @@ def loaded_bytes(image: Path) -> bytes:
                         for s in elf.iter_sections() if s["sh_flags"] & SHF_ALLOC)
 
 
-def _named(symtab: SymbolTableSection, name: str, prefix: str) -> list[tuple[int, object]]:
+def _named(symtab: SymbolTableSection, name: str, prefix: str) -> list[tuple[int, Symbol]]:
     """The symbols spelt `name` (after the target's `prefix`), or, for a C++ name, those whose mangled name
     demangles to it."""
     spelt = [(i, s, s.name.removeprefix(prefix)) for i, s in enumerate(symtab.iter_symbols())
@@ -160,7 +163,7 @@ def _referenced(elf: ELFFile, symtab: SymbolTableSection, index: int, sym) -> bo
                 if elf.header["e_machine"] == "EM_X86_64":
                     reach = _PC_REACH if r["r_info_type"] in _X86_64_PC_RELATIVE else _ABSOLUTE_REACH
                 else:
-                    reach = (*_ABSOLUTE_REACH, *_PC_REACH)
+                    reach = _ANY_REACH
                 if any(start <= base + d < end for d in reach):
                     return True
     return False
@@ -250,7 +253,9 @@ def _decl(elf: ELFFile, die: DIE) -> tuple[str | None, int | None]:
     if "DW_AT_decl_file" not in file_die.attributes or "DW_AT_decl_line" not in line_die.attributes:
         return None, None
     line = line_die.attributes["DW_AT_decl_line"].value
-    lines = elf.get_dwarf_info(relocate_dwarf_sections=False).line_program_for_CU(file_die.cu)
+    cu = file_die.cu
+    lines = (elf.get_dwarf_info(relocate_dwarf_sections=False).line_program_for_CU(cu)
+             if isinstance(cu, CompileUnit) else None)  # variables come from compile units; a type unit has none
     if lines is None:
         return None, line
     index = file_die.attributes["DW_AT_decl_file"].value

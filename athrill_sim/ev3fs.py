@@ -9,14 +9,23 @@ from __future__ import annotations
 
 import os
 import stat
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from pathlib import Path
+from typing import Protocol
 
 from athrill_sim.ev3types import E_ID, E_NOID, E_NOMEM, E_OBJ, E_OK, E_PAR, FileInfo, MemFile
 from hakoniwa.wire.rundir import SDCARD_DIR
 
 MAX_DIRS = 16  # open folders at once, as runtime/src/sdcard.c allows
 
+
+
+class _OpenDir(Protocol):
+    """What `os.scandir` returns, as the directory calls use it: typeshed names its class privately."""
+
+    def __next__(self) -> os.DirEntry[str]: ...
+
+    def close(self) -> None: ...
 
 class FsApi:
     """EV3RT's ev3_memfile_* and ev3_sdcard_* (the Ev3Api's part that owns the SD card)."""
@@ -25,7 +34,7 @@ class FsApi:
     syslog: Callable[[str], None]
 
     def __init__(self) -> None:
-        self._dirs: dict[int, tuple[Path, Iterator[os.DirEntry[str]]]] = {}
+        self._dirs: dict[int, tuple[Path, _OpenDir]] = {}
 
     @property
     def sdcard(self) -> Path:

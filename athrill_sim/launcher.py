@@ -32,6 +32,7 @@ class AthrillLauncher:
     def _spawn(self, seq: int, program: Program) -> subprocess.Popen:
         proc = program.spawn(self.run_dir, seq, subprocess.PIPE)
         self._outputs = {pid: out for pid, out in self._outputs.items() if out.running}
+        assert proc.stdout is not None  # spawned with stdout=PIPE
         self._outputs[proc.pid] = CappedOutput(proc.stdout, self._log, self._write_lock, f"the Athrill of test {seq}")
         return proc
 

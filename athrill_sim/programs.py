@@ -272,6 +272,12 @@ def has_sync_patch(exe: Path) -> bool:
         return False
 
 
+def _given(path: Path | None) -> Path:
+    """A recipe's path, for the recipes that have one (only the Python program's is None)."""
+    assert path is not None
+    return path
+
+
 @dataclass(frozen=True)
 class Recipe:
     """How the program `--app` names is made: `make(path, flags)` builds it from `path` (its sources, or a
@@ -333,14 +339,16 @@ def program_recipe(spec: str, *, athrill2: str | None = None, emulator: str | No
         return Recipe("python", None, lambda _path, _flags: python_program(spec))
     if c_source is not None:
         if real:
-            return Recipe("image", Path(c_source), lambda source, flags: image_program(source, athrill2, real_sync,
-                                                                                         udp, flags), real_sync)
-        return Recipe("native", Path(c_source), native_program)
+            return Recipe("image", Path(c_source), lambda source, flags: image_program(_given(source), athrill2,
+                                                                                         real_sync, udp, flags),
+                          real_sync)
+        return Recipe("native", Path(c_source), lambda source, flags: native_program(_given(source), flags))
     if path.is_file():
         if real:
             if emulator == "native":
                 raise ProgramError(f"--app {spec}: a v850 image runs only in the real emulator (--emulator athrill2)")
-            return Recipe("elf", path, lambda image, _flags: elf_program(image, athrill2, real_sync, udp), real_sync)
+            return Recipe("elf", path, lambda image, _flags: elf_program(_given(image), athrill2, real_sync, udp),
+                          real_sync)
         raise ProgramError(f"--app {spec}: not a v850 ELF image, a C or C++ file (.c, .cpp), a built-in app ({builtins}) "
                            "or module:function")
     if emulator == "athrill2":

@@ -220,23 +220,24 @@ class Tuning:
     def _patched(self, built: Program, patch: dict[int, bytes], run_dir: Path | None) -> Path:
         """A copy of the variant's image with the initial values in `patch`: the native Athrill in the cache
         (the run directory may not allow running programs), a v850 image in the run directory."""
-        assert built.image is not None
+        original = built.image
+        assert original is not None
         key = CacheKey()
-        key.add("image", str(built.image).encode())
+        key.add("image", str(original).encode())
         for offset, raw in sorted(patch.items()):
             key.add(str(offset), raw)
         if self.recipe.kind == "native":
             def make(scratch: Path) -> None:
-                patched_copy(built.image, patch, scratch / built.image.name)  # type: ignore[arg-type]
-                shutil.copymode(built.image, scratch / built.image.name)  # type: ignore[arg-type]
+                patched_copy(original, patch, scratch / original.name)
+                shutil.copymode(original, scratch / original.name)
 
-            return cached_build(cache_root() / "native-tuned" / key.name(), built.image.name, make)
+            return cached_build(cache_root() / "native-tuned" / key.name(), original.name, make)
         folder = run_dir if run_dir is not None else cache_root() / "v850-tuned"
         folder.mkdir(parents=True, exist_ok=True)
         image = folder / TUNED_IMAGE.format(key=key.name())
         if not image.is_file():
             tmp = image.with_name(image.name + f".{os.getpid()}.tmp")
-            patched_copy(built.image, patch, tmp)
+            patched_copy(original, patch, tmp)
             tmp.replace(image)
         if run_dir is not None:  # the emulator starts with its own test: no other test's image is in use
             for old in folder.glob(TUNED_IMAGE.format(key="*")):

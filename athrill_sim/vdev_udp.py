@@ -21,8 +21,10 @@ import os
 import random
 import re
 import socket
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TypeVar
 
 from hakoniwa.wire.errors import HakoError
 
@@ -97,9 +99,9 @@ class Hex(str):
 Token = int | Hex | str
 
 
-def parse_device_config(text: str, env: dict[str, str] | None = None) -> list[tuple[str, Token]]:
+def parse_device_config(text: str, env: Mapping[str, str] | None = None) -> list[tuple[str, Token]]:
     """The (key, value) pairs athrill2 reads from `text`; LinkError for a line it would refuse."""
-    env = os.environ if env is None else env
+    names = os.environ if env is None else env
     pairs: list[tuple[str, Token]] = []
     for number, line in enumerate(text.split("\n"), 1):
         if not line:
@@ -108,13 +110,13 @@ def parse_device_config(text: str, env: dict[str, str] | None = None) -> list[tu
         if len(tokens) != 2:
             raise LinkError(f"line {number} has {len(tokens)} fields ({line.strip()[:60]!r}); athrill2 reads "
                             "KEY VALUE lines and refuses the file")
-        pairs.append((tokens[0], _token(tokens[1], env)))
+        pairs.append((tokens[0], _token(tokens[1], names)))
     if len(pairs) > MAX_PARAMS:
         raise LinkError(f"{len(pairs)} settings; athrill2 holds at most {MAX_PARAMS}")
     return pairs
 
 
-def _token(text: str, env: dict[str, str]) -> Token:
+def _token(text: str, env: Mapping[str, str]) -> Token:
     if re.fullmatch(r"[+-]?\d+", text) and -(1 << 63) <= int(text) < (1 << 63):
         return int(text)  # strtol(text, 10) read all of it without overflow
     if re.fullmatch(r"0x[0-9A-Fa-f]+", text):
@@ -122,7 +124,7 @@ def _token(text: str, env: dict[str, str]) -> Token:
     return _expand(text, env)
 
 
-def _expand(text: str, env: dict[str, str]) -> str:
+def _expand(text: str, env: Mapping[str, str]) -> str:
     """`cpuemu_env_parse_devcfg_string`: from the first '{' to the first '}' names a variable; its value
     replaces everything up to that '}' (what comes before the '{' too), unless it is unset."""
     start, end = text.find("{"), text.find("}")
@@ -131,7 +133,10 @@ def _expand(text: str, env: dict[str, str]) -> str:
     return env[text[start + 1:end]] + text[end + 1:]
 
 
-def lookup(pairs: list[tuple[str, Token]], key: str, kind: type) -> Token | None:
+T = TypeVar("T", int, str)
+
+
+def lookup(pairs: list[tuple[str, Token]], key: str, kind: type[T]) -> T | None:
     """The value athrill2's `cpuemu_get_devcfg_value` (int), `_value_hex` (Hex) or `_string` (str) finds."""
     for k, value in pairs:
         if k == key and isinstance(value, kind) and (kind is not str or not isinstance(value, Hex)):

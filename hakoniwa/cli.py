@@ -13,6 +13,7 @@ import os
 import sys
 import tempfile
 from pathlib import Path
+from typing import Any, overload
 
 import click
 
@@ -460,9 +461,14 @@ def _campaign_bench(stored: dict, given: BenchOptions) -> BenchOptions:
               and getattr(given, field) != stored.get(field)]
     if differ:
         raise click.UsageError("--resume runs on the campaign's own bench: " + "; ".join(differ))
-    return dataclasses.replace(given, **{field: stored.get(field) for field in RECORDED_BENCH})
+    recorded: dict[str, Any] = {field: stored.get(field) for field in RECORDED_BENCH}
+    return dataclasses.replace(given, **recorded)
 
 
+@overload
+def _absolute(spec: str) -> str: ...
+@overload
+def _absolute(spec: None) -> None: ...
 def _absolute(spec: str | None) -> str | None:
     """A path made absolute for workers elsewhere; a built-in course or app name stays a name (a file of that
     name in the working directory does not shadow it)."""

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Callable
+from typing import Any, TypeVar
 from pathlib import Path
 
 import click
@@ -58,10 +59,13 @@ SECONDS = Float32(0.001, 1e6)  # a time limit or timeout: positive, finite
 NOISE_SCALE = Float32(0.0, MAX_NOISE_SCALE)
 
 
-def option_group(options: list[Callable]) -> Callable[[Callable], Callable]:
+_Decorated = TypeVar("_Decorated", bound=Callable[..., Any])
+
+
+def option_group(options: list[Callable]) -> Callable[[_Decorated], _Decorated]:
     """One decorator for a list of click options that several commands share."""
 
-    def decorate(f: Callable) -> Callable:
+    def decorate(f: _Decorated) -> _Decorated:
         for option in reversed(options):
             f = option(f)
         return f

@@ -186,8 +186,9 @@ class Campaign:
             if self.on_sets is not None:
                 self.on_sets(())
             for round_index, indices in enumerate(self.config.rounds()):
-                if all(self._decided(by_set.get(i, [])) for i in indices):
-                    self._add(*(self._decided(by_set[i]) for i in indices))  # type: ignore[misc]
+                journaled = [self._decided(by_set.get(i, [])) for i in indices]
+                if all(journaled):
+                    self._add(*(s for s in journaled if s is not None))
                     continue
                 t0 = time.perf_counter()
                 points = self._propose(round_index, indices)

@@ -25,8 +25,10 @@ import threading
 import time
 from concurrent.futures import CancelledError
 from pathlib import Path
+from typing import cast
 
 from distributed import Client, LocalCluster, as_completed, get_worker
+from dask.typing import Key
 from distributed.diagnostics.plugin import WorkerPlugin
 
 from hakoniwa.physics.options import BenchOptions
@@ -97,7 +99,7 @@ class BenchHost(WorkerPlugin):
 
 def run_on_worker(spec: TestSpec) -> tuple[TestResult, str]:
     """The task each test is: run it on this worker's bench."""
-    host: BenchHost = get_worker().plugins[PLUGIN_NAME]
+    host = cast(BenchHost, get_worker().plugins[PLUGIN_NAME])  # the plugin this module registers
     assert host.bench is not None
     with host.lock:
         return host.bench.run(spec), f"{host.worker_name}@{os.uname().nodename}"
@@ -138,7 +140,7 @@ class DaskExecutor(Executor):
         self.where = scheduler or "the local cluster"
         self.capacity = len(self.client.scheduler_info()["workers"])
         self._done = as_completed()
-        self._specs: dict[str, TestSpec] = {}
+        self._specs: dict[Key, TestSpec] = {}  # by the future's key
 
     def submit(self, spec: TestSpec) -> None:
         future = self.client.submit(run_on_worker, spec, retries=self._retries, pure=False)

@@ -17,7 +17,7 @@ from __future__ import annotations
 import copy
 import errno
 import importlib.util
-from collections.abc import Sequence
+from collections.abc import Container, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, BinaryIO
 
@@ -28,7 +28,8 @@ from testctl.journal import JOURNAL_FILE
 from testctl.study import ARTIFACT_DIR, STUDY_FILE, open_storage
 
 if TYPE_CHECKING:
-    from optuna.study import FrozenStudy, StudyDirection
+    from optuna.study import StudyDirection
+    from optuna.study._frozen import FrozenStudy  # optuna.study exports it at run time only
     from optuna.trial import FrozenTrial, TrialState
 
 INSTALL = "pip install -e '.[dashboard]' (or pip install optuna-dashboard)"
@@ -130,7 +131,7 @@ class CampaignStorages(BaseStorage):
 
     # -- trials ---------------------------------------------------------------------------------------
     def get_all_trials(self, study_id: int, deepcopy: bool = True,
-                       states: Sequence[TrialState] | None = None) -> list[FrozenTrial]:
+                       states: Container[TrialState] | None = None) -> list[FrozenTrial]:
         storage, local, k = self._split(study_id)
         return [self._trial(t, k) for t in storage.get_all_trials(local, deepcopy=deepcopy, states=states)]
 

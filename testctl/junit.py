@@ -19,9 +19,9 @@ def junit_tree(suite_name: str, runs: Sequence[CaseRun]) -> ET.ElementTree:
     failures = sum(not r.passed for r in runs)
     wall = f"{sum(r.wall_s for r in runs):.3f}"
     counts = {"tests": str(len(runs)), "failures": str(failures), "errors": "0", "skipped": "0", "time": wall}
-    root = ET.Element("testsuites", name="hako test", **counts)
-    suite = ET.SubElement(root, "testsuite", name=suite_name, **counts,
-                          timestamp=dt.datetime.now().replace(microsecond=0).isoformat())
+    root = ET.Element("testsuites", {"name": "hako test", **counts})
+    suite = ET.SubElement(root, "testsuite", {"name": suite_name, **counts,
+                                              "timestamp": dt.datetime.now().replace(microsecond=0).isoformat()})
     for run in runs:
         case = ET.SubElement(suite, "testcase", classname=suite_name, name=run.case.name, time=f"{run.wall_s:.3f}")
         unmet = [c for c in run.checks if not c.passed]

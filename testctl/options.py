@@ -25,7 +25,7 @@ from testctl.optimizers import OPTIMIZERS, missing
 from testctl.paper import GAIN_RANGE, MOTOR_POWER
 from testctl.space import ParameterSpace, SpaceError
 
-SMOKE = {"trials": 2, "init_points": 2, "repeats": 1}  # a campaign that exercises every part in seconds
+SMOKE: dict[str, Any] = {"trials": 2, "init_points": 2, "repeats": 1}  # a campaign that exercises every part in seconds
 
 # --validate, the best set's draws (testctl.validate):
 DEFAULT_DRAWS = 20
@@ -103,7 +103,7 @@ def plan(trials: int | None, init_points: int | None, repeats: int | None, seed:
          out: Path | None, resume: Path | None, smoke: bool, *, penalty_s: float) -> CampaignPlan:
     """Turn the options into a campaign, or fail with a one-line click error. `penalty_s`, the bench's time
     limit, is what a failure scores in a new campaign; a resumed one keeps its journal's."""
-    given = {k: v for k, v in {"trials": trials, "init_points": init_points, "repeats": repeats, "seed": seed,
+    given: dict[str, Any] = {k: v for k, v in {"trials": trials, "init_points": init_points, "repeats": repeats, "seed": seed,
                                "optimizer": optimizer, "batch": batch, "noise": noise}.items() if v is not None}
     try:
         if resume is not None:

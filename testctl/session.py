@@ -84,7 +84,7 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
                     files.append(f)
                     attach(p.out_dir, f)
         files.append(p.out_dir / STUDY_FILE)
-    except (BenchBroken, BenchFault, PhysicsGone, *failures) as e:
+    except (BenchBroken, BenchFault, PhysicsGone, *failures) as e:  # type: ignore[misc]  # mypy#13442: a starred tuple of exception types
         raise click.ClickException(f"{e}; {resume_hint(p.out_dir)}") from None
     except OSError as e:
         raise click.ClickException(f"cannot write {e.filename or 'the campaign files'}: {e.strerror or e}; "

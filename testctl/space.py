@@ -143,8 +143,8 @@ class ParameterSpace:
                 raise SpaceError(f"{p.name!r}: type {p.type!r} is none of {', '.join(SPACE_TYPES)}")
             if (p.offset is None) == (p.via is None):
                 raise SpaceError(f"{p.name!r}: give exactly one of offset, {', '.join(KINDS)}")
-            if p.via is None:
-                _check_offset(p.name, p.offset, p.storage)  # type: ignore[arg-type]
+            if p.offset is not None:
+                _check_offset(p.name, p.offset, p.storage)
             key = _target(p)
             if key in targets:
                 if p.via is None:
@@ -172,14 +172,14 @@ class ParameterSpace:
     def slots(self) -> dict[str, int]:
         """{name: slot offset}: an `offset` parameter's own; the others', 8 bytes each from the top of the
         parameter area down, in the space's order, around the `offset` ones."""
-        own = [p for p in self.every if p.via is None]
-        taken = [(p.offset, p.offset + slot_size(p.storage)) for p in own]
-        for i, p in enumerate(own):
-            for q, (start, end) in zip(own[:i], taken):
+        own = [(p, p.offset) for p in self.every if p.offset is not None]  # the others come `via` a kind
+        taken = [(offset, offset + slot_size(p.storage)) for p, offset in own]
+        for i, (p, _) in enumerate(own):
+            for (q, _), (start, end) in zip(own[:i], taken):
                 if start < taken[i][1] and taken[i][0] < end:
                     raise SpaceError(f"{p.name!r} ({p.storage} at {p.offset}) and {q.name!r} ({q.storage} at "
                                      f"{q.offset}) overlap")
-        out = {p.name: p.offset for p in own}
+        out = {p.name: offset for p, offset in own}
         at = PARAM_END
         for p in (q for q in self.every if q.via is not None):
             at -= slot_size(CARRIER)
@@ -189,7 +189,7 @@ class ParameterSpace:
                 raise SpaceError(f"{p.name!r}: the parameter area {FIRST_SLOT}..{PARAM_END} has no room left for it")
             taken.append((at, at + slot_size(CARRIER)))
             out[p.name] = at
-        return out  # type: ignore[return-value]
+        return out
 
     @classmethod
     def default(cls) -> ParameterSpace:

@@ -45,7 +45,7 @@ ARTIFACT_DIR = "optuna-artifacts"
 TRAJECTORY_DIR = "trajectories"
 METRIC = "lap time [s]"
 # Draws set `s`'s trajectory into the PNG at the path given.
-DrawSet = Callable[[SetResult, Path], None]
+DrawSet = Callable[[SetResult, Path], object]  # what it returns is not used
 
 
 def study_name(out_dir: Path) -> str:

@@ -153,8 +153,8 @@ class _Reader:
                 if not 2 <= len(parts) <= 3:
                     raise NativeBuildError(f"{where}: {name}({ident}): the notification is {{mode, task}} or "
                                            "{mode, exinf, handler}")
-                handler = _function(parts[2], name, where) if len(parts) == 3 else None
-                cyclics.append(Cyclic(ident, attr, "{" + ", ".join(parts) + "}", handler, period_us, phase_us, False))
+                calls = _function(parts[2], name, where) if len(parts) == 3 else None
+                cyclics.append(Cyclic(ident, attr, "{" + ", ".join(parts) + "}", calls, period_us, phase_us, False))
             else:
                 raise NativeBuildError(f"{where}: {name} is not supported by the native mock (it supports "
                                        f"{', '.join(SUPPORTED)}; see docs/NATIVE.md)")

@@ -76,7 +76,7 @@ def serve(server, run_dir: Path, course_folder: Path, controller: tuple[str, ...
         code = server.serve(proc)
     except KeyboardInterrupt:  # Ctrl-C reached the whole process group: the controller says what to do next
         code = proc.wait() if proc is not None else EXIT_INTERRUPTED
-    if code < 0:
+    if code < 0 and proc is not None:
         click.echo(f"hakoniwa-physics: the test controller (pid {proc.pid}) {describe_exit(code)}", err=True)
         code = exit_status(code)
     return code

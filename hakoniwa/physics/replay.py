@@ -15,6 +15,7 @@ import math
 from bisect import bisect_right
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from hakoniwa.physics.robot import Body
 from hakoniwa.wire.errors import HakoError
@@ -102,8 +103,7 @@ def read_replay(run_dir: Path) -> Replay:
         if doc.get("version") != REPLAY_VERSION:
             raise ReplayError(f"{path}: version {doc.get('version')!r}, this hako reads {REPLAY_VERSION}")
         robot = doc["robot"]
-        look = RobotLook(str(robot["name"]), str(robot["hub"]), Body(**{k: (tuple(v) if isinstance(v, list) else v)
-                                                                        for k, v in robot["body"].items()}),
+        look = RobotLook(str(robot["name"]), str(robot["hub"]), Body(**_fields(robot["body"])),
                          tuple(robot["sensors"]))
         states = tuple(tuple(float(v) for v in s) for s in doc["states"])
         times = tuple(int(t) for t in doc["times_us"])
@@ -116,3 +116,8 @@ def read_replay(run_dir: Path) -> Replay:
         if isinstance(e, ReplayError):
             raise
         raise ReplayError(f"{path}: not a replay this hako can read ({type(e).__name__}: {e})") from None
+
+
+def _fields(table: dict[str, Any]) -> dict[str, Any]:
+    """A dataclass's fields as JSON gave them back: its tuples came back as lists."""
+    return {k: (tuple(v) if isinstance(v, list) else v) for k, v in table.items()}

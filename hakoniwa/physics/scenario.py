@@ -63,7 +63,8 @@ class Scenario:
     def check_within(self, time_limit_us: int) -> None:
         """Refuse a stimulus at or after the time limit: the test ends there (TIME_OVER) before it could
         happen, so a program waiting for it would fail every test for a reason the user did not mean."""
-        for s in (*self.presses, *self.serial):
+        stimuli: tuple[Press | SerialInput, ...] = (*self.presses, *self.serial)
+        for s in stimuli:
             if s.at_us >= time_limit_us:
                 raise ScenarioError(f"{s.where}: at_s = {s.at_us / US_PER_S:g} is not before the time limit "
                                     f"({time_limit_us / US_PER_S:g} s): no test would get there")

@@ -115,7 +115,7 @@ class SensorModel:
         if self.robot.bumper:
             slots[0] = bumped
         for press in self.scenario.sensor_presses(now_us):
-            if (slot := self.robot.press_slot(press.sensor, press.port)) is not None:
+            if press.sensor is not None and (slot := self.robot.press_slot(press.sensor, press.port)) is not None:
                 slots[slot] = True
         first = FORCE_PRESSED_N if self.robot.spike else TOUCH_PRESSED  # the SDK reads slot 0 as the force
         return first if slots[0] else 0, TOUCH_PRESSED if slots[1] else 0

@@ -258,12 +258,17 @@ class PhysicsServer:
         self.slots.publish_event(Event.NONE, 0)
 
     # -- the process loop ----------------------------------------------------------------------------
+    def _watch(self, controller: subprocess.Popen) -> None:
+        """In a thread of its own: a controller's exit ends a test at once, not at the next poll."""
+        controller.wait()
+        self._controller_gone.set()
+
     def serve(self, controller: subprocess.Popen | None = None) -> int:
         """Poll the flags until end = 1 or the controller exits; returns the controller's exit status (0
         without a controller). A controller that dies mid-test ends the test at once."""
         in_test = False
         if controller is not None:
-            threading.Thread(target=lambda: (controller.wait(), self._controller_gone.set()), daemon=True).start()
+            threading.Thread(target=self._watch, args=(controller,), daemon=True).start()
         try:
             while True:
                 if controller is not None and controller.poll() is not None:

@@ -48,7 +48,7 @@ class Report:
 class Commands:
     """What Athrill asked of the robot since the last look: motor powers by port, and the resets."""
 
-    powers: list[int]
+    powers: tuple[int, ...]
     reset_angle_ports: list[int]
     reset_gyro: bool
     completed: bool  # ETRoboc_notifyCompletedToSimulator(): the program says its run is over

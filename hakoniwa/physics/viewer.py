@@ -43,7 +43,7 @@ class LiveView:
             if not glfw.init():
                 why = glfw.get_error()[1]
                 raise ViewerError(f"--view: MuJoCo's viewer cannot open a window "
-                                  f"({why.decode(errors='replace') if why else 'GLFW cannot start'})")
+                                  f"({_text(why) if why else 'GLFW cannot start'})")
         before = set(threading.enumerate())
         try:
             self.viewer = mujoco.viewer.launch_passive(self.scene.model, self.scene.data, show_left_ui=False,
@@ -72,3 +72,8 @@ class LiveView:
         self.viewer.close()
         for thread in self._threads:
             thread.join(timeout=CLOSE_WAIT_S)
+
+
+def _text(description: str | bytes) -> str:
+    """GLFW's error description: the Python binding returns bytes, though its stubs say str."""
+    return description.decode(errors="replace") if isinstance(description, bytes) else description

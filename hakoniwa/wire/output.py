@@ -10,8 +10,9 @@ user mouse's stderr the same way (a chatty mouse wrote 200 MB).
 
 from __future__ import annotations
 
+import io
 import threading
-from typing import IO
+from typing import IO, cast
 
 LOG_CAP_BYTES = 10 * 1024 * 1024  # per process (a test's Athrill, a mouse): the head and the tail, half each
 _CHUNK = 64 * 1024
@@ -24,7 +25,8 @@ class CappedOutput:
 
     def __init__(self, pipe: IO[bytes], log: IO[bytes], write_lock: threading.Lock, label: str,
                  cap: int = LOG_CAP_BYTES, log_name: str = "athrill.log", per: str = " per test") -> None:
-        self._pipe, self._log, self._write_lock, self._label, self._cap = pipe, log, write_lock, label, cap
+        self._pipe = cast(io.BufferedReader, pipe)  # Popen's pipes are buffered: read1 returns what is there
+        self._log, self._write_lock, self._label, self._cap = log, write_lock, label, cap
         self._log_name, self._per = log_name, per
         self._head_left = cap // 2  # bytes the log still takes as they come
         self._after_head = 0  # bytes that came after the head

@@ -45,6 +45,7 @@ def futex_wake(address: int) -> None:
 
 def _futex_wait(address: int, expected: int, timeout_s: float) -> None:
     """Sleep while the word at `address` still holds `expected`, at most `timeout_s` (or until a signal)."""
+    assert _libc is not None  # wait_word falls back to polling without it
     ts = _Timespec(int(timeout_s), int((timeout_s % 1) * 1e9))
     _libc.syscall(_SYS_FUTEX, ctypes.c_void_p(address), _FUTEX_WAIT, ctypes.c_uint32(expected), ctypes.byref(ts),
                   None, 0)
