@@ -19,14 +19,14 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from testctl.executor import Executor, TestSpec
-from testctl.journal import JOURNAL_FILE, PHASE_VALIDATION, Journal, TestRecord, now_timestamp
+from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, Journal, TestRecord, now_timestamp
 from testctl.lapstats import LapStats
 from testctl.noise_seed import noise_seed
 from testctl.result import TestResult
-from testctl.suite_run import bench_fault, results_of
+from testctl.suite.run import bench_fault, results_of
 
 if TYPE_CHECKING:
-    from testctl.campaign import CampaignSummary  # NumPy: not for `hako --help`
+    from testctl.campaign.loop import CampaignSummary  # NumPy: not for `hako --help`
 
 VALIDATION_PNG = "validation.png"
 
