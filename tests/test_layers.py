@@ -5,6 +5,7 @@ functions, so a lazy import cannot hide a cycle."""
 from __future__ import annotations
 
 import ast
+import re
 import sys
 from pathlib import Path
 
@@ -118,9 +119,19 @@ def test_the_wire_package_needs_only_the_standard_library() -> None:
 def test_the_package_roots_import_nothing() -> None:
     """Importing a package must not drag in its layers (hakoniwa/__init__ would otherwise pull MuJoCo into
     a process that needs only the wire contract)."""
-    for name in ("hakoniwa", "hakoniwa.physics", "hakoniwa.wire", "testctl", "athrill_sim"):
+    for name in ("hakoniwa", "hakoniwa.physics", "hakoniwa.wire", "hakoniwa.cli", "testctl", "testctl.suite",
+                 "testctl.search", "testctl.campaign", "athrill_sim"):
         path = modules()[name]
         assert [t for _, t in imports(name, path) if is_ours(t)] == [], name
+
+
+def test_the_design_notes_draw_these_layers() -> None:
+    """docs/DESIGN-NOTES.md's diagram names the layers' folders in LAYERS' order, so it cannot drift."""
+    page = (ROOT / "docs" / "DESIGN-NOTES.md").read_text()
+    diagram = page.split("## Layers", 1)[1].split("```", 2)[1]
+    folders = re.findall(r"^  ([\w/]+?)(?:/|\.py)? ", diagram, re.MULTILINE)
+    drawn = [f.replace("/", ".") for f in folders if f not in STANDALONE]
+    assert drawn == [prefixes[0] for _, prefixes in LAYERS]
 
 
 @pytest.mark.parametrize("source, expected", [

@@ -473,6 +473,3 @@ def _absolute(spec: str | None) -> str | None:
         return spec
     return str(Path(spec).resolve()) if Path(spec).exists() else spec
 
-
-if __name__ == "__main__":
-    main()
