@@ -62,7 +62,7 @@ def validation_specs(summary: CampaignSummary, draws: int) -> list[TestSpec]:
 def validate_best(summary: CampaignSummary, executor: Executor, draws: int, out_dir: Path,
                   on_result: Callable[[TestSpec, TestResult], None] = lambda spec, result: None) -> Validation:
     """Run the best set on the `draws` fresh noise draws that `out_dir`'s journal lacks, journaling each
-    (a bench fault is journaled, and stops it: `suite_run.BenchFault`). `on_result` hears of every draw,
+    (a bench fault is journaled, and stops it: `testctl.suite.run.BenchFault`). `on_result` hears of every draw,
     the journaled ones first."""
     best = summary.best
     assert best is not None
