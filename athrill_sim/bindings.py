@@ -22,7 +22,7 @@ import struct
 from dataclasses import asdict, dataclass
 from fractions import Fraction
 
-from hakoniwa.clickutil import FLOAT32_MAX
+from hakoniwa.conventions import FLOAT32_MAX
 from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.params import FLOAT_TYPES, INT_TYPES
 

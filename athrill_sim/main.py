@@ -17,7 +17,7 @@ from athrill_sim.apps import load_app
 from athrill_sim.bus import MemoryBus
 from athrill_sim.ev3api import Ev3Api
 from athrill_sim.kernel import Kernel, KernelExit, wait_for_test
-from hakoniwa.clickutil import HELP, OneLineErrors
+from hakoniwa.conventions import HELP, OneLineErrors
 from hakoniwa.wire.exits import EXIT_BENCH_FAULT
 from hakoniwa.wire.processes import mark_bench_fault
 from hakoniwa.wire.protocol import LayoutError

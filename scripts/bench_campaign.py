@@ -34,8 +34,8 @@ from pathlib import Path
 import click
 
 from hakoniwa.physics.options import BenchOptions
-from testctl.campaign import Campaign, CampaignConfig
-from testctl.journal import JOURNAL_FILE
+from testctl.campaign.loop import Campaign, CampaignConfig
+from testctl.campaign.journal import JOURNAL_FILE
 
 CHECKPOINTS = (10, 20, 40, 105)
 PROBLEMS = {  # name: (space file, noise); every campaign 5 random + 100 proposed sets, one test per set
@@ -128,7 +128,7 @@ def compare_one(work: Path, problem: str, optimizer: str, seed: int) -> dict:
     seconds per proposal, kept in the campaign folder so that a rerun reuses it."""
     from testctl.bench import Bench
     from testctl.executor import SerialExecutor
-    from testctl.space import ParameterSpace
+    from testctl.search.space import ParameterSpace
 
     out = work / f"{problem}-{optimizer}-s{seed}"
     done = out / "compare.json"
@@ -164,7 +164,7 @@ def compare_optimizers(work: Path, seeds: list[int], problems: list[str], optimi
     """Every (problem, optimizer, seed) campaign, `jobs` at a time; then one table per problem."""
     from concurrent.futures import ProcessPoolExecutor
 
-    from testctl.optimizers import missing
+    from testctl.search.optimizers import missing
 
     for opt in list(optimizers):
         if (why := missing(opt)) is not None:

@@ -22,9 +22,9 @@ from typing import Protocol
 import click
 import numpy as np
 
-from testctl.objective import PAPER_PENALTY_S as PENALTY_S
-from testctl.sampler import LIES, GPyOptSampler, RandomSampler
-from testctl.space import ParameterSpace
+from testctl.campaign.objective import PAPER_PENALTY_S as PENALTY_S
+from testctl.search.sampler import LIES, GPyOptSampler, RandomSampler
+from testctl.search.space import ParameterSpace
 
 SPACE = ParameterSpace.default()
 INIT_POINTS = 5

@@ -13,7 +13,7 @@ import sys
 import click
 
 from bench_sim import REPO, trial_rate  # scripts/ is this script's folder
-from hakoniwa.clickutil import HELP
+from hakoniwa.conventions import HELP
 from hakoniwa.physics.options import BenchOptions
 
 TRACER = REPO / "athrill_sim" / "apps" / "line_trace.c"

@@ -3,7 +3,7 @@
 Usage: python scripts/bench_validate_memory.py [--draws 10000] [--benches 2] [--time-limit 0.2]
 
 It runs `hako run --smoke --validate 0` once into a scratch folder (a campaign with a best set), then
-validates that set on --draws draws through `testctl.validate.validate_best`, the code `hako run --validate`
+validates that set on --draws draws through `testctl.campaign.validate.validate_best`, the code `hako run --validate`
 runs, on --benches local Dask workers (the scheduler lives in this process, as in `hako run`), every draw
 journaled. The draws run on a bench with a short --time-limit so that many fit: a TIME_OVER after 0.2
 simulated seconds costs what every test costs the controller (a task, a result, a journal line), without
@@ -26,10 +26,10 @@ import click
 import psutil
 
 from hakoniwa.physics.options import BenchOptions
-from testctl.campaign import Campaign, load_config
+from testctl.campaign.loop import Campaign, load_config
 from testctl.cluster import DaskExecutor
-from testctl.journal import JOURNAL_FILE, read_journal
-from testctl.validate import validate_best, validation_specs
+from testctl.campaign.journal import JOURNAL_FILE, read_journal
+from testctl.campaign.validate import validate_best, validation_specs
 
 
 def rss_mb() -> float:

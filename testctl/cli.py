@@ -9,7 +9,7 @@ from pathlib import Path
 
 import click
 
-from hakoniwa.clickutil import HELP, SECONDS, Float32, OneLineErrorsGroup
+from hakoniwa.conventions import HELP, SECONDS, Float32, OneLineErrorsGroup
 from testctl import paper
 from testctl.executor import SerialExecutor, TestSpec
 from testctl.options import campaign_options, noise_options, plan
@@ -55,7 +55,7 @@ def trial(run_dir: Path, kp: float, ki: float, kd: float, power: float, seed: in
 def campaign(run_dir: Path, course: str, time_limit: float, **options) -> None:
     """Search the control parameters with repeated tests (the paper's experiment) on this one bench,
     journaling every test."""
-    from testctl.session import run_campaign
+    from testctl.campaign.session import run_campaign
 
     p = plan(**options, penalty_s=time_limit)
     if p.config.space.bindings() is not None:

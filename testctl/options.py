@@ -16,18 +16,18 @@ from typing import Any
 
 import click
 
-from hakoniwa.clickutil import NOISE_SCALE, option_group
+from hakoniwa.conventions import NOISE_SCALE, option_group
 from hakoniwa.wire.rundir import RunDirBusy, RunDirLock
-from testctl.campaign_config import CampaignConfig
-from testctl.journal import JOURNAL_FILE, JournalError, read_journal
-from testctl.optimizers import HELP as OPTIMIZER_HELP
-from testctl.optimizers import OPTIMIZERS, missing
+from testctl.campaign.config import CampaignConfig
+from testctl.campaign.journal import JOURNAL_FILE, JournalError, read_journal
+from testctl.search.optimizers import HELP as OPTIMIZER_HELP
+from testctl.search.optimizers import OPTIMIZERS, missing
 from testctl.paper import GAIN_RANGE, MOTOR_POWER
-from testctl.space import ParameterSpace, SpaceError
+from testctl.search.space import ParameterSpace, SpaceError
 
 SMOKE: dict[str, Any] = {"trials": 2, "init_points": 2, "repeats": 1}  # a campaign that exercises every part in seconds
 
-# --validate, the best set's draws (testctl.validate):
+# --validate, the best set's draws (testctl.campaign.validate):
 DEFAULT_DRAWS = 20
 SMOKE_DRAWS = 3  # `--smoke` is a campaign in seconds; its validation only shows the parts work
 # Past 1000 draws the estimates hardly move (the success rate's standard error is at most 1.6 points, the

@@ -12,7 +12,7 @@ import click
 
 sys.path.insert(0, str(Path(__file__).parent))
 from campaign_doubles import SyntheticBench  # noqa: E402
-from testctl.campaign import Campaign  # noqa: E402
+from testctl.campaign.loop import Campaign  # noqa: E402
 from testctl.executor import TestSpec  # noqa: E402
 from testctl.options import plan  # noqa: E402
 

@@ -21,10 +21,10 @@ from hakoniwa.physics.options import BenchOptions
 from hakoniwa.wire.protocol import ATHRILL_FILE, UNITY_FILE, BenchCause, CrashKind, Event, Tx
 from hakoniwa.wire.rundir import PHYSICS_LOG
 from testctl.bench import Bench
-from testctl.campaign import Campaign, CampaignConfig
+from testctl.campaign.loop import Campaign, CampaignConfig
 from testctl.executor import TestSpec
-from testctl.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
-from testctl.report import format_summary
+from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
+from testctl.campaign.report import format_summary
 from testctl.result import TestResult
 
 IDLE_APP = '''
@@ -171,7 +171,7 @@ def test_the_campaigns_own_bench_failing_under_a_picture_reruns_it(tmp_path):
     """A killed physics process on the bench that reruns a set for its picture once ended the campaign with a
     traceback; now the set runs again on the rebuilt bench."""
     from hakoniwa.wire.protocol import LayoutError
-    from testctl.session import trial_for_picture
+    from testctl.campaign.session import trial_for_picture
 
     outcomes = [LayoutError("unity_mmap.bin: no such file"), result(Event.GOAL, 31.0)]
 
@@ -187,8 +187,8 @@ def test_the_campaigns_own_bench_failing_under_a_picture_reruns_it(tmp_path):
 
 def test_the_campaigns_own_bench_failing_twice_is_one_bench_error(tmp_path):
     from testctl.runner import PhysicsGone
-    from testctl.session import trial_for_picture
-    from testctl.suite_run import BenchFault
+    from testctl.campaign.session import trial_for_picture
+    from testctl.suite.run import BenchFault
 
     spoiled = TestResult(Event.CRASH, 0, 0.01, crash_kind=CrashKind.BENCH, bench_cause=BenchCause.FILE_DAMAGED)
     with pytest.raises(BenchFault, match="spoiled set 0's picture twice"):

@@ -10,10 +10,10 @@ import pytest
 
 from campaign_doubles import ScriptedBench, SyntheticBench, result
 from hakoniwa.wire.protocol import Event
-from testctl.campaign import Campaign, CampaignConfig, Progress, SetResult
-from testctl.journal import JOURNAL_FILE, read_journal
-from testctl.objective import RepetitionRule
-from testctl.report import best_so_far, format_summary, l1_changes, write_report
+from testctl.campaign.loop import Campaign, CampaignConfig, Progress, SetResult
+from testctl.campaign.journal import JOURNAL_FILE, read_journal
+from testctl.campaign.objective import RepetitionRule
+from testctl.campaign.report import best_so_far, format_summary, l1_changes, write_report
 
 
 @pytest.mark.parametrize("optimizer", ["gpyopt", "random"])

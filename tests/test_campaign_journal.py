@@ -8,7 +8,7 @@ import pytest
 
 from campaign_doubles import result
 from hakoniwa.wire.protocol import Event
-from testctl.journal import Journal, JournalError, TestRecord, read_journal
+from testctl.campaign.journal import Journal, JournalError, TestRecord, read_journal
 
 HEADER = {"space": {"param": []}, "options": {}}
 

@@ -18,9 +18,9 @@ from hypothesis import strategies as st
 
 from campaign_doubles import Killed, SyntheticBench
 from campaign_racer import CAMPAIGN
-from testctl.campaign import Campaign
+from testctl.campaign.loop import Campaign
 from testctl.executor import TestSpec
-from testctl.journal import JOURNAL_FILE, read_journal
+from testctl.campaign.journal import JOURNAL_FILE, read_journal
 from testctl.options import make_out_dir, plan
 from test_campaign_resume import essence
 

@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 
 from campaign_doubles import result
 from hakoniwa.wire.protocol import Event
-from testctl.objective import PAPER_PENALTY_S, RepetitionRule
+from testctl.campaign.objective import PAPER_PENALTY_S, RepetitionRule
 from testctl.result import TestResult
 
 G, T, W, C = Event.GOAL, Event.TIME_OVER, Event.HIT_WALL, Event.CRASH

@@ -10,9 +10,9 @@ from pathlib import Path
 import pytest
 
 from campaign_doubles import Killed, KilledAfter, SyntheticBench
-from testctl.campaign import Campaign, CampaignConfig, load_config
-from testctl.journal import JOURNAL_FILE, JournalError, TestRecord, read_journal
-from testctl.space import Parameter, ParameterSpace
+from testctl.campaign.loop import Campaign, CampaignConfig, load_config
+from testctl.campaign.journal import JOURNAL_FILE, JournalError, TestRecord, read_journal
+from testctl.search.space import Parameter, ParameterSpace
 
 # 4 sets of 2 tests each (the synthetic bench is deterministic, so every set is 2-0 or 0-2).
 CONFIGS = {

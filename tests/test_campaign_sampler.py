@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 from hakoniwa.wire.protocol import Rx
-from testctl import optimizers
-from testctl.optimizers import make_sampler
-from testctl.sampler import GPyOptSampler, RandomSampler
-from testctl.space import Parameter, ParameterSpace
+from testctl.search import optimizers
+from testctl.search.optimizers import make_sampler
+from testctl.search.sampler import GPyOptSampler, RandomSampler
+from testctl.search.space import Parameter, ParameterSpace
 
 # Ranges of very different widths, so that a point scaled wrongly shows up out of bounds.
 SPACE = ParameterSpace(
@@ -63,7 +63,7 @@ def test_a_fresh_process_proposes_the_same_batch() -> None:
     OpenMP libraries that importing GPyOpt loads escaped the one-thread limit."""
     code = (
         "import numpy as np, sys; sys.path.insert(0, 'tests');"
-        "from test_campaign_sampler import SPACE, initial; from testctl.sampler import GPyOptSampler;"
+        "from test_campaign_sampler import SPACE, initial; from testctl.search.sampler import GPyOptSampler;"
         "X, Y = initial(20); print(repr(GPyOptSampler(5).suggest_batch(SPACE, X, Y, 3, 3)))"
     )
     fresh = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT)
@@ -151,7 +151,7 @@ def test_the_fast_predictions_are_gpyopts() -> None:
     import GPy
     from GPyOpt.models import GPModel
 
-    from testctl.sampler import _LyingGP
+    from testctl.search.sampler import _LyingGP
 
     rng = np.random.default_rng(0)
     X = rng.uniform(size=(30, 3))

@@ -9,7 +9,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from hakoniwa.wire.protocol import Rx
-from testctl.space import ParameterSpace, SpaceError
+from testctl.search.space import ParameterSpace, SpaceError
 
 EXAMPLE = Path(__file__).resolve().parent.parent / "docs" / "space-example.toml"
 
@@ -109,7 +109,7 @@ def test_every_value_and_bound_is_checked_against_its_float32_slot(tmp_path_fact
     one it holds exactly as the command line would take it is accepted."""
     import struct
 
-    from hakoniwa.clickutil import FLOAT32_MAX
+    from hakoniwa.conventions import FLOAT32_MAX
 
     if key == "high":
         assume(float(number) > -3e38)

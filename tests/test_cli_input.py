@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from testctl.journal import JOURNAL_FILE
+from testctl.campaign.journal import JOURNAL_FILE
 
 
 from conftest import one_line_error, run_module as run

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from testctl.journal import JOURNAL_FILE, read_journal
+from testctl.campaign.journal import JOURNAL_FILE, read_journal
 from conftest import hako, one_line_error, tagged_env, tagged_processes
 
 DASK = [sys.executable, "-m", "dask"]

@@ -22,8 +22,8 @@ import pytest
 from conftest import hako, one_line_error
 from campaign_doubles import SyntheticBench
 from test_study import CONFIG, Drawer
-from testctl.campaign import Campaign
-from testctl.study import STUDY_FILE, StudyMirror
+from testctl.campaign.loop import Campaign
+from testctl.campaign.study import STUDY_FILE, StudyMirror
 
 pytestmark = pytest.mark.skipif(importlib.util.find_spec("optuna_dashboard") is None,
                                 reason="needs optuna-dashboard (pip install -e '.[dashboard]')")
@@ -134,7 +134,7 @@ def test_bad_input_is_one_line(tmp_path: Path) -> None:
 def test_without_optuna_dashboard_one_line_says_what_to_install(tmp_path: Path, monkeypatch) -> None:
     from click.testing import CliRunner
 
-    from hakoniwa.cli import main
+    from hakoniwa.cli.main import main
 
     campaign(tmp_path / "a")
     real = importlib.util.find_spec

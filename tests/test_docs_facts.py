@@ -22,7 +22,7 @@ from hakoniwa.physics.noise import DEFAULT_NOISE, NoiseLevels
 from hakoniwa.wire import timebase
 from hakoniwa.wire.exits import EXIT_BENCH_FAULT, EXIT_INTERRUPTED, EXIT_TERMINATED
 from hakoniwa.wire.protocol import BenchCause, CrashKind, Objective, Rx, SyncMode, Tx
-from testctl.campaign_config import CampaignConfig
+from testctl.campaign.config import CampaignConfig
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs"
@@ -142,7 +142,7 @@ def test_the_docs_repetition_rule_is_the_default_one():
 def test_the_campaign_help_gives_the_config_defaults():
     """`hako run --help` and `testctl campaign --help` show `CampaignConfig`'s defaults (they are formatted
     from it: this catches the help no longer being so)."""
-    from hakoniwa.cli import main as hako
+    from hakoniwa.cli.main import main as hako
     from testctl.cli import main as testctl
 
     d = CampaignConfig()

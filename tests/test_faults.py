@@ -18,7 +18,7 @@ from hakoniwa.wire.processes import BENCH_FAULT_MARKER
 from hakoniwa.wire.protocol import ATHRILL_FILE, HEADER_SIZE, UNITY_FILE, BenchCause, CrashKind, Event, Rx
 from hakoniwa.wire.rundir import PHYSICS_LOG
 from hakoniwa.physics.sync import exit_crash
-from testctl.journal import JOURNAL_FILE, read_journal
+from testctl.campaign.journal import JOURNAL_FILE, read_journal
 from conftest import interruptible, one_line_error
 
 IDLE_APP = '''

@@ -9,7 +9,7 @@ import time
 
 import pytest
 
-from testctl.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
+from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
 from testctl.options import SMOKE_DRAWS
 from conftest import hako
 
@@ -34,7 +34,7 @@ def test_smoke_campaign_writes_every_result_file(tmp_path):
         import optuna
         from optuna.artifacts import get_all_artifact_meta
 
-        from testctl.study import open_storage, study_name
+        from testctl.campaign.study import open_storage, study_name
 
         study = optuna.load_study(study_name=study_name(out), storage=open_storage(out))
         assert {"best_trajectory.png", "best_lap.mp4"} <= {m.filename for m in get_all_artifact_meta(study)}

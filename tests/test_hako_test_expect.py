@@ -9,7 +9,7 @@ from hypothesis import given, strategies as st
 
 from campaign_doubles import result
 from hakoniwa.wire.protocol import Event
-from testctl.expect import (EVENTS, OPERATORS, PER_RUN, Bound, EventExpectation, ExpectationError,
+from testctl.suite.expect import (EVENTS, OPERATORS, PER_RUN, Bound, EventExpectation, ExpectationError,
                             parse_expectation)
 from testctl.lapstats import LapStats, percentile
 

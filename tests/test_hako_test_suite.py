@@ -10,9 +10,9 @@ from hypothesis import given, settings, HealthCheck, strategies as st
 
 from hakoniwa.physics.options import BenchOptions
 from hakoniwa.wire.protocol import Rx
-from testctl.expect import Bound, EventExpectation
-from testctl.space import ParameterSpace
-from testctl.suite import DEFAULT_SEEDS, SuiteError, drawn_seeds, load_suite
+from testctl.suite.expect import Bound, EventExpectation
+from testctl.search.space import ParameterSpace
+from testctl.suite.cases import DEFAULT_SEEDS, SuiteError, drawn_seeds, load_suite
 
 GAINS = "params = { Kp = 1.5, Ki = 4.0, Kd = 4.5 }\n"
 
@@ -49,7 +49,7 @@ def test_paths_are_the_test_files_folders(tmp_path):
 
 
 def test_a_case_from_a_campaign_takes_its_best_set_by_its_spaces_names(tmp_path):
-    from testctl.journal import JOURNAL_FILE, Journal
+    from testctl.campaign.journal import JOURNAL_FILE, Journal
 
     campaign = tmp_path / "runs" / "x"
     campaign.mkdir(parents=True)

@@ -5,6 +5,7 @@ functions, so a lazy import cannot hide a cycle."""
 from __future__ import annotations
 
 import ast
+import re
 import sys
 from pathlib import Path
 
@@ -16,7 +17,7 @@ OURS = ("hakoniwa", "athrill_sim", "testctl", "maze")
 # Bottom to top. A module belongs to the first entry whose prefix it starts with.
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("wire", ("hakoniwa.wire",)),  # the contract every process shares: stdlib only
-    ("conventions", ("hakoniwa.clickutil",)),  # what every command line shares
+    ("conventions", ("hakoniwa.conventions",)),  # what every command line shares
     ("athrill", ("athrill_sim",)),  # the robot program: resolving, building and running it
     ("physics", ("hakoniwa.physics",)),  # the "Unity" side, which starts Athrill for each test
     ("controller", ("testctl",)),  # tests, campaigns, benches
@@ -122,15 +123,25 @@ def test_the_package_roots_import_nothing() -> None:
     """Importing a package must not drag in its layers (hakoniwa/__init__ would otherwise pull MuJoCo into
     a process that needs only the wire contract). One exception: `hakoniwa` pins the floating-point kernels
     (stdlib only), which must happen before anything imports numpy."""
-    for name in ("hakoniwa", "hakoniwa.physics", "hakoniwa.wire", "testctl", "athrill_sim"):
+    for name in ("hakoniwa", "hakoniwa.physics", "hakoniwa.wire", "hakoniwa.cli", "testctl", "testctl.suite",
+                 "testctl.search", "testctl.campaign", "athrill_sim"):
         path = modules()[name]
         found = [t for _, t in imports(name, path) if is_ours(t)]
         assert [t for t in found if not t.startswith(ROOT_MAY_IMPORT.get(name, "-"))] == [], name
 
 
+def test_the_design_notes_draw_these_layers() -> None:
+    """docs/DESIGN-NOTES.md's diagram names the layers' folders in LAYERS' order, so it cannot drift."""
+    page = (ROOT / "docs" / "DESIGN-NOTES.md").read_text()
+    diagram = page.split("## Layers", 1)[1].split("```", 2)[1]
+    folders = re.findall(r"^  ([\w/]+?)(?:/|\.py)? ", diagram, re.MULTILINE)
+    drawn = [f.replace("/", ".") for f in folders if f not in STANDALONE]
+    assert drawn == [prefixes[0] for _, prefixes in LAYERS]
+
+
 @pytest.mark.parametrize("source, expected", [
-    ("from hakoniwa.cli import main\n", ["physics may not import cli"]),
-    ("import testctl.campaign\n", ["physics may not import controller"]),
+    ("from hakoniwa.cli.main import main\n", ["physics may not import cli"]),
+    ("import testctl.campaign.loop\n", ["physics may not import controller"]),
     ("from maze import model\n", ["maze stands apart"]),
     ("from hakoniwa.wire.protocol import Rx\nfrom athrill_sim import programs\n", []),
 ])

@@ -13,7 +13,7 @@ from bench_fixtures import PAPER, physics
 from hakoniwa.wire.protocol import CrashKind, Event
 from native_fixtures import need_cc
 from testctl.paper import GAIN_RANGE, line_trace_params
-from testctl.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
+from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
 from conftest import hako
 
 BLE_SAMPLE = SHARED_ATHRILL / "ev3rt-ble_sample"

@@ -13,10 +13,10 @@ import pytest
 
 from conftest import hako
 from hakoniwa.wire.protocol import Event, Objective
-from testctl.expect import parse_expectation
-from testctl.journal import JOURNAL_FILE, read_journal
+from testctl.suite.expect import parse_expectation
+from testctl.campaign.journal import JOURNAL_FILE, read_journal
 from testctl.lapstats import LapStats
-from testctl.objective import RepetitionRule
+from testctl.campaign.objective import RepetitionRule
 from testctl.result import TestResult
 
 DONE_S = 50  # past the first lap with the paper's gains (GOAL at 35.68 s) and its next checkpoint

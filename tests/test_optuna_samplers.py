@@ -17,11 +17,11 @@ from campaign_doubles import Killed, KilledAfter, SyntheticBench
 from hakoniwa.wire.protocol import Rx
 from test_campaign_resume import essence
 from test_campaign_sampler import ROOT, SPACE, assert_distinct_inside, bowl, initial
-from testctl import optimizers
-from testctl.campaign import Campaign, CampaignConfig
-from testctl.journal import JOURNAL_FILE, read_journal
-from testctl.optimizers import OptimizerUnavailable, make_sampler, missing
-from testctl.space import Parameter, ParameterSpace
+from testctl.search import optimizers
+from testctl.campaign.loop import Campaign, CampaignConfig
+from testctl.campaign.journal import JOURNAL_FILE, read_journal
+from testctl.search.optimizers import OptimizerUnavailable, make_sampler, missing
+from testctl.search.space import Parameter, ParameterSpace
 
 GP = pytest.param("optuna-gp", marks=pytest.mark.skipif(importlib.util.find_spec("torch") is None,
                                                          reason="optuna-gp needs PyTorch (pip install -e '.[gp]')"))
@@ -42,7 +42,7 @@ def test_a_batch_is_a_pure_function_of_seed_round_and_data(name: str) -> None:
 def test_a_fresh_process_proposes_the_same_batch(name: str) -> None:
     """What `--resume` relies on: nothing of an earlier process's sampler is carried over."""
     code = ("import sys; sys.path.insert(0, 'tests'); from test_campaign_sampler import SPACE, initial;"
-            f"from testctl.optimizers import make_sampler; X, Y = initial(11);"
+            f"from testctl.search.optimizers import make_sampler; X, Y = initial(11);"
             f"print(repr(make_sampler({name!r}, 5).suggest_batch(SPACE, X, Y, 3, 3)))")
     fresh = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT)
     X, Y = initial(11)
@@ -87,7 +87,7 @@ def test_a_missing_dependency_is_one_line_before_anything_runs(tmp_path: Path, m
     assert why is not None and "no_such_module_here" in why and "pip install it" in why
     with pytest.raises(OptimizerUnavailable, match="no_such_module_here"):
         make_sampler("optuna-gp", 0)
-    from hakoniwa.cli import main
+    from hakoniwa.cli.main import main
 
     r = CliRunner().invoke(main, ["run", "--smoke", "--optimizer", "optuna-gp", "--out", str(tmp_path / "c")])
     assert r.exit_code == 1 and "Traceback" not in r.output

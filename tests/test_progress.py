@@ -5,9 +5,9 @@ from __future__ import annotations
 
 from campaign_doubles import result
 from hakoniwa.wire.protocol import Event
-from testctl.campaign import Progress
-from testctl.journal import TestRecord
-from testctl.progress import PLAIN_EVERY_S, PLAIN_EVERY_TESTS, RECENT_TESTS, ProgressLine, format_duration
+from testctl.campaign.loop import Progress
+from testctl.campaign.journal import TestRecord
+from testctl.campaign.progress import PLAIN_EVERY_S, PLAIN_EVERY_TESTS, RECENT_TESTS, ProgressLine, format_duration
 
 
 class FakeBar:

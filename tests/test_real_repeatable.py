@@ -12,7 +12,7 @@ import pytest
 from athrill_fixtures import ASP_IMAGE
 from athrill_sim.programs import SYNC_WAIT_KEY
 from hakoniwa.wire.timebase import ALLOWED_TIME_DIFF_US
-from testctl.journal import JOURNAL_FILE, read_journal
+from testctl.campaign.journal import JOURNAL_FILE, read_journal
 from conftest import hako, one_line_error
 from realemu_fixtures import BASE_PRACTICE, base_practice_image, need_v850_tools, repeatable_athrill2  # noqa: F401
 

@@ -16,10 +16,10 @@ from optuna.distributions import FloatDistribution, IntDistribution
 from campaign_doubles import Killed, KilledAfter, SyntheticBench
 from hakoniwa.wire.protocol import Rx
 from test_campaign_parallel import NoisyBench, ShuffledExecutor
-from testctl import study as study_module
-from testctl.campaign import Campaign, CampaignConfig, CampaignSummary
-from testctl.space import Parameter, ParameterSpace
-from testctl.study import STUDY_FILE, StudyMirror, attach, open_storage, trajectory_png
+from testctl.campaign import study as study_module
+from testctl.campaign.loop import Campaign, CampaignConfig, CampaignSummary
+from testctl.search.space import Parameter, ParameterSpace
+from testctl.campaign.study import STUDY_FILE, StudyMirror, attach, open_storage, trajectory_png
 
 # 6 sets of 2 tests each on the deterministic synthetic bench; several improve on the best before them.
 CONFIG = CampaignConfig(init_points=3, trials=3, repeats=3, seed=11, optimizer="random")

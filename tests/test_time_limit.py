@@ -12,7 +12,7 @@ import pytest
 from conftest import hako
 from hakoniwa.physics.course import COURSES_DIR
 from hakoniwa.physics.options import BenchOptions
-from testctl.journal import JOURNAL_FILE, read_journal
+from testctl.campaign.journal import JOURNAL_FILE, read_journal
 
 
 def short_course(tmp_path, seconds: int):

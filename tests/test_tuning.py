@@ -22,9 +22,9 @@ from conftest import hako, one_line_error
 from hakoniwa.wire.params import PARAM_END, slot_size
 from hakoniwa.wire.protocol import open_athrill, open_unity
 from native_fixtures import need_cc
-from testctl.patch import unified_diff
+from testctl.campaign.patch import unified_diff
 from testctl.runner import TrialRunner
-from testctl.space import ParameterSpace, SpaceError
+from testctl.search.space import ParameterSpace, SpaceError
 
 PROGRAMS = Path(__file__).resolve().parent / "programs"
 KINDS = ("define", "symbol", "file", "source")

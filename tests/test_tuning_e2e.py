@@ -23,8 +23,8 @@ from native_fixtures import need_cc
 from realemu_fixtures import need_v850_tools, repeatable_athrill2  # noqa: F401  (a fixture)
 from testctl.bench import Bench
 from testctl.executor import TestSpec
-from testctl.journal import JOURNAL_FILE, read_journal
-from testctl.space import ParameterSpace
+from testctl.campaign.journal import JOURNAL_FILE, read_journal
+from testctl.search.space import ParameterSpace
 
 PROGRAMS = Path(__file__).resolve().parent / "programs"
 KINDS = ("define", "symbol", "file", "source", "constexpr")  # constexpr: a C++ header's, by source parameters

@@ -16,7 +16,7 @@ import time
 import pytest
 
 from conftest import interruptible
-from testctl.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
+from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
 
 DRAWS = 10
 VALIDATING = "validating the best set"

@@ -11,7 +11,7 @@ from pathlib import Path
 import click
 
 from hakoniwa.physics.bench import load_bench
-from hakoniwa.clickutil import HELP, OneLineErrors
+from hakoniwa.conventions import HELP, OneLineErrors
 from hakoniwa.physics.options import BenchOptions, bench_options
 from hakoniwa.wire.timebase import US_PER_S
 from hakoniwa.wire.exits import EXIT_INTERRUPTED, exit_status

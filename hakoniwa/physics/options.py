@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Callable
 import click
 
 from athrill_sim.programs import EMULATORS, REAL_SYNCS, REPEATABLE_DIR, TRANSPORTS, UDP_DEVICE_CONFIG
-from hakoniwa.clickutil import SECONDS, option_group
+from hakoniwa.conventions import SECONDS, option_group
 from hakoniwa.wire.protocol import Objective
 from hakoniwa.wire.timebase import US_PER_S
 

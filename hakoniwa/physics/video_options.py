@@ -9,7 +9,7 @@ from pathlib import Path
 
 import click
 
-from hakoniwa.clickutil import option_group, writable_file
+from hakoniwa.conventions import option_group, writable_file
 
 CAMERAS = ("chase", "top")
 FORMATS = (".mp4", ".gif")

@@ -2,7 +2,7 @@
 
 Every error that means "bad input" or "the bench cannot go on" derives from `HakoError`, and its message is
 the one line the user sees: each command line turns it into that line in one place
-(`hakoniwa.clickutil.OneLineErrors`), so a command need not list what its callees may raise. Signals that
+(`hakoniwa.conventions.OneLineErrors`), so a command need not list what its callees may raise. Signals that
 steer a loop rather than report a failure (a test's `AthrillCrash`, `ControllerGone`, `KernelExit`) are not
 errors and do not derive from it. Standard library only: the wire layer's own errors derive from it too.
 """

@@ -12,15 +12,15 @@ from typing import TYPE_CHECKING
 from hakoniwa.wire.errors import HakoError
 
 if TYPE_CHECKING:
-    from testctl.sampler import Sampler
+    from testctl.search.sampler import Sampler
 
 # name -> "module:class"; gpyopt, the paper's, is the default
 OPTIMIZERS = {
-    "gpyopt": "testctl.sampler:GPyOptSampler",
-    "random": "testctl.sampler:RandomSampler",
-    "tpe": "testctl.optuna_samplers:TPESampler",
-    "cmaes": "testctl.optuna_samplers:CmaEsSampler",
-    "optuna-gp": "testctl.optuna_samplers:GPSampler",
+    "gpyopt": "testctl.search.sampler:GPyOptSampler",
+    "random": "testctl.search.sampler:RandomSampler",
+    "tpe": "testctl.search.optuna_samplers:TPESampler",
+    "cmaes": "testctl.search.optuna_samplers:CmaEsSampler",
+    "optuna-gp": "testctl.search.optuna_samplers:GPSampler",
 }
 HELP = ("gpyopt: Bayesian optimization with EI (the paper's); tpe, cmaes, optuna-gp: Optuna's TPE, CMA-ES and "
         "GP samplers; random: uniform random search, the baseline")

@@ -32,16 +32,16 @@ from hakoniwa.wire.errors import HakoError
 from testctl.executor import Executor, SerialExecutor, TestSpec
 # The configuration lives apart so that --help can read its defaults without NumPy; importers of the campaign
 # find it here too.
-from testctl.campaign_config import PHASE_INIT as PHASE_INIT
-from testctl.campaign_config import CampaignConfig as CampaignConfig
-from testctl.journal import (JOURNAL_FILE, PHASE_VALIDATION, Journal, JournalError, TestRecord, now_timestamp,
+from testctl.campaign.config import PHASE_INIT as PHASE_INIT
+from testctl.campaign.config import CampaignConfig as CampaignConfig
+from testctl.campaign.journal import (JOURNAL_FILE, PHASE_VALIDATION, Journal, JournalError, TestRecord, now_timestamp,
                              read_journal)
 from testctl.noise_seed import noise_seed
-from testctl.objective import Verdict
+from testctl.campaign.objective import Verdict
 from testctl.result import TestResult
-from testctl.optimizers import make_sampler
-from testctl.sampler import RandomSampler, Sampler
-from testctl.space import ParameterSpace
+from testctl.search.optimizers import make_sampler
+from testctl.search.sampler import RandomSampler, Sampler
+from testctl.search.space import ParameterSpace
 
 MAX_BENCH_FAULTS_IN_A_ROW = 5  # then the bench is broken, not unlucky: stop rather than spin
 
@@ -136,7 +136,7 @@ class Campaign:
     `executor` runs the tests: an `Executor`, or simply a function TestSpec -> TestResult (run one at a time).
     `bench_info` describes the bench (course, program, time limit) for the journal's header: a resumed
     campaign runs on the same bench. `on_sets` is given every set decided so far: none at the start, then
-    whenever there are more (those of the journal first); the Optuna study mirror, `testctl.study`.
+    whenever there are more (those of the journal first); the Optuna study mirror, `testctl.campaign.study`.
     `header` holds further keys for a new journal's header that the campaign itself does not read.
     """
 

@@ -17,7 +17,7 @@ from typing import Any, overload
 
 import click
 
-from hakoniwa.clickutil import HELP, Float32, OneLineErrorsGroup, option_group, writable_file
+from hakoniwa.conventions import HELP, Float32, OneLineErrorsGroup, option_group, writable_file
 from hakoniwa.physics.options import BenchOptions, bench_options, pop_bench
 from hakoniwa.physics.video_options import VideoOptions, check_video_path, film_options
 from hakoniwa.wire.exits import exit_status
@@ -27,7 +27,7 @@ from testctl.launch import controller_command, run_physics
 from testctl import paper
 from testctl.options import (DEFAULT_DRAWS, MAX_DRAWS, SMOKE_DRAWS, campaign_options, make_out_dir, noise_options,
                              plan)
-from testctl.suite import DEFAULT_FILE
+from testctl.suite.cases import DEFAULT_FILE
 
 POWER = Float32(-100.0, 100.0)
 
@@ -224,8 +224,8 @@ def _run(benches: int | None, scheduler: str | None, validate: int | None, optio
     run_dir = p.out_dir / "run"
     from testctl.bench import Bench
     from testctl.cluster import ClusterError, DaskExecutor
-    from testctl.fingerprint import FILES_KEY
-    from testctl.session import run_campaign
+    from testctl.campaign.fingerprint import FILES_KEY
+    from testctl.campaign.session import run_campaign
 
     executor = DaskExecutor(bench, benches=None if scheduler else n, scheduler=scheduler)
     local = Bench(bench, run_dir)
@@ -268,8 +268,8 @@ def _test(test_file: Path, benches: int | None, scheduler: str | None, out: Path
     import datetime as dt
 
     from hakoniwa.wire.errors import HakoError
-    from testctl.suite import load_suite
-    from testctl.suite_session import RunBroken, run_suite
+    from testctl.suite.cases import load_suite
+    from testctl.suite.session import RunBroken, run_suite
 
     n = how_many_benches(benches, scheduler)
     try:
@@ -338,7 +338,7 @@ def dashboard(run_dirs: tuple[Path, ...], host: str, port: int) -> None:
     parameter importances, slice and contour plots, every set's tests and the trajectories of the sets that
     improved on the best. Live: a campaign still running shows each set as it is decided. Needs the
     dashboard extra: pip install -e '.[dashboard]'."""
-    from testctl.dashboard import make_app, make_server
+    from testctl.campaign.dashboard import make_app, make_server
     from testctl.interrupts import interrupts, stopped_by
 
     server = make_server(make_app(run_dirs), host, port)
@@ -371,7 +371,7 @@ def patch_writer(program):
     their offsets (nothing of it to patch)."""
     if program.tuning is None:
         return None
-    from testctl.patch import write_patch
+    from testctl.campaign.patch import write_patch
 
     return lambda path, values: write_patch(path, program.tuning, values)
 
@@ -435,7 +435,7 @@ def bench_info(bench: BenchOptions) -> dict:
 def recorded_files(stored: dict, bench: BenchOptions) -> dict:
     """The hashes of the bench's files, for the journal; a resume whose files are not the journal's is refused,
     naming them (a journal from before the hashes were recorded cannot be checked)."""
-    from testctl.fingerprint import FILES_KEY, changes, fingerprint
+    from testctl.campaign.fingerprint import FILES_KEY, changes, fingerprint
 
     files = fingerprint(bench, RECORDED_BENCH)
     if FILES_KEY in stored and (changed := changes(stored[FILES_KEY], files, bench)):
@@ -479,6 +479,3 @@ def _absolute(spec: str | None) -> str | None:
         return spec
     return str(Path(spec).resolve()) if Path(spec).exists() else spec
 
-
-if __name__ == "__main__":
-    main()

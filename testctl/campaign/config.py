@@ -1,6 +1,6 @@
 """What determines a campaign's sets and results: its configuration, as the journal's header records it.
 
-Apart from `testctl.campaign` (which needs NumPy) so that the command line can show these defaults in its
+Apart from `testctl.campaign.loop` (which needs NumPy) so that the command line can show these defaults in its
 help without importing anything heavy: `testctl.options` formats its help text from the fields below.
 """
 
@@ -12,10 +12,10 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from hakoniwa.wire.protocol import MAX_NOISE_SCALE
-from testctl.journal import JournalError
-from testctl.objective import RepetitionRule
-from testctl.optimizers import OPTIMIZERS
-from testctl.space import ParameterSpace
+from testctl.campaign.journal import JournalError
+from testctl.campaign.objective import RepetitionRule
+from testctl.search.optimizers import OPTIMIZERS
+from testctl.search.space import ParameterSpace
 
 PHASE_INIT = "init"  # the random initial design
 PHASE_BO = "bo"  # an optimization round, whichever sampler proposes it

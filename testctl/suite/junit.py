@@ -12,7 +12,7 @@ import xml.etree.ElementTree as ET
 from collections.abc import Sequence
 from pathlib import Path
 
-from testctl.suite_run import CaseRun
+from testctl.suite.run import CaseRun
 
 
 def junit_tree(suite_name: str, runs: Sequence[CaseRun]) -> ET.ElementTree:

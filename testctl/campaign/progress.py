@@ -14,7 +14,7 @@ import time
 from collections import deque
 from collections.abc import Callable
 
-from testctl.campaign import Progress
+from testctl.campaign.loop import Progress
 
 RECENT_TESTS = 30  # the window the rate is measured over
 DEFAULT_TESTS_PER_SET = 3.0  # before any set is decided: the paper's first-to-3

@@ -16,7 +16,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from testctl.space import ParameterSpace
+from testctl.search.space import ParameterSpace
 
 Point = tuple[float, ...]
 

@@ -1,6 +1,6 @@
 """Optuna's samplers as campaign optimizers: TPE, CMA-ES and Optuna's GP, driven by ask and tell.
 
-They keep the contract of `testctl/sampler.py`: a round's batch is a pure function of (seed, round, the
+They keep the contract of `testctl/search/sampler.py`: a round's batch is a pure function of (seed, round, the
 decided sets before it, q), and the first k points of a batch of q are the batch of k, so a resumed campaign
 proposes what an uninterrupted one would have. Each round therefore builds its Optuna study afresh, in memory,
 from the decided sets; nothing of an earlier process's sampler survives into it.
@@ -27,8 +27,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from testctl.sampler import Point, SeededSampler, _check_q, _rng
-from testctl.space import ParameterSpace
+from testctl.search.sampler import Point, SeededSampler, _check_q, _rng
+from testctl.search.space import ParameterSpace
 
 if TYPE_CHECKING:
     import optuna

@@ -11,22 +11,22 @@ from typing import TYPE_CHECKING
 
 import click
 
-from testctl.campaign import BenchBroken, Campaign, CampaignConfig, CampaignSummary, SetResult
+from testctl.campaign.loop import BenchBroken, Campaign, CampaignConfig, CampaignSummary, SetResult
 from testctl.executor import Executor, TestSpec
 from testctl.interrupts import on_stop_say, stopped_by
-from testctl.journal import JOURNAL_FILE
+from testctl.campaign.journal import JOURNAL_FILE
 from testctl.options import VALIDATE_KEY, CampaignPlan
-from testctl.progress import ProgressLine
+from testctl.campaign.progress import ProgressLine
 from testctl.result import TestResult
 from testctl.runner import PhysicsGone
 
 if TYPE_CHECKING:
-    from testctl.patch import PatchInfo
+    from testctl.campaign.patch import PatchInfo
 
 BEST_TRAJECTORY_PNG = "best_trajectory.png"
 # Runs one test on a local bench and returns its result and the run directory holding its trajectory.
 TrialOnce = Callable[[TestSpec], tuple[TestResult, Path]]
-# Writes best.patch for the best set's values ({name: value}) and says what it sets (testctl.patch.PatchInfo).
+# Writes best.patch for the best set's values ({name: value}) and says what it sets (testctl.campaign.patch.PatchInfo).
 PatchWriter = Callable[[Path, dict[str, float]], "PatchInfo"]
 
 
@@ -41,11 +41,11 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
     values in the program's own files), validate the best set on `validate` fresh noise draws, draw the
     best set, and print the summary. Every way it can stop short is a one-line error with a non-zero exit
     and the command that continues it."""
-    from testctl.patch import BEST_PATCH
-    from testctl.report import BEST_JSON, format_summary, write_best_json, write_report
-    from testctl.study import STUDY_FILE, StudyMirror, attach
-    from testctl.suite_run import BenchFault
-    from testctl.validate import VALIDATION_PNG, draw_validation, validate_best
+    from testctl.campaign.patch import BEST_PATCH
+    from testctl.campaign.report import BEST_JSON, format_summary, write_best_json, write_report
+    from testctl.campaign.study import STUDY_FILE, StudyMirror, attach
+    from testctl.suite.run import BenchFault
+    from testctl.campaign.validate import VALIDATION_PNG, draw_validation, validate_best
 
     on_stop_say(resume_hint(p.out_dir))
     validation = None
@@ -132,7 +132,7 @@ def trial_for_picture(trial_once: TrialOnce, spec: TestSpec, tries: int = 2) -> 
     a damaged file) says nothing of the set, so the test runs again on the rebuilt bench before the campaign
     gives up with one line."""
     from hakoniwa.wire.protocol import LayoutError
-    from testctl.suite_run import BenchFault
+    from testctl.suite.run import BenchFault
 
     for attempt in range(1, tries + 1):
         try:

@@ -1,7 +1,7 @@
 """`hako dashboard RUN_DIR...`: optuna-dashboard on the studies of several campaigns at once, live.
 
 optuna-dashboard serves one storage and one artifact store; each campaign has its own (`optuna.log`,
-`optuna-artifacts/`, `testctl.study`). So the campaigns' storages are put behind one (`CampaignStorages`):
+`optuna-artifacts/`, `testctl.campaign.study`). So the campaigns' storages are put behind one (`CampaignStorages`):
 study and trial ids are interleaved (id = local id x n + k for campaign k of n), every call goes to the
 campaign that owns the id, and each campaign's JournalStorage reads what its campaign appended since the last
 call, which is what makes the page live while a campaign runs. Artifacts are looked up in every campaign's
@@ -24,8 +24,8 @@ from typing import TYPE_CHECKING, Any, BinaryIO
 from optuna.storages import BaseStorage
 
 from hakoniwa.wire.errors import HakoError
-from testctl.journal import JOURNAL_FILE
-from testctl.study import ARTIFACT_DIR, STUDY_FILE, open_storage
+from testctl.campaign.journal import JOURNAL_FILE
+from testctl.campaign.study import ARTIFACT_DIR, STUDY_FILE, open_storage
 
 if TYPE_CHECKING:
     from optuna.study import StudyDirection

@@ -19,7 +19,7 @@ from typing import Any
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
-from testctl.campaign import PHASE_INIT, CampaignSummary, SetResult
+from testctl.campaign.loop import PHASE_INIT, CampaignSummary, SetResult
 
 RESULTS_CSV = "results.csv"
 BEST_JSON = "best.json"
@@ -76,7 +76,7 @@ def write_best_json(path: Path, summary: CampaignSummary, validation: dict[str, 
 def best_dict(summary: CampaignSummary, validation: dict[str, Any] | None = None,
               patch: dict[str, Any] | None = None) -> dict[str, Any]:
     """best.json: the best set's parameters (searched and fixed, by name and by slot offset) and lap, how
-    each reaches the program (`kinds`), how it fared on fresh noise draws (`testctl.validate`) once it was
+    each reaches the program (`kinds`), how it fared on fresh noise draws (`testctl.campaign.validate`) once it was
     validated, and what best.patch sets where."""
     space = summary.config.space
     best = summary.best

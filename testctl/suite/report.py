@@ -9,8 +9,8 @@ from pathlib import Path
 from typing import Any
 
 from testctl.result import TestResult
-from testctl.suite import case_folder
-from testctl.suite_run import CaseRun
+from testctl.suite.cases import case_folder
+from testctl.suite.run import CaseRun
 
 PASS, FAIL = "pass", "FAIL"
 LAPS_PNG = "laps.png"

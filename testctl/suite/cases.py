@@ -39,13 +39,13 @@ from typing import Any
 
 import click
 
-from hakoniwa.clickutil import NOISE_SCALE
+from hakoniwa.conventions import NOISE_SCALE
 from hakoniwa.physics.options import BENCH_FIELDS, BenchOptions, bench_options
 from hakoniwa.wire.errors import HakoError
-from testctl.expect import Expectation, ExpectationError, parse_expectation
-from testctl.journal import JOURNAL_FILE, JournalError, read_journal
+from testctl.suite.expect import Expectation, ExpectationError, parse_expectation
+from testctl.campaign.journal import JOURNAL_FILE, JournalError, read_journal
 from testctl.noise_seed import SEED_BITS, noise_seed
-from testctl.space import ParameterSpace, SpaceError
+from testctl.search.space import ParameterSpace, SpaceError
 
 DEFAULT_FILE = "hako-tests.toml"
 MACHINE_FIELDS = ("athrill2", "athrill_timeout_s")  # the machine's business: command line only
@@ -210,7 +210,7 @@ def _params(keys: Mapping[str, Any], folder: Path
 
 
 def _best_set(campaign: Path) -> tuple[ParameterSpace, dict[str, float]]:
-    from testctl.report import BEST_JSON  # matplotlib: only for a case that reads a campaign
+    from testctl.campaign.report import BEST_JSON  # matplotlib: only for a case that reads a campaign
 
     best_file = campaign / BEST_JSON
     try:
