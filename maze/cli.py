@@ -21,9 +21,9 @@ from .compare import WallDiff, compare
 from .direction import LETTER
 from .errors import MazeError, MazelogError
 from .mazefile import dump_maze
-from .mazeio import read_maze
+from .mazeio import is_maze_file, read_maze, write_maze
 from .mazejson import maze_to_json
-from .model import Cell, Maze, central_goals, inner_wall_count
+from .model import Cell, Maze, central_goals, goals_text, inner_wall_count
 from .mouseparams import MouseParams, load_mouse
 from .outputs import atomic_open, refuse_overwrite, write_bytes, write_text
 from .restore import LoadedLog, load_log, restore, select
@@ -284,15 +284,9 @@ def show(mazefile: Path, png: Path | None, out: Path | None, strict: bool) -> No
     refuse_overwrite({"MAZE": mazefile}, {"--png": png, "--out": out})
     maze = load_maze(mazefile, strict)
     if out is not None:
-        from .mazeformats import dump_maz, dump_num
-
-        suffix = out.suffix.lower()
-        if suffix == ".maz":
-            write_bytes(out, dump_maz(maze))
-        else:
-            write_text(out, dump_num(maze) if suffix == ".num" else dump_maze(maze))
-    goals = " ".join(f"({x},{y})" for x, y in maze.goals)
-    click.echo(text_view(maze, None, f"{maze.size}x{maze.size}, start {maze.start}, goal {goals}"), nl=False)
+        write_maze(out, maze)
+    click.echo(text_view(maze, None, f"{maze.size}x{maze.size}, start {maze.start}, goal {goals_text(maze.goals)}"),
+               nl=False)
     if png is not None:
         from .render import save_png
 
@@ -306,8 +300,7 @@ def mazes() -> None:
     width = max(map(len, names))
     for name in names:
         maze = read_maze(builtin_path(name))
-        goals = " ".join(f"({x},{y})" for x, y in maze.goals)
-        click.echo(f"{name:{width}}  {maze.size}x{maze.size}  goal {goals}")
+        click.echo(f"{name:{width}}  {maze.size}x{maze.size}  goal {goals_text(maze.goals)}")
 
 
 @main.command()
@@ -599,38 +592,37 @@ def echo_mouse_paths(sensed: Maze, truth: Maze, objective: str, diagonal: bool, 
 
 
 def write_mouse_logs(run: MouseRun, log_path: Path, belief_path: Path, power_cut: int | str | None) -> str:
+    """The belief log, and the wall log (or the flash image a power cut leaves, at a byte or at the first reset);
+    what was written."""
     world = run.world
-    records = world.records
     write_bytes(belief_path, encode_log(world.belief))
-    data = encode_log(records)
-    if power_cut is None or (power_cut == "reset" and not world.resets):
-        write_bytes(log_path, data)
-        never = " (no reset happened, so no power cut)" if power_cut is not None else ""
-        return f"{len(records)} records, {len(data)} bytes (the walls the program was told){never} -> {log_path}"
-    from .flash import cut_log
-
-    cut = world.records_at_first_reset * RECORD_BYTES + 1 if power_cut == "reset" else int(power_cut)
-    image, written = cut_log(records, world.truth.size, cut)
-    write_bytes(log_path, image)
-    return (f"{written // RECORD_BYTES} of {len(records)} records written before the power cut at byte {cut}"
-            f"{' (a torn record after them)' if written % RECORD_BYTES else ''}; flash image {len(image)} bytes "
-            f"-> {log_path}")
+    told = " (the walls the program was told)"
+    if power_cut == "reset" and not world.resets:
+        never = " (no reset happened, so no power cut)"
+        return write_log(world.records, world.truth.size, log_path, None, told + never)
+    cut = world.records_at_first_reset * RECORD_BYTES + 1 if power_cut == "reset" else power_cut
+    assert not isinstance(cut, str)
+    return write_log(world.records, world.truth.size, log_path, cut, told)
 
 
 def write_search_log(result: SearchResult, log_path: Path, power_cut: int | str | None) -> str:
-    """Write the log (or the flash image a power cut leaves) and say what was written."""
-    data = encode_log(result.records)
-    total = len(result.records)
-    if power_cut is None:
+    assert not isinstance(power_cut, str)  # 'reset' is refused without --mouse
+    return write_log(result.records, result.maze.size, log_path, power_cut)
+
+
+def write_log(records: list[WallRecord], size: int, log_path: Path, cut: int | None, note: str = "") -> str:
+    """Write the log, or the flash image a power cut before byte `cut` leaves, and say what was written (`note`
+    after the size of a whole log)."""
+    data = encode_log(records)
+    if cut is None:
         write_bytes(log_path, data)
-        return f"{total} records, {len(data)} bytes -> {log_path}"
+        return f"{len(records)} records, {len(data)} bytes{note} -> {log_path}"
     from .flash import cut_log
 
-    assert isinstance(power_cut, int)  # 'reset' is refused without --mouse
-    image, written = cut_log(result.records, result.maze.size, power_cut)
+    image, written = cut_log(records, size, cut)
     write_bytes(log_path, image)
     torn = f" and {written % RECORD_BYTES} byte of the next" if written % RECORD_BYTES else ""
-    return (f"{written // RECORD_BYTES} of {total} records written before the power cut at byte {power_cut}{torn}; "
+    return (f"{written // RECORD_BYTES} of {len(records)} records written before the power cut at byte {cut}{torn}; "
             f"flash image {len(image)} bytes -> {log_path}")
 
 
@@ -651,14 +643,6 @@ def draw_search(result: SearchResult, truth: Maze, mazefile: Path, strategy: str
              overlay=overlay)
 
 
-def is_text(data: bytes) -> bool:
-    try:
-        data.decode("utf-8")
-    except UnicodeDecodeError:
-        return False
-    return True
-
-
 def read_maze_or_log(path: Path, size: int | None, truth: Maze | None, strict: bool) -> tuple[Maze, str, str]:
     """A maze file (text that starts with a post, or .num / .maz), else a binary wall log of --size (or of the
     --maze's size, whose start and goal it then takes: a log records neither). Returns the maze, what the file
@@ -666,7 +650,7 @@ def read_maze_or_log(path: Path, size: int | None, truth: Maze | None, strict: b
     data = path.read_bytes()
     if not data:
         raise MazeError(f"{path}: empty file (neither a maze file nor a wall log with any record)")
-    if (data[:1] in (b"o", b"+") and is_text(data)) or path.suffix.lower() in (".num", ".maz"):
+    if is_maze_file(path, data):
         if size is not None or truth is not None:
             raise click.UsageError("--size and --maze are for a wall log; a maze file has its own")
         return load_maze(path, strict), "maze file", ""
@@ -727,8 +711,8 @@ def path(source: Path, size: int | None, objective: str, diagonal: bool, timing_
         route = run_of_cells(maze, cells, diagonal, timing) if cells else None
     if route is None:
         raise MazeError("no path from the start to the goal through walls known to be open")
-    goals = " ".join(f"({x},{y})" for x, y in maze.goals)
-    click.echo(f"maze:      {source.name} ({kind}), {maze.size}x{maze.size}, start {maze.start}, goal {goals}"
+    click.echo(f"maze:      {source.name} ({kind}), {maze.size}x{maze.size}, start {maze.start}, "
+               f"goal {goals_text(maze.goals)}"
                + (" (assumed)" if assumed else ""))
     click.echo(f"objective: {objective_words(objective, diagonal, timing)}")
     click.echo(f"time:      {route.seconds:.3f} s (fast run under the model)")

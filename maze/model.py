@@ -100,6 +100,11 @@ def central_goals(size: int) -> tuple[Cell, ...]:
     return tuple((x, y) for y in sorted({lo, hi}) for x in sorted({lo, hi}))
 
 
+def goals_text(goals: tuple[Cell, ...]) -> str:
+    """Goal cells as the commands print them: `(7,7) (8,7) ...` (`--goal` takes each as X,Y)."""
+    return " ".join(f"({x},{y})" for x, y in goals)
+
+
 class Maze:
     def __init__(self, size: int, start: Cell = (0, 0), goals: tuple[Cell, ...] = ()) -> None:
         if not 1 <= size <= COORD_LIMIT:

@@ -10,7 +10,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from maze.builtin import builtin_path
-from maze.fastpath import G, MoveGraph, move_graph
+from maze.fastpath import MoveGraph, move_graph
+from maze.fastpath_build import G
 from maze.mazefile import parse_maze
 from maze.model import Maze
 from maze.mouseparams import load_mouse
@@ -19,17 +20,17 @@ from maze.stepmap import optimistic, pessimistic
 
 def plain_fastest(graph: MoveGraph, maze: Maze) -> float:
     """Textbook Dijkstra over the edges `fastest` just found open, at their prices, to the first goal-layer node."""
-    q = graph._query(maze.start, maze.goals)
-    indptr, indices = q.graph.indptr, q.graph.indices
-    prices = [price if ok else math.inf for price, ok in zip(q.graph.data, q.valid)]
-    dist = {graph.start_node: 0.0}
-    heap = [(0.0, graph.start_node)]
+    q = graph.search.query_graph(maze.start, maze.goals)
+    indptr, indices = q.prices.indptr, q.prices.indices
+    prices = [price if ok else math.inf for price, ok in zip(q.prices.data, q.open)]
+    dist = {graph.static.start_node: 0.0}
+    heap = [(0.0, graph.static.start_node)]
     done = set()
     while heap:
         d, u = heapq.heappop(heap)
         if u in done:
             continue
-        if u // graph.layer == G:
+        if u // graph.static.layer_size == G:
             return d
         done.add(u)
         for j in range(indptr[u], indptr[u + 1]):

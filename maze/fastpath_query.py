@@ -1,0 +1,260 @@
+"""One fastest-path query on the move graph (maze/fastpath_build.py): which edges its walls leave open, A* to the
+goal, and the nodes and times of the fastest route (maze/fastpath.py says why it is searched this way)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.sparse import csr_array
+from scipy.sparse.csgraph import dijkstra
+
+from .direction import ALONG, STEP
+from .fastpath_build import B, G, StaticGraph, entered_cell
+from .model import Cell
+from .motion import straight_seconds
+
+MAX_QUERY_GRAPHS = 4  # (start, goals) pairs kept per move graph: a search has one, `path` of a cell run another
+TIME_SLACK = 1e-9  # rounding in reduced prices must not leave out a node of an equally fast route
+LIMIT_GROWTH = 2.0  # how much the search limit grows when the goal lies beyond it
+HINT_MARGIN = 1.25  # the first limit over the last answer: a search's walls only ever make its run slower
+LIMIT_TRIES = 16  # then no limit: a route that slow is unlikely, and without one the goal may be out of reach
+
+
+def _with_slack(seconds: float) -> float:
+    """A time a little over `seconds`: reduced times carry rounding of their own."""
+    return seconds + TIME_SLACK * (1 + seconds)
+
+
+@dataclass
+class StartEdges:
+    """Straights from a standing start in the start cell's centre: the n-th of a heading needs its first wall
+    open and n - 1 open walls after it, ahead of node `run_from`."""
+
+    dst: np.ndarray
+    run_from: np.ndarray
+    open_needed: np.ndarray
+    first_wall: np.ndarray
+    seconds: np.ndarray
+
+
+@dataclass
+class QueryGraph:
+    """The CSR graph of one start and goal set, and per edge (in its row order) what must be open for it: for a
+    straight, `open_needed` open walls ahead of node `run_from`; for a turn, its walls (`turn_walls`, one row
+    per wall crossed); for a start edge, its first wall too. `prices` holds the prices (they depend on the mouse
+    only); `open` marks the edges the last query's walls leave open; `astar` has the same edges, with the
+    reduced prices for A* where open and infinity elsewhere; `reduced` is each edge's reduced price,
+    `start_bound` the bound at the start; `hint` is the last query's reduced time to the goal, where the next
+    one's limit starts (walls change a few at a time)."""
+
+    prices: csr_array
+    astar: csr_array
+    reduced: np.ndarray
+    open: np.ndarray
+    start_bound: float
+    hint: float | None
+    before_turns: int  # straights (rows of A) before the turns; the chain's (rows of C) after them
+    run_from: np.ndarray
+    open_needed: np.ndarray
+    turn_walls: np.ndarray
+    start: StartEdges
+
+
+class FastestSearch:
+    """The queries of one move graph: the graph of each start and goal set is built once and kept."""
+
+    def __init__(self, graph: StaticGraph) -> None:
+        self.graph = graph
+        self._goal_masks: dict[tuple[Cell, ...], np.ndarray] = {}
+        self._local = np.zeros(graph.start_node + 1, dtype=np.int32)
+        self._queries: dict[tuple[Cell, tuple[Cell, ...]], QueryGraph] = {}
+
+    def _goal_mask(self, goals: tuple[Cell, ...]) -> np.ndarray:
+        """Which straights end in a goal cell."""
+        if goals not in self._goal_masks:
+            flat = [y * self.graph.size + x for x, y in goals]
+            self._goal_masks[goals] = np.isin(self.graph.straights.end_cell, flat)
+        return self._goal_masks[goals]
+
+    def _runs(self, open_ext: np.ndarray) -> np.ndarray:
+        """Open walls straight ahead of every node: along each line, the distance to its next closed crossing."""
+        g = self.graph
+        width = g.line_walls.shape[1]
+        position = np.arange(width, dtype=np.int16)
+        closed_at = np.where(open_ext[g.line_walls], np.int16(width), position)
+        next_closed = np.minimum.accumulate(closed_at[:, ::-1], axis=1)[:, ::-1]
+        run = np.zeros(g.layer_size, dtype=np.int16)
+        run[g.line_nodes] = (next_closed - position)[g.on_line]
+        return run
+
+    def query_graph(self, start: Cell, goals: tuple[Cell, ...]) -> QueryGraph:
+        """The whole graph for one start and goal set, in row order, built once: a query only prices its edges
+        (infinite where a wall blocks them), so no sparse matrix is assembled per query."""
+        key = (start, goals)
+        if key not in self._queries:
+            if len(self._queries) >= MAX_QUERY_GRAPHS:
+                self._queries.pop(next(iter(self._queries)))
+            self._queries[key] = self._build_query(start, goals)
+        return self._queries[key]
+
+    def _build_query(self, start: Cell, goals: tuple[Cell, ...]) -> QueryGraph:
+        g, straights, chain, turns = self.graph, self.graph.straights, self.graph.chain, self.graph.turns
+        to_goal = self._goal_mask(goals) & straights.direct_to_goal
+        in_goal = np.isin(chain.goal_cell, [y * g.size + x for x, y in goals])
+        in_chain = (chain.goal_cell < 0) | in_goal
+        # the straights' and the chain's edges all need open walls ahead; their rows (A, then C) come before and
+        # after the turns' (B) in the matrix, so they are kept as one array in row order with the turns between
+        src = np.concatenate([straights.src, straights.src[to_goal], chain.src[in_chain]])
+        order = np.argsort(src, kind="stable")
+        ahead_dst = np.concatenate([straights.dst + B * g.layer_size, straights.dst[to_goal] + G * g.layer_size,
+                                    chain.dst[in_chain]])[order]
+        run_from = np.concatenate([straights.run_from, straights.run_from[to_goal], chain.run_from[in_chain]])[order]
+        open_needed = np.concatenate([straights.open_needed, straights.open_needed[to_goal],
+                                      chain.open_needed[in_chain]])[order]
+        ahead_cost = np.concatenate([straights.seconds_to_turn, straights.seconds_to_goal[to_goal],
+                                     chain.seconds[in_chain]])[order]
+        turn_order = np.argsort(turns.src, kind="stable")
+        start_edges = self._start_edges(start, goals)
+        src = src[order]
+        before = int(np.searchsorted(src, B * g.layer_size))  # rows of A; those of C follow the turns
+        rows = np.concatenate([src[:before], turns.src[turn_order], src[before:],
+                               np.full(len(start_edges.dst), g.start_node)])
+        cols = np.concatenate([ahead_dst[:before], turns.dst[turn_order], ahead_dst[before:],
+                               start_edges.dst]).astype(np.int32)
+        n = g.start_node + 1
+        indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=n))]).astype(np.int32)
+        cost = np.concatenate([ahead_cost[:before], turns.seconds[turn_order], ahead_cost[before:],
+                               start_edges.seconds])
+        prices = csr_array((cost, cols, indptr), shape=(n, n))
+        astar = csr_array((np.zeros(len(cols)), cols, indptr), shape=(n, n))
+        q = QueryGraph(prices, astar, cost, np.zeros(len(cols), dtype=bool), 0.0, None, before, run_from,
+                       open_needed, turns.walls[turn_order].T.copy(), start_edges)
+        bound = self._time_bound(q)
+        with np.errstate(invalid="ignore"):  # an edge between nodes that never reach the goal: inf - inf
+            reduced = np.maximum(cost + bound[cols] - bound[rows], 0.0)
+        reduced[~np.isfinite(reduced)] = np.inf  # such an edge is never on a route
+        q.reduced, q.start_bound = reduced, float(bound[g.start_node])
+        return q
+
+    def _time_bound(self, q: QueryGraph) -> np.ndarray:
+        """Per node, the time left to the goal in the maze with only its outer walls (infinite where even that
+        never reaches it). Each query's open edges are some of these, at the same prices, so no route is faster
+        than the bound: the reduced prices price + bound(v) - bound(u) are never negative (up to rounding,
+        which is clamped) and A* stays exact."""
+        layer = self.graph.layer_size
+        outer_only = np.zeros(self.graph.walls, dtype=np.uint8)  # _open_edges closes the outer walls itself
+        prices = np.where(self._open_edges(q, outer_only), q.prices.data, np.inf)
+        back = csr_array((prices, q.prices.indices, q.prices.indptr), shape=q.prices.shape).T
+        indices = q.prices.indices
+        goal_layer = indices[(indices >= G * layer) & (indices < (G + 1) * layer)]
+        return dijkstra(csr_array(back), directed=True, indices=np.unique(goal_layer), min_only=True)
+
+    def _start_edges(self, start: Cell, goals: tuple[Cell, ...]) -> StartEdges:
+        """Straights from a standing start in the start cell's centre, along each of its four headings, of every
+        length: the n-th needs the first wall open and n - 1 open ones after it."""
+        g = self.graph
+        p = g.mouse.run
+        cx, cy = 2 * start[0] + 1, 2 * start[1] + 1
+        dst: list[int] = []
+        run_from: list[int] = []
+        open_needed: list[int] = []
+        first_wall: list[int] = []
+        cost: list[float] = []
+        goal_set = set(goals)
+        for h in ALONG:
+            dx, dy = STEP[h]
+            first = g.index(cx + dx, cy + dy)
+            for n in range(1, 2 * g.size + 1):
+                x, y = cx + (2 * n - 1) * dx, cy + (2 * n - 1) * dy
+                if not (0 <= x < g.side and 0 <= y < g.side):
+                    break
+                node = g.index(x, y) * 8 + h
+                metres = (n - 0.5) * g.mouse.cell
+                ends = [(node + B * g.layer_size,
+                         straight_seconds(metres, 0.0, p.turn_speed, p.top_speed, p.accel))]
+                if entered_cell((x, y), (x - dx, y - dy)) in goal_set:
+                    ends.append((node + G * g.layer_size,
+                                 straight_seconds(metres, 0.0, None, p.top_speed, p.accel)))
+                for end, seconds in ends:
+                    dst.append(end)
+                    run_from.append(first * 8 + h)
+                    open_needed.append(n - 1)
+                    first_wall.append(int(g.wall_at[first]))
+                    cost.append(seconds)
+        return StartEdges(np.array(dst, dtype=np.int64), np.array(run_from, dtype=np.int64),
+                          np.array(open_needed, dtype=np.int64), np.array(first_wall, dtype=np.int64),
+                          np.array(cost))
+
+    def _open_edges(self, q: QueryGraph, blocked: bytes | bytearray | np.ndarray) -> np.ndarray:
+        """Per edge (in row order), whether the walls not blocked let the mouse make it. The outer walls are
+        closed whatever `blocked` says: no move leaves the maze (and the bound relies on it)."""
+        open_ext = np.concatenate([np.frombuffer(bytes(blocked), dtype=np.uint8) == 0, [True, False]])
+        open_ext[self.graph.outer_walls] = False
+        run = self._runs(open_ext)
+        straights = run[q.run_from] >= q.open_needed
+        turns = open_ext[q.turn_walls[0]]
+        for walls in q.turn_walls[1:]:
+            turns &= open_ext[walls]
+        starts = open_ext[q.start.first_wall] & (run[q.start.run_from] >= q.start.open_needed)
+        return np.concatenate([straights[:q.before_turns], turns, straights[q.before_turns:], starts])
+
+    def price(self, q: QueryGraph, blocked: bytes | bytearray) -> None:
+        """Which edges the walls leave open, and the reduced prices for A* (infinite where a wall is blocked)."""
+        q.open = self._open_edges(q, blocked)
+        q.astar.data = np.where(q.open, q.reduced, np.inf)
+
+    def search(self, q: QueryGraph) -> tuple[list[int], list[float]] | None:
+        """The nodes of a fastest route and the time at each; None if the goal cannot be reached. A* on the
+        reduced prices finds how fast the goal can be reached and which nodes could lie on so fast a route;
+        a search on their prices, limited to that time, then settles them in the order a search of the whole
+        graph would (so that among equally fast routes it picks the same one, whatever A*'s limit was). That
+        search runs on the graph of those nodes alone, each row's edges in their order."""
+        reduced = self._reduced_search(q)
+        if reduced is None:
+            return None
+        layer = self.graph.layer_size
+        fastest = float(reduced[self._goal_node(reduced)])
+        kept = reduced <= _with_slack(fastest)
+        nodes = np.flatnonzero(kept)  # ascending: local numbers keep the global order
+        first = q.prices.indptr[nodes]
+        count = q.prices.indptr[nodes + 1] - first
+        row = np.repeat(np.arange(len(nodes)), count)
+        edge = np.arange(len(row)) + np.repeat(first - (np.cumsum(count) - count), count)
+        col = q.prices.indices[edge]
+        use = q.open[edge] & kept[col]
+        row, edge, col = row[use], edge[use], col[use]
+        indptr = np.concatenate([[0], np.cumsum(np.bincount(row, minlength=len(nodes)))])
+        local = self._local  # node -> its number in `nodes`; read only where kept
+        local[nodes] = np.arange(len(nodes), dtype=np.int32)
+        sub = csr_array((q.prices.data[edge], local[col], indptr), shape=(len(nodes), len(nodes)))
+        dist, pred = dijkstra(sub, directed=True, indices=len(nodes) - 1, return_predecessors=True,
+                              limit=_with_slack(fastest + q.start_bound))  # the start node is the last node
+        in_goal = np.flatnonzero((nodes >= G * layer) & (nodes < (G + 1) * layer))
+        at = [int(in_goal[np.argmin(dist[in_goal])])]  # the lowest-numbered of equals, as _goal_node
+        while at[-1] != len(nodes) - 1:
+            at.append(int(pred[at[-1]]))
+        at.reverse()
+        return nodes[at].tolist(), dist[at].tolist()
+
+    def _reduced_search(self, q: QueryGraph) -> np.ndarray | None:
+        """A* up to the goal: the reduced times; None if the goal cannot be reached. The limit
+        (on reduced time) only leaves out nodes whose time plus bound exceeds it, so the first limit that
+        reaches the goal finds a fastest route. A query with every wall it needs open has a reduced time of 0;
+        the first limit is at least one cell at top speed. A limit the goal lies beyond costs a whole search,
+        and the walls a search finds only ever slow its fastest run, so the first limit has a margin over the
+        last answer; the route does not depend on the limit (`search`)."""
+        mouse = self.graph.mouse
+        limit = max((q.hint or 0.0) * HINT_MARGIN, mouse.cell / mouse.run.top_speed)
+        for limit in [limit * LIMIT_GROWTH ** k for k in range(LIMIT_TRIES)] + [np.inf]:
+            dist = dijkstra(q.astar, directed=True, indices=self.graph.start_node, limit=limit)
+            best = self._goal_node(dist)
+            if np.isfinite(dist[best]):
+                q.hint = float(dist[best])
+                return dist
+        return None
+
+    def _goal_node(self, dist: np.ndarray) -> int:
+        """The node of the goal layer reached first (the lowest-numbered of equals)."""
+        layer = self.graph.layer_size
+        return int(np.argmin(dist[G * layer: (G + 1) * layer])) + G * layer

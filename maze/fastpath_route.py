@@ -1,0 +1,95 @@
+"""A route as the commands print it: the nodes and times a query found (maze/fastpath_query.py) decoded into moves,
+the wall points crossed, the walls and the cells entered."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+from .direction import ALONG, STEP
+from .fastpath_build import B, G, StaticGraph, entered_cell
+from .model import Cell
+from .motion import TURNS
+
+
+@dataclass(frozen=True)
+class Move:
+    token: str  # S3 (3 cells along the walls), D2 (2 diagonal steps), R90, L45, RV90, ...
+    cells: float  # path length in cells
+    seconds: float
+
+
+@dataclass(frozen=True)
+class Route:
+    moves: list[Move]
+    seconds: float
+    points: list[tuple[int, int]]  # half-cell coordinates: the start cell's centre, then every wall crossed
+    walls: list[int]  # wall ids crossed, in order
+    cells: list[Cell]  # the start cell, then each cell entered
+
+    @property
+    def length(self) -> float:
+        return sum(m.cells for m in self.moves)
+
+    @property
+    def sequence(self) -> str:
+        return " ".join(m.token for m in self.moves)
+
+
+class RouteDecoder:
+    """Turns a path of nodes of one move graph into a Route."""
+
+    def __init__(self, graph: StaticGraph) -> None:
+        self.graph = graph
+
+    @cached_property
+    def _wall_ids(self) -> list[int]:
+        return self.graph.wall_at.tolist()
+
+    @cached_property
+    def _turn_shape_of(self) -> dict[tuple[int, int], int]:
+        """(source node, destination node) of a turn edge -> its shape's index."""
+        turns = self.graph.turns
+        return dict(zip(zip(turns.src.tolist(), turns.dst.tolist()), turns.shape.tolist()))
+
+    def _edge(self, u: int, v: int, start: Cell) -> tuple[list[tuple[int, int]], str, float]:
+        """The walls a start or turn edge u->v crosses (as points), its token and its length in cells."""
+        g = self.graph
+        (vx, vy), h = g.point(v)
+        if u == g.start_node:
+            cx, cy = 2 * start[0] + 1, 2 * start[1] + 1
+            dx, dy = STEP[h]
+            n = (abs(vx - cx) + abs(vy - cy) + 1) // 2
+            return [(cx + (2 * k - 1) * dx, cy + (2 * k - 1) * dy) for k in range(1, n + 1)], f"S{n - 0.5:g}", n - 0.5
+        (ux, uy), _ = g.point(u)
+        shape = g.shapes[self._turn_shape_of[(u, v)]]
+        return [(ux + ox, uy + oy) for ox, oy in shape.offsets], shape.token, TURNS[shape.name].cells
+
+    def route(self, nodes: list[int], times: list[float], start: Cell) -> Route:
+        """The moves of a route: a straight is its pieces (A to B or G directly, or through the chain in C)
+        joined, its walls counted from where it began."""
+        g = self.graph
+        points = [(2 * start[0] + 1, 2 * start[1] + 1)]
+        moves: list[Move] = []
+        begin, length = 0, 0.0  # the step the straight being joined began at, and its cells so far
+        for i, (u, v) in enumerate(zip(nodes, nodes[1:])):
+            if u == g.start_node or u // g.layer_size == B:
+                crossed, token, cells = self._edge(u, v, start)
+                points += crossed
+                moves.append(Move(token, cells, times[i + 1] - times[i]))
+                begin, length = i + 1, 0.0
+                continue
+            (ux, uy), h = g.point(u)
+            (vx, vy), _ = g.point(v)
+            sx, sy = g.stride(h)
+            length += max(abs(vx - ux) // max(abs(sx), 1), abs(vy - uy) // max(abs(sy), 1)) * g.unit(h)
+            if v // g.layer_size in (B, G):  # the straight ends here
+                (bx, by), _ = g.point(nodes[begin])
+                steps = max(abs(vx - bx) // max(abs(sx), 1), abs(vy - by) // max(abs(sy), 1))
+                points += [(bx + k * sx, by + k * sy) for k in range(1, steps + 1)]
+                if steps:
+                    moves.append(Move(f"{'S' if h in ALONG else 'D'}{steps}", length, times[i + 1] - times[begin]))
+        cells = [start] + [entered_cell(p, q) for q, p in zip(points, points[1:])]
+        wall_ids = self._wall_ids
+        walls = [wall_ids[y * g.side + x] for x, y in points[1:]]
+        return Route(moves, times[-1], points, walls, cells)
