@@ -764,7 +764,7 @@ def bench(mazes: tuple[Path, ...], programs: tuple[str, ...], strategies: tuple[
     one CSV row per run, totals and who is best where."""
     from multiprocessing import Pool
 
-    from .bench import Entrant, Job, default_jobs, entrant_folder, maze_files, run_job, summary, write_csv
+    from .benchmark import Entrant, Job, default_jobs, entrant_folder, maze_files, run_job, summary, write_csv
     from .harness import program_argv
 
     if not programs and not strategies:

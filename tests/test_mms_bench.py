@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from maze.bench import commands_for
+from maze.benchmark import commands_for
 from maze.builtin import builtin_names, builtin_path
 from maze.cli import main
 from maze.explorer import explore
