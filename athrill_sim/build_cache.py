@@ -10,8 +10,8 @@ import hashlib
 import os
 import shutil
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 from athrill_sim.native import NativeBuildError
 from athrill_sim.v850 import ImageError

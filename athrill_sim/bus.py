@@ -9,8 +9,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from hakoniwa.wire.protocol import (ATHRILL_FILE, UNITY_FILE, MappedFile, LayoutError, guest_to_body, open_athrill,
-                               open_unity)
+from hakoniwa.wire.protocol import (
+    ATHRILL_FILE,
+    UNITY_FILE,
+    LayoutError,
+    MappedFile,
+    guest_to_body,
+    open_athrill,
+    open_unity,
+)
 
 
 class BusError(LayoutError):

@@ -73,7 +73,8 @@ def find_global(image: Path, name: str, *, need_reads: bool) -> Global:
             raise BindingError(f"symbol {name}: {image} has no symbol table (stripped?); build it without -s")
         variables = _variables(typed) if typed.has_dwarf_info() else {}
         prefix = "_" if elf.header["e_machine"] in V850_MACHINES else ""  # the v850 ABI's C names begin with _
-        found = [(i, s) for i, s in _named(symtab, name, prefix) if s["st_info"]["type"] in ("STT_OBJECT", "STT_NOTYPE")]
+        found = [(i, s) for i, s in _named(symtab, name, prefix)
+                 if s["st_info"]["type"] in ("STT_OBJECT", "STT_NOTYPE")]
         if not found:
             if name in variables:
                 raise BindingError(f"symbol {name}: the compiler folded every use of it into the code (a const, "

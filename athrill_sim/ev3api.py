@@ -14,17 +14,35 @@ from __future__ import annotations
 import sys
 
 from athrill_sim.bus import MemoryBus
-from athrill_sim.kernel import Kernel
-from hakoniwa.wire.protocol import MOTOR_PORTS, RX_GUEST_BASE, TX_GUEST_BASE, Rx, Tx
-
 from athrill_sim.ev3brick import BrickApi
 from athrill_sim.ev3fs import FsApi
 from athrill_sim.ev3lcd import LcdApi
 from athrill_sim.ev3serial import SerialApi
-from athrill_sim.ev3types import (COLOR_SENSOR, E_ID, E_OBJ, E_OK, E_PAR, E_TMOUT, GYRO_SENSOR, LED_GREEN, LED_RED,
-                                  NONE_MOTOR, NONE_SENSOR, SENSOR_PORTS, TMO_FEVR, TOUCH_SENSOR, TOUCH_THRESHOLD,
-                                  ULTRASONIC_SENSOR, UNREGULATED_MOTOR, LEFT_BUTTON, BACK_BUTTON, RgbRaw)
-from athrill_sim.ev3types import *  # noqa: F401,F403  programs take EV3RT's names from here, as from ev3api.h
+from athrill_sim.ev3types import *  # noqa: F403  programs take EV3RT's names from here, as from ev3api.h
+from athrill_sim.ev3types import (
+    BACK_BUTTON,
+    COLOR_SENSOR,
+    E_ID,
+    E_OBJ,
+    E_OK,
+    E_PAR,
+    E_TMOUT,
+    GYRO_SENSOR,
+    LED_GREEN,
+    LED_RED,
+    LEFT_BUTTON,
+    NONE_MOTOR,
+    NONE_SENSOR,
+    SENSOR_PORTS,
+    TMO_FEVR,
+    TOUCH_SENSOR,
+    TOUCH_THRESHOLD,
+    ULTRASONIC_SENSOR,
+    UNREGULATED_MOTOR,
+    RgbRaw,
+)
+from athrill_sim.kernel import Kernel
+from hakoniwa.wire.protocol import MOTOR_PORTS, RX_GUEST_BASE, TX_GUEST_BASE, Rx, Tx
 
 
 def c_div(a: int, b: int) -> int:

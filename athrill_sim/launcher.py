@@ -14,8 +14,8 @@ import subprocess
 import threading
 from pathlib import Path
 
-from hakoniwa.wire.output import CappedOutput
 from athrill_sim.programs import Program
+from hakoniwa.wire.output import CappedOutput
 from hakoniwa.wire.rundir import ATHRILL_LOG
 
 

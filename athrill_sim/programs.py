@@ -349,8 +349,8 @@ def program_recipe(spec: str, *, athrill2: str | None = None, emulator: str | No
                 raise ProgramError(f"--app {spec}: a v850 image runs only in the real emulator (--emulator athrill2)")
             return Recipe("elf", path, lambda image, _flags: elf_program(_given(image), athrill2, real_sync, udp),
                           real_sync)
-        raise ProgramError(f"--app {spec}: not a v850 ELF image, a C or C++ file (.c, .cpp), a built-in app ({builtins}) "
-                           "or module:function")
+        raise ProgramError(f"--app {spec}: not a v850 ELF image, a C or C++ file (.c, .cpp), a built-in app "
+                           f"({builtins}) or module:function")
     if emulator == "athrill2":
         raise ProgramError(f"--app {spec}: --emulator athrill2 runs EV3RT C and C++ programs (app.c, app.cpp, a "
                            "workspace folder, line_trace_c) and v850 images, not Python programs")

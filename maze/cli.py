@@ -9,8 +9,9 @@ from __future__ import annotations
 
 import os
 import sys
+from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 
@@ -407,7 +408,8 @@ def objective_words(objective: str, diagonal: bool, mouse: MouseParams) -> str:
               help="Run this mms-protocol program (e.g. \"python3 Main.py\") as the mouse, unchanged, instead of "
                    "a built-in strategy; its stderr goes to LOG's name with .stderr.txt.")
 @click.option("--strategy", type=click.Choice(list(STRATEGIES)), default=None,
-              help="Built-in strategy [default: stop]: " + "; ".join(f"{k}: {v.description}" for k, v in STRATEGIES.items()))
+              help="Built-in strategy [default: stop]: "
+                   + "; ".join(f"{k}: {v.description}" for k, v in STRATEGIES.items()))
 @objective_option
 @diagonal_option
 @timing_option
@@ -692,7 +694,7 @@ def path(source: Path, size: int | None, objective: str, diagonal: bool, timing_
 
     Moves: S<n> n cells along the walls, D<n> n diagonal steps (wall to wall, 0.71 cell each), R/L for right and
     left turns: 90s (inside a cell), 90, 180, 45, 135, V90 (slaloms)."""
-    from .fastpath import run_of_cells, fastest_route
+    from .fastpath import fastest_route, run_of_cells
     from .stepmap import pessimistic, shortest_path
 
     refuse_overwrite({"MAZE_OR_LOG": source, "--maze": truth_path}, {"--png": png})
@@ -724,7 +726,7 @@ def path(source: Path, size: int | None, objective: str, diagonal: bool, timing_
 
 def wrap_title(text: str, size: int) -> list[str]:
     """Title lines that fit the picture's width, broken between moves."""
-    from .render import title_width, text_width
+    from .render import text_width, title_width
 
     lines, line = [], ""
     for word in text.split():

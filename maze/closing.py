@@ -8,7 +8,6 @@ from collections import deque
 from .model import Maze
 from .stepmap import UNREACHED, optimistic, step_map
 
-
 Branch = tuple[int, list[tuple[int, int]]]  # (branch cell, [(wall id, cell beyond), ...])
 
 

@@ -8,8 +8,9 @@ or the fastest run under the time model (maze/fastpath.py).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING
 
 from .closing import close_dead_ends, nearest_branch
 from .direction import DIRECTIONS, NORTH, opposite
@@ -17,8 +18,18 @@ from .errors import MazeError
 from .model import Cell, Maze
 from .motion import SearchRun, search_run
 from .mouseparams import MouseParams, load_mouse
-from .stepmap import (bit, cells_of, known_cells, layers, mask_of, open_sides, optimistic, pessimistic, shortest_path,
-                      topo_cells)
+from .stepmap import (
+    bit,
+    cells_of,
+    known_cells,
+    layers,
+    mask_of,
+    open_sides,
+    optimistic,
+    pessimistic,
+    shortest_path,
+    topo_cells,
+)
 from .strategies import OBJECTIVES, STRATEGIES, AfterGoal
 from .wallrecord import WallRecord
 

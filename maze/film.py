@@ -7,9 +7,10 @@ the wall-log seed's point that a log keeps the whole search, so a misread wall c
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from math import ceil
-from typing import IO, Callable, Iterable, Iterator
+from typing import IO
 
 import numpy as np
 from PIL import GifImagePlugin, Image

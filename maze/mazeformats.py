@@ -7,8 +7,8 @@ warning, or with `strict` an error, since the file then says two things about it
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from math import isqrt
-from typing import Callable
 
 from .direction import DELTA, EAST, NORTH, SOUTH, WEST, opposite
 from .errors import MazeError
@@ -48,7 +48,8 @@ def _build(size: int, marked: set[Side], strict: bool, warn: Warn | None) -> Maz
         (x, y, d), (ox, oy, od) = disagree[0]
         n = len(disagree)
         message = (f"{n} wall{'s' * (n > 1)} marked by one of {'their' if n > 1 else 'its'} two cells only "
-                   f"(first: cell ({x}, {y}) marks its {SIDE_NAMES[d]} wall, cell ({ox}, {oy}) not its {SIDE_NAMES[od]} wall)")
+                   f"(first: cell ({x}, {y}) marks its {SIDE_NAMES[d]} wall, cell ({ox}, {oy}) not its "
+                   f"{SIDE_NAMES[od]} wall)")
         if strict:
             raise MazeError(f"{message}: refused with --strict")
         if warn is not None:

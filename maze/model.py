@@ -6,8 +6,9 @@ east side of (x, y) and one about the west side of (x+1, y) touch the same bit.
 
 from __future__ import annotations
 
-from functools import lru_cache
-from typing import Iterator, NamedTuple
+from collections.abc import Iterator
+from functools import cache
+from typing import NamedTuple
 
 from .direction import DELTA, DIRECTIONS, EAST, NORTH, SOUTH, WEST
 from .errors import MazeError
@@ -68,7 +69,7 @@ def point_side(size: int, came_from: tuple[int, int], mid: tuple[int, int]) -> t
     return near if 0 <= near[0] < size and 0 <= near[1] < size else far
 
 
-@lru_cache(maxsize=None)
+@cache
 def topology(size: int) -> Topology:
     cell_walls, neighbours, outer = [], [], set()
     for y in range(size):

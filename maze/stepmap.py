@@ -6,8 +6,8 @@ depends on the question, so callers pass a `blocked` array indexed by wall id (s
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Sequence
 from functools import lru_cache
-from typing import Iterable, Sequence
 
 from .model import Cell, Maze, Topology, central_goals
 

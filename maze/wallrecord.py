@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import re
 import struct
+from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Iterable
 
 from .direction import ARROW, DIRECTIONS, parse_direction
 from .errors import MazeError

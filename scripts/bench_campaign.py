@@ -34,8 +34,8 @@ from pathlib import Path
 import click
 
 from hakoniwa.physics.options import BenchOptions
-from testctl.campaign.loop import Campaign, CampaignConfig
 from testctl.campaign.journal import JOURNAL_FILE
+from testctl.campaign.loop import Campaign, CampaignConfig
 
 CHECKPOINTS = (10, 20, 40, 105)
 PROBLEMS = {  # name: (space file, noise); every campaign 5 random + 100 proposed sets, one test per set

@@ -87,7 +87,8 @@ class Run:
 class RecordingBench:
     """One program on an in-process physics server whose motor commands are recorded per test."""
 
-    def __init__(self, program: Program, course: str, time_limit_s: float | None, subject: Subject | None = None) -> None:
+    def __init__(self, program: Program, course: str, time_limit_s: float | None,
+                 subject: Subject | None = None) -> None:
         self._tmp = tempfile.TemporaryDirectory(prefix="hako-fidelity-")
         options = BenchOptions(course=course, time_limit_s=time_limit_s, robot=subject and subject.robot,
                                scenario=subject and subject.scenario(Path(self._tmp.name)))

@@ -1,11 +1,13 @@
 """Search strategies over the real contest mazes, for the fewest cells and for the fastest run, and the flash
 cost of backing a search up.
 
-Usage: python scripts/bench_search.py [--quick] [--jobs N] [--cuts N] [--per-maze/--no-per-maze] [--mazes DIR | --builtin]
+Usage: python scripts/bench_search.py [--quick] [--jobs N] [--cuts N] [--per-maze/--no-per-maze]
+                                      [--mazes DIR | --builtin]
 
 Mazes come from ../shared/mazes beside the clone (the micromouseonline/mazefiles collection at commit
 a71f846897fdd2193e726a1276c6774c9ce9ac67: its classic/, halfsize/ and training/ folders), or from --mazes DIR
-laid out the same way; --builtin runs the 12 mazes shipped in the package instead (a fresh clone has only those). The design was settled on the development set (16x16
+laid out the same way; --builtin runs the 12 mazes shipped in the package instead (a fresh clone has only
+those). The design was settled on the development set (16x16
 classic + training); the 32x32 halfsize mazes are reported apart, as mazes the design never saw. The mouse is
 the built-in one for each size (maze/data/mice.toml), whose figures were set before any of this was run.
 """
@@ -107,7 +109,8 @@ def print_cell_tables(rows: list[Row]) -> None:
             continue
         full_steps = sum(r.steps for r in by[BASELINE])
         print(f"\n{title}, objective cells: {len(by[BASELINE])} mazes")
-        print("| strategy | total steps | vs full | total turns | mean cells visited | truly shortest | claims shortest |")
+        print("| strategy | total steps | vs full | total turns | mean cells visited | truly shortest "
+              "| claims shortest |")
         print("|---|---:|---:|---:|---:|---:|:---:|")
         for s in STRATEGIES:
             rs = by[s]
@@ -186,7 +189,8 @@ def print_flash_table(maze_path: Path, strategy: str, cuts: int) -> None:
     print("|---|---:|---:|---:|")
     for size in (8, 16, 32):
         walls = inner_wall_count(size)
-        print(f"| {size}x{size} | {size * size} | {snapshot_bytes(size)} | {walls} records = {walls * RECORD_BYTES} bytes |")
+        print(f"| {size}x{size} | {size * size} | {snapshot_bytes(size)} "
+              f"| {walls} records = {walls * RECORD_BYTES} bytes |")
 
 
 @click.command(context_settings={"help_option_names": ["-h", "--help"]})

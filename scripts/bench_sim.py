@@ -21,19 +21,18 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 import click
 import mujoco
 
-from hakoniwa.physics.course import load_course
-from hakoniwa.physics.options import DEFAULT_COURSE
-from hakoniwa.physics.options import BenchOptions
 from athrill_sim.programs import Program, ProgramError, resolve_program
-from hakoniwa.wire.protocol import MappedFile, Rx, SyncMode, Tx, open_athrill, open_unity
+from hakoniwa.physics.course import load_course
+from hakoniwa.physics.options import DEFAULT_COURSE, BenchOptions
 from hakoniwa.physics.sync import HAKONIWA_START_US
 from hakoniwa.physics.world import World
+from hakoniwa.wire.protocol import MappedFile, Rx, SyncMode, Tx, open_athrill, open_unity
 from testctl.paper import BEST_GAINS, line_trace_params
 from testctl.runner import TrialRunner
 
@@ -136,7 +135,8 @@ def describe(results: list) -> str:
 @click.option("--sim-seconds", default=60.0, show_default=True, help="Simulated seconds for (a).")
 @click.option("--tests", default=5, show_default=True, help="Trials per program in (b), after a warm-up trial.")
 @click.option("--starts", default=10, show_default=True, help="Process starts measured per program in (c).")
-@click.option("--real-tests", type=click.IntRange(min=0), default=1, show_default=True, help="Trials of the real emulator in (d).")
+@click.option("--real-tests", type=click.IntRange(min=0), default=1, show_default=True,
+              help="Trials of the real emulator in (d).")
 @click.option("--athrill2", default=str(REPO / "build" / "athrill" / "athrill2"), show_default=True,
               help="The real TOPPERS emulator (scripts/build_athrill2.sh builds it).")
 def main(sim_seconds: float, tests: int, starts: int, real_tests: int, athrill2: str) -> None:

@@ -11,8 +11,8 @@ import subprocess
 import sys
 
 import click
-
 from bench_sim import REPO, trial_rate  # scripts/ is this script's folder
+
 from hakoniwa.conventions import HELP
 from hakoniwa.physics.options import BenchOptions
 

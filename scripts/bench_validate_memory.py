@@ -26,10 +26,10 @@ import click
 import psutil
 
 from hakoniwa.physics.options import BenchOptions
-from testctl.campaign.loop import Campaign, load_config
-from testctl.cluster import DaskExecutor
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
+from testctl.campaign.loop import Campaign, load_config
 from testctl.campaign.validate import validate_best, validation_specs
+from testctl.cluster import DaskExecutor
 
 
 def rss_mb() -> float:

@@ -74,7 +74,7 @@ class Bench:
                 self._proc.wait()
             self._proc = None
 
-    def __enter__(self) -> "Bench":
+    def __enter__(self) -> Bench:
         return self
 
     def __exit__(self, *exc: object) -> None:

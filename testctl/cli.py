@@ -10,11 +10,11 @@ from pathlib import Path
 import click
 
 from hakoniwa.conventions import HELP, SECONDS, Float32, OneLineErrorsGroup
+from hakoniwa.wire.rundir import COURSE_ENV, RUN_DIR_ENV, TIME_LIMIT_ENV
 from testctl import paper
 from testctl.executor import SerialExecutor, TestSpec
 from testctl.options import campaign_options, noise_options, plan
 from testctl.runner import TrialRunner
-from hakoniwa.wire.rundir import COURSE_ENV, RUN_DIR_ENV, TIME_LIMIT_ENV
 
 RUN_DIR_OPTION = click.option("--run-dir", envvar=RUN_DIR_ENV, required=True,
                               type=click.Path(file_okay=False, exists=True, path_type=Path),

@@ -27,8 +27,8 @@ from concurrent.futures import CancelledError
 from pathlib import Path
 from typing import cast
 
-from distributed import Client, LocalCluster, as_completed, get_worker
 from dask.typing import Key
+from distributed import Client, LocalCluster, as_completed, get_worker
 from distributed.diagnostics.plugin import WorkerPlugin
 
 from hakoniwa.physics.options import BenchOptions

@@ -20,9 +20,9 @@ from hakoniwa.conventions import NOISE_SCALE, option_group
 from hakoniwa.wire.rundir import RunDirBusy, RunDirLock
 from testctl.campaign.config import CampaignConfig
 from testctl.campaign.journal import JOURNAL_FILE, JournalError, read_journal
+from testctl.paper import GAIN_RANGE, MOTOR_POWER
 from testctl.search.optimizers import HELP as OPTIMIZER_HELP
 from testctl.search.optimizers import OPTIMIZERS, missing
-from testctl.paper import GAIN_RANGE, MOTOR_POWER
 from testctl.search.space import ParameterSpace, SpaceError
 
 SMOKE: dict[str, Any] = {"trials": 2, "init_points": 2, "repeats": 1}  # a campaign that exercises every part in seconds
@@ -103,8 +103,9 @@ def plan(trials: int | None, init_points: int | None, repeats: int | None, seed:
          out: Path | None, resume: Path | None, smoke: bool, *, penalty_s: float) -> CampaignPlan:
     """Turn the options into a campaign, or fail with a one-line click error. `penalty_s`, the bench's time
     limit, is what a failure scores in a new campaign; a resumed one keeps its journal's."""
-    given: dict[str, Any] = {k: v for k, v in {"trials": trials, "init_points": init_points, "repeats": repeats, "seed": seed,
-                               "optimizer": optimizer, "batch": batch, "noise": noise}.items() if v is not None}
+    named = {"trials": trials, "init_points": init_points, "repeats": repeats, "seed": seed, "optimizer": optimizer,
+             "batch": batch, "noise": noise}
+    given: dict[str, Any] = {k: v for k, v in named.items() if v is not None}
     try:
         if resume is not None:
             if out is not None and out.resolve() != resume.resolve():

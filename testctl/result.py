@@ -14,11 +14,12 @@ class TestResult:
     `goal_time_us` is 0 for every event but GOAL; `completed_time_us` is when the program's completion notice
     (ET Robocon's `ETRoboc_notifyCompletedToSimulator()`) came, 0 if it never did. The bench's `objective`
     says what the test is scored by: under `Objective.COMPLETED` it succeeds on COMPLETED and its
-    `lap_time_s`, the time every score, quantile and lap bound reads, is the completion's time. `wall_s` is how long the test took in wall-clock time,
-    which is informative only: in the lockstep the event and goal time never depend on it. For a CRASH,
-    `crash_kind` says whose fault it may have been and `crash_detail` the Athrill's exit status (negative:
-    the signal that killed it); `program_output` holds the last lines a program that crashed printed (its
-    own error, such as a Python traceback's end), which would otherwise stay in a run folder's athrill.log.
+    `lap_time_s`, the time every score, quantile and lap bound reads, is the completion's time. `wall_s` is how
+    long the test took in wall-clock time, which is informative only: in the lockstep the event and goal time never
+    depend on it. For a CRASH, `crash_kind` says whose fault it may have been and `crash_detail` the Athrill's exit
+    status (negative: the signal that killed it); `program_output` holds the last lines a program that crashed
+    printed (its own error, such as a Python traceback's end), which would otherwise stay in a run folder's
+    athrill.log.
     A bench fault's `bench_cause` says what spoiled the test; its `crash_detail` is then the exit status of
     the process that ended (the physics process's, for `PHYSICS_KILLED` and a `FILE_DAMAGED` that killed it).
     """
@@ -84,7 +85,8 @@ class TestResult:
              "sync": self.sync.name.lower(), "checkpoints": self.checkpoints, "distance_m": self.distance_m,
              "max_time_diff_us": self.max_time_diff_us}
         if self.event == Event.CRASH:
-            d.update(crash=self.crash_kind.name.lower(), crash_detail=self.crash_detail, crash_reason=self.crash_reason())
+            d.update(crash=self.crash_kind.name.lower(), crash_detail=self.crash_detail,
+                     crash_reason=self.crash_reason())
             if self.bench_cause != BenchCause.NONE:
                 d["bench_cause"] = self.bench_cause.name.lower()
         if self.program_output:

@@ -12,13 +12,26 @@ import dataclasses
 import math
 import subprocess
 import time
+from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import Callable, Mapping
 
 from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.params import SLOT_FORMATS, encode, fits_area
-from hakoniwa.wire.protocol import (MAX_NOISE_SCALE, BenchCause, CrashKind, Event, LayoutFile, Objective,
-                                    LayoutError, Rx, SyncMode, Tx, goal_time_from_words, poll_athrill, poll_unity)
+from hakoniwa.wire.protocol import (
+    MAX_NOISE_SCALE,
+    BenchCause,
+    CrashKind,
+    Event,
+    LayoutError,
+    LayoutFile,
+    Objective,
+    Rx,
+    SyncMode,
+    Tx,
+    goal_time_from_words,
+    poll_athrill,
+    poll_unity,
+)
 from hakoniwa.wire.rundir import PROGRAM_OUTPUT_FILE
 from hakoniwa.wire.waiting import pid_alive, wait_for
 from testctl.result import TestResult
@@ -38,7 +51,7 @@ class PhysicsGone(HakoError, RuntimeError):
 
 class TrialRunner:
     @classmethod
-    def attach(cls, run_dir: Path, physics: subprocess.Popen, timeout_s: float = 60.0) -> "TrialRunner":
+    def attach(cls, run_dir: Path, physics: subprocess.Popen, timeout_s: float = 60.0) -> TrialRunner:
         """Connect to a physics process that is still starting: its files appear once its world is built.
         Files an earlier run left in the directory are not its files: they name another physics process."""
         deadline = time.monotonic() + timeout_s

@@ -6,8 +6,8 @@
 from __future__ import annotations
 
 import importlib
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 from athrill_sim.ev3api import Ev3Api
 from athrill_sim.programs import ProgramError

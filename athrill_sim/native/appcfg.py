@@ -13,15 +13,16 @@ Static APIs:
   phase })`: ASP3's cyclic handler, times in microseconds; `sta_cyc` / `stp_cyc`. The two kinds are numbered
   apart, each from 1, as on EV3RT, where `ev3_sta_cyc` takes only an EV3 cyclic's ID (else E_ID).
 - `INCLUDE("file.cfg")`: read from the program's folder; EV3RT's own configuration files are skipped.
-- `DOMAIN(...) { }`, `ATT_MOD(...)` and `ATT_INI(...)` (HRP3: memory protection, initialization routines) are skipped. Anything else is an error that names it.
+- `DOMAIN(...) { }`, `ATT_MOD(...)` and `ATT_INI(...)` (HRP3: memory protection, initialization routines) are
+  skipped. Anything else is an error that names it.
 """
 
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable
 
 from athrill_sim.native import NativeBuildError
 

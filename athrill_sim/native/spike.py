@@ -2,9 +2,9 @@
 
 ET Robocon's SPIKE SDK for Athrill builds every program against the SPIKE-RT API (`pup_*`, `hub_*`) and
 defines USE_RASPIKE_ART; RasPike-ART's samples say so in their Makefile.inc (`USE_RASPIKE_ART=1`) and include
-`spikeapi.h`. A program that does either, includes a SPIKE-RT or pbio header, or includes libcpp-spike's Makefile, is built
-with our SPIKE-RT
-headers and runtime (`runtime/spike`) in addition to the EV3RT ones, which stay available as on RasPike-ART.
+`spikeapi.h`. A program that does either, includes a SPIKE-RT or pbio header, or includes libcpp-spike's Makefile,
+is built with our SPIKE-RT headers and runtime (`runtime/spike`) in addition to the EV3RT ones, which stay available
+as on RasPike-ART.
 """
 
 from __future__ import annotations

@@ -3,7 +3,8 @@
 The SDK's build writes into its own tree (the workspace, `OBJ/`, the cfg pass's output), so it runs in a
 scratch copy of the SDK beside the cache entry, with the program copied in as the workspace folder `hako_app`
 and `../../../athrill` linked to Athrill's sources (EV3RT's Makefile.img takes the guest half of Athrill's
-devices from there). No source tree is written. The image is cached as the native build's binary is (`athrill_sim.build_cache`).
+devices from there). No source tree is written. The image is cached as the native build's binary is
+(`athrill_sim.build_cache`).
 
 The cache key mirrors the native build's (`athrill_sim.native.build`): the program's files by their paths
 relative to its folder, every file of the SDK and of Athrill's guest library, this module, the make command
@@ -27,9 +28,9 @@ import re
 import shlex
 import shutil
 import subprocess
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable
 
 from athrill_sim.build_cache import CacheKey, cache_root, cached_build
 from athrill_sim.elf_symbols import DEBUG_SUFFIX
@@ -139,7 +140,8 @@ def cache_key(root: Path, files: list[Path], lone: bool, tools: Tools, flags: tu
     add = key.add
     if flags:
         add("flags", "\0".join(flags).encode())
-    add("compiler", f"{tools.gcc}\n{_run([str(tools.gcc), '--version'], root, 'cannot run ' + str(tools.gcc))}".encode())
+    version = _run([str(tools.gcc), "--version"], root, "cannot run " + str(tools.gcc))
+    add("compiler", f"{tools.gcc}\n{version}".encode())
     add("make", "\0".join(MAKE).encode())
     add("builder", Path(__file__).read_bytes())
     add("lone", b"1" if lone else b"0")

@@ -14,7 +14,8 @@ from athrill_sim.v850 import ImageError
 
 ELF_MAGIC = b"\x7fELF"
 ELFCLASS32, ELFDATA2LSB = 1, 1
-V850_MACHINES = (36, 87, 0x9080)  # e_machine of v850 images: EM_V800 (what the TOPPERS toolchain writes), EM_V850, old GNU
+# e_machine of v850 images: EM_V800 (what the TOPPERS toolchain writes), EM_V850, old GNU
+V850_MACHINES = (36, 87, 0x9080)
 MACHINE_NAMES = {3: "x86", 8: "MIPS", 20: "PowerPC", 40: "ARM", 62: "x86-64", 183: "AArch64", 243: "RISC-V"}
 _EHDR = struct.Struct("<16sHHIIIIIHHHHHH")  # e_ident, type, machine, version, entry, phoff, shoff, flags, ehsize,
 # phentsize, phnum, shentsize, shnum, shstrndx

@@ -23,10 +23,9 @@ from hakoniwa.physics.video_options import VideoOptions, check_video_path, film_
 from hakoniwa.wire.exits import exit_status
 from hakoniwa.wire.processes import describe_exit
 from hakoniwa.wire.rundir import TRAJECTORY_FILE, diagnose
-from testctl.launch import controller_command, run_physics
 from testctl import paper
-from testctl.options import (DEFAULT_DRAWS, MAX_DRAWS, SMOKE_DRAWS, campaign_options, make_out_dir, noise_options,
-                             plan)
+from testctl.launch import controller_command, run_physics
+from testctl.options import DEFAULT_DRAWS, MAX_DRAWS, SMOKE_DRAWS, campaign_options, make_out_dir, noise_options, plan
 from testctl.suite.cases import DEFAULT_FILE
 
 POWER = Float32(-100.0, 100.0)
@@ -173,7 +172,8 @@ benches_options = option_group([
 
 def how_many_benches(benches: int | None, scheduler: str | None) -> int:
     if benches is not None and scheduler is not None:
-        raise click.UsageError("--benches starts a local cluster; with --scheduler the cluster's workers are the benches")
+        raise click.UsageError("--benches starts a local cluster; with --scheduler the cluster's workers are the "
+                               "benches")
     return benches or default_benches()
 
 
@@ -223,9 +223,9 @@ def _run(benches: int | None, scheduler: str | None, validate: int | None, optio
     files = recorded_files(p.bench, bench)
     run_dir = p.out_dir / "run"
     from testctl.bench import Bench
-    from testctl.cluster import ClusterError, DaskExecutor
     from testctl.campaign.fingerprint import FILES_KEY
     from testctl.campaign.session import run_campaign
+    from testctl.cluster import ClusterError, DaskExecutor
 
     executor = DaskExecutor(bench, benches=None if scheduler else n, scheduler=scheduler)
     local = Bench(bench, run_dir)
@@ -387,8 +387,8 @@ def check_bench(bench: BenchOptions, benches: int | None = 1):
         LinkError: its UDP ports are taken.
         click.ClickException: fixed UDP ports and several benches.
     """
+    from athrill_sim.vdev_udp import RX_PORT_KEY, TX_PORT_KEY, check_free
     from hakoniwa.physics.bench import load_bench
-    from athrill_sim.vdev_udp import TX_PORT_KEY, RX_PORT_KEY, check_free
 
     load_bench(bench)
     program = bench.program()

@@ -8,7 +8,7 @@ import dataclasses
 from hakoniwa.physics.course import Course, course_file, load_course
 from hakoniwa.physics.course_check import check_course
 from hakoniwa.physics.options import BenchOptions
-from hakoniwa.physics.robots import Robot, RobotError, load_robot
+from hakoniwa.physics.robots import Robot, load_robot
 from hakoniwa.physics.scenario import Scenario, ScenarioError, load_scenario
 
 

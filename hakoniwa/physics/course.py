@@ -18,9 +18,9 @@ from pathlib import Path
 import numpy as np
 
 from hakoniwa.physics.noise import DEFAULT_NOISE, NoiseLevels
+from hakoniwa.physics.robot import DEFAULT_WIRING, Wiring
 from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.protocol import COURSE_BLOCK_POSITIONS, MOTOR_PORTS, ColorId
-from hakoniwa.physics.robot import DEFAULT_WIRING, Wiring
 from hakoniwa.wire.timebase import US_PER_S
 
 COURSES_DIR = Path(__file__).parent / "courses"

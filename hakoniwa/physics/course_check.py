@@ -49,7 +49,8 @@ def check_course(course: Course, body: Body, file: Path) -> None:
             raise CourseError(f"{where}checkpoint {cp.name!r} at ({cp.x:g}, {cp.y:g}) is outside the floor image")
     reached, xs, ys = _flood(course, body)
     for i, cp in enumerate(course.checkpoints):
-        inside = ((np.abs(xs - cp.x) <= cp.hx + CELL_M / 2)[None, :] & (np.abs(ys - cp.y) <= cp.hy + CELL_M / 2)[:, None])
+        inside = ((np.abs(xs - cp.x) <= cp.hx + CELL_M / 2)[None, :]
+                  & (np.abs(ys - cp.y) <= cp.hy + CELL_M / 2)[:, None])
         if not (reached & inside).any():
             raise CourseError(f"{where}checkpoint {i + 1} ({cp.name!r}) cannot be reached from the start: it is "
                               f"walled off, inside a wall, or behind a gap narrower than the robot "

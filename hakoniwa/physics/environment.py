@@ -107,7 +107,8 @@ class Environment:
         if states[-1][0] < self.now_us:
             states = [*states, (self.now_us, self.world.state())]
         r = self.robot
-        return Replay(str(self.course.folder.resolve()), RobotLook(r.name, r.hub, r.body, tuple(k for _, k in r.sensors)),
+        look = RobotLook(r.name, r.hub, r.body, tuple(k for _, k in r.sensors))
+        return Replay(str(self.course.folder.resolve()), look,
                       self.objective.name.lower(), len(self.course.checkpoints), self.event.name, self.event_us,
                       tuple(self.task.passed_us), self.completed_us, tuple(t for t, _ in states),
                       tuple(s for _, s in states))

@@ -10,14 +10,13 @@ from pathlib import Path
 
 import click
 
-from hakoniwa.physics.bench import load_bench
 from hakoniwa.conventions import HELP, OneLineErrors
+from hakoniwa.physics.bench import load_bench
 from hakoniwa.physics.options import BenchOptions, bench_options
-from hakoniwa.wire.timebase import US_PER_S
 from hakoniwa.wire.exits import EXIT_INTERRUPTED, exit_status
 from hakoniwa.wire.processes import describe_exit, die_with_parent
 from hakoniwa.wire.rundir import COURSE_ENV, RUN_DIR_ENV, TIME_LIMIT_ENV, RunDirLock
-
+from hakoniwa.wire.timebase import US_PER_S
 
 
 @click.command(cls=OneLineErrors, context_settings={"ignore_unknown_options": True, **HELP})

@@ -49,7 +49,7 @@ class NoiseLevels:
         """The `[noise]` keys a course may set, in declaration order."""
         return tuple(f.name for f in fields(cls))
 
-    def scaled(self, scale: float) -> "NoiseLevels":
+    def scaled(self, scale: float) -> NoiseLevels:
         """Every level multiplied by `scale` (the controller's `Rx.NOISE_SCALE`)."""
         return NoiseLevels(**{k: getattr(self, k) * scale for k in self.keys()})
 

@@ -18,8 +18,9 @@ from __future__ import annotations
 import select
 import socket
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable, Protocol
+from typing import Protocol
 
 from athrill_sim.programs import UDP_DEVICE_CONFIG, Program
 from athrill_sim.vdev_udp import LinkError, UdpLink, bind_fixed, bind_pair, check_free

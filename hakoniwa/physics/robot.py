@@ -74,7 +74,8 @@ def robot_mjcf(x: float, y: float, yaw_deg: float, body: Body = EV3_BODY, imu: b
     return f"""
     <body name="robot" pos="{x} {y} {body_z}" euler="0 0 {yaw_deg}">
       <freejoint name="robot_root"/>
-      <geom name="chassis" type="box" size="{hx} {hy} {hz}" pos="-0.01 0 {hz}" mass="{body.chassis_mass}" rgba=".9 .5 .1 1"/>
+      <geom name="chassis" type="box" size="{hx} {hy} {hz}" pos="-0.01 0 {hz}" mass="{body.chassis_mass}"
+            rgba=".9 .5 .1 1"/>
       <geom name="caster" type="sphere" size="{caster}" pos="{-hx + 0.005} 0 {caster - body_z}" condim="1"
             mass="0.02" rgba=".3 .3 .3 1"/>
       <site name="color_sensor" pos="{body.color_sensor_forward} 0 {-body_z + 0.01}" size="0.006" rgba="1 0 0 1"/>

@@ -1,9 +1,9 @@
 """A test scenario beside the course (`--scenario FILE`, TOML): stimuli at simulated times, the same in every
 test of a campaign. `[[press]]` presses a touch sensor (`sensor = "touch"`, `port` 1..4 on an EV3, or a SPIKE
 port "A".."F", where it presses the force sensor), a SPIKE force sensor (`sensor = "force"`, `port` optional:
-the robot has one) or an EV3 button (`button = "ENTER"`, ...) at `at_s` for `for_s` seconds; `[[serial]]` makes `text` arrive on a serial port
-(`port` "bt" by default, or "uart", "default") at `at_s`. A program that waits for a touch or a remote start
-then starts by itself."""
+the robot has one) or an EV3 button (`button = "ENTER"`, ...) at `at_s` for `for_s` seconds; `[[serial]]`
+makes `text` arrive on a serial port (`port` "bt" by default, or "uart", "default") at `at_s`. A program that waits
+for a touch or a remote start then starts by itself."""
 
 from __future__ import annotations
 

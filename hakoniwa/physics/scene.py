@@ -20,7 +20,7 @@ from pathlib import Path
 if "mujoco" not in sys.modules:  # MuJoCo picks its OpenGL backend when imported: headless (EGL) unless told
     os.environ.setdefault("MUJOCO_GL", "egl")
 
-import mujoco  # noqa: E402
+import mujoco
 import numpy as np
 
 from hakoniwa.physics.course import COLOR_RGB, Course
@@ -83,7 +83,8 @@ def _robot(look: RobotLook) -> str:
         <joint name="{name}" type="hinge" axis="0 1 0"/>
         <geom type="cylinder" size="{r} {tyre}" euler="90 0 0" rgba=".08 .08 .08 1"/>
         <geom type="cylinder" size="{r * .62} {tyre + .0008}" euler="90 0 0" rgba="{body_rgba}"/>
-        <geom type="box" size="{r * .6} .001 {r * .1}" pos="0 {tyre + .001 if y > 0 else -tyre - .001} 0" rgba=".1 .1 .1 1"/>
+        <geom type="box" size="{r * .6} .001 {r * .1}" pos="0 {tyre + .001 if y > 0 else -tyre - .001} 0"
+              rgba=".1 .1 .1 1"/>
       </body>"""
     return f"""
     <body name="robot">
@@ -92,8 +93,10 @@ def _robot(look: RobotLook) -> str:
       <geom type="box" size="{top[0]} {top[1]} .004" pos="-0.01 0 {2 * hz - .003}" rgba="{top_rgba}"/>
       {screen}{eyes}
       <geom type="sphere" size=".012" pos="{-hx + 0.005} 0 {0.012 - r}" rgba=".3 .3 .3 1"/>
-      <geom type="box" size=".012 .012 {-sensor_z / 2}" pos="{b.color_sensor_forward} 0 {sensor_z / 2}" rgba=".12 .12 .12 1"/>
-      <geom type="box" size="{(b.color_sensor_forward - front) / 2 + .004} .006 .003" pos="{(b.color_sensor_forward + front) / 2 - .004} 0 -.003"
+      <geom type="box" size=".012 .012 {-sensor_z / 2}" pos="{b.color_sensor_forward} 0 {sensor_z / 2}"
+            rgba=".12 .12 .12 1"/>
+      <geom type="box" size="{(b.color_sensor_forward - front) / 2 + .004} .006 .003"
+            pos="{(b.color_sensor_forward + front) / 2 - .004} 0 -.003"
             rgba=".3 .3 .3 1"/>
       <geom type="cylinder" size=".014 .0005" pos="{b.color_sensor_forward} 0 {0.0015 - r}" rgba="1 .1 .1 .45"/>
       {wheels}
@@ -131,7 +134,8 @@ def scene_mjcf(course: Course, look: RobotLook, floor_png: Path, width: int = WI
   <worldbody>
     <light directional="true" pos="{cx} {cy} 4" dir=".3 .2 -1" diffuse=".5 .5 .5" castshadow="true"/>
     <geom type="plane" size="{size * 3} {size * 3} 0.1" pos="{cx} {cy} -0.002" material="ground"/>
-    <geom name="floor" type="box" size="{(xmax - xmin) / 2} {(ymax - ymin) / 2} 0.001" pos="{cx} {cy} -0.001" material="floor"/>
+    <geom name="floor" type="box" size="{(xmax - xmin) / 2} {(ymax - ymin) / 2} 0.001" pos="{cx} {cy} -0.001"
+          material="floor"/>
     {walls}
     {checkpoints}
     {_robot(look)}

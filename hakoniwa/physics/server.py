@@ -164,7 +164,8 @@ class PhysicsServer:
         self._max_diff_us = 0
         self.answer_before_start = self.slots.begin(self.program.sync, self.course.info, self.objective)
         self.publish_sensors()
-        program = damaged or self._tuned_program()  # before the announcement: a waiting Athrill reads its files after it
+        # before the announcement: a waiting Athrill reads its files after it
+        program = damaged or self._tuned_program()
         self.slots.announce(seq)
         return noise, program
 

@@ -15,9 +15,23 @@ from pathlib import Path
 
 from hakoniwa.physics.course import CourseInfo
 from hakoniwa.physics.sensors import Sensors
-from hakoniwa.wire.protocol import (ETROBOC_EXT, HEADER_SIZE, BenchCause, MOTOR_PORTS, CrashKind, Event, Header,
-                                    Objective, MappedFile, Rx, SyncMode, Tx, goal_time_words, open_athrill,
-                                    open_unity)
+from hakoniwa.wire.protocol import (
+    ETROBOC_EXT,
+    HEADER_SIZE,
+    MOTOR_PORTS,
+    BenchCause,
+    CrashKind,
+    Event,
+    Header,
+    MappedFile,
+    Objective,
+    Rx,
+    SyncMode,
+    Tx,
+    goal_time_words,
+    open_athrill,
+    open_unity,
+)
 from hakoniwa.wire.waiting import futex_wake
 
 ACTUATORS_END = Tx.GYRO_RESET + 4  # TX body bytes a test starts with cleared

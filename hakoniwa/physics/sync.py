@@ -20,9 +20,9 @@ config): at every device clock that reaches the unity time, Athrill publishes it
 unity time passes it. Physics publishes each snapshot with a unity time one step ahead (the horizon), waits
 until Athrill's clock reaches it, applies the actuators Athrill wrote before that instant if they changed
 (so that a command draws its motor noise once, as a lockstep answer does, not once a step), steps to the
-horizon and publishes the next snapshot. Athrill's clock is a count of emulated cycles and it stops at the first cycle at or past the
-horizon, so which cycle reads which snapshot depends on nothing but the image and its inputs: the same
-image, parameters and noise draw give the same result to the microsecond under any load. The time
+horizon and publishes the next snapshot. Athrill's clock is a count of emulated cycles and it stops at the
+first cycle at or past the horizon, so which cycle reads which snapshot depends on nothing but the image and its
+inputs: the same image, parameters and noise draw give the same result to the microsecond under any load. The time
 difference is at most one step plus the cycles of one instruction.
 
 All three leave the test when the physics server raises an event, and raise `AthrillCrash` when Athrill
@@ -34,8 +34,9 @@ from __future__ import annotations
 
 import subprocess
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, Callable, Protocol
+from typing import TYPE_CHECKING, Protocol
 
 from hakoniwa.wire.processes import CpuUse, cpu_use, describe_exit, take_bench_fault
 from hakoniwa.wire.protocol import BenchCause, CrashKind, SyncMode
@@ -103,7 +104,8 @@ def exit_crash(proc: subprocess.Popen, *, started: bool, run_dir: Path) -> Athri
     assert code is not None
     reason = take_bench_fault(run_dir, proc.pid)
     if reason is not None:
-        return AthrillCrash(CrashKind.BENCH, code, f"athrill {describe_exit(code)}: {reason}", BenchCause.ATHRILL_FAILED)
+        return AthrillCrash(CrashKind.BENCH, code, f"athrill {describe_exit(code)}: {reason}",
+                            BenchCause.ATHRILL_FAILED)
     if code > 0 and not started:
         return AthrillCrash(CrashKind.BENCH, code, f"athrill {describe_exit(code)}", BenchCause.ATHRILL_FAILED)
     return AthrillCrash(CrashKind.PROGRAM, code, f"athrill {describe_exit(code)}")

@@ -12,8 +12,8 @@ import math
 from dataclasses import dataclass, field
 
 from hakoniwa.physics.course import Course
-from hakoniwa.wire.protocol import Event
 from hakoniwa.physics.world import World
+from hakoniwa.wire.protocol import Event
 
 
 @dataclass

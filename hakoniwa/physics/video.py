@@ -15,13 +15,12 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
-from hakoniwa.physics.scene import HEIGHT, WIDTH, Scene, build_scene  # first: it picks the OpenGL backend
-
 import mujoco
 import numpy as np
 
 from hakoniwa.physics.course import Course, load_course
 from hakoniwa.physics.replay import Replay
+from hakoniwa.physics.scene import HEIGHT, WIDTH, Scene, build_scene  # first: it picks the OpenGL backend
 from hakoniwa.physics.video_options import VideoOptions
 from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.timebase import US_PER_S
@@ -45,7 +44,8 @@ def gl_problem() -> str | None:
         ctx.free()
     except Exception as e:  # the backends raise what their libraries raise: ImportError, OSError, RuntimeError
         backend = os.environ.get("MUJOCO_GL", "glfw")
-        return (f"MuJoCo cannot render here (MUJOCO_GL={backend}: {str(e).splitlines()[0] if str(e) else type(e).__name__}); "
+        why = str(e).splitlines()[0] if str(e) else type(e).__name__
+        return (f"MuJoCo cannot render here (MUJOCO_GL={backend}: {why}); "
                 "install EGL (apt-get install libegl1 libgl1-mesa-dri) or OSMesa (libosmesa6, with MUJOCO_GL=osmesa)")
     return None
 
@@ -185,7 +185,8 @@ class Filmer:
             w = draw.textlength(banner, font=self._big)
             y = bar + pad
             draw.rectangle((0, y - pad, self.width, y + self._big.size + 2 * pad), fill=(15, 18, 24, 150))
-            draw.text(((self.width - w) / 2, y), banner, font=self._big, fill=_EVENT_COLOUR.get(r.event, (255, 255, 255)))
+            colour = _EVENT_COLOUR.get(r.event, (255, 255, 255))
+            draw.text(((self.width - w) / 2, y), banner, font=self._big, fill=colour)
         return np.asarray(img)
 
 

@@ -37,12 +37,14 @@ def build_mjcf(course: Course, body: robot.Body = robot.EV3_BODY, imu: bool = Fa
     s = course.start
     # Walls live in one static body so that a single contact sensor can watch robot-wall contact inside
     # MuJoCo's own step; reading it costs nothing compared with scanning the contact list in Python.
+    imu_sensor = robot.imu_sensor_mjcf() if imu else ""
     return f"""
 <mujoco model="hakoniwa-{course.name}">
   <option timestep="{PHYSICS_STEP_US / US_PER_S}" integrator="implicitfast"/>
   <default><geom friction="1 0.005 0.0001"/></default>
   <worldbody>
-    <geom name="floor" type="plane" size="{(xmax - xmin) / 2} {(ymax - ymin) / 2} 0.1" pos="{cx} {cy} 0" rgba="1 1 1 1"/>
+    <geom name="floor" type="plane" size="{(xmax - xmin) / 2} {(ymax - ymin) / 2} 0.1" pos="{cx} {cy} 0"
+          rgba="1 1 1 1"/>
     <body name="walls">
     {walls}
     </body>
@@ -52,7 +54,7 @@ def build_mjcf(course: Course, body: robot.Body = robot.EV3_BODY, imu: bool = Fa
   <actuator>{robot.actuators_mjcf(body)}
   </actuator>
   <sensor>
-    <contact name="wall_contact" subtree1="robot" body2="walls" data="found" reduce="mindist"/>{robot.imu_sensor_mjcf() if imu else ""}
+    <contact name="wall_contact" subtree1="robot" body2="walls" data="found" reduce="mindist"/>{imu_sensor}
   </sensor>
 </mujoco>"""
 

@@ -25,8 +25,18 @@ import struct
 from dataclasses import dataclass
 
 from hakoniwa.wire.errors import HakoError
-from hakoniwa.wire.protocol import (ATHRILL_MAGIC, EXT_OFF, EXT_SIZE, HEADER_SIZE, LAYOUT_VERSION, PACKET_SIZE,
-                                    PARAM_END, UNITY_MAGIC, MappedFile, Tx)
+from hakoniwa.wire.protocol import (
+    ATHRILL_MAGIC,
+    EXT_OFF,
+    EXT_SIZE,
+    HEADER_SIZE,
+    LAYOUT_VERSION,
+    PACKET_SIZE,
+    PARAM_END,
+    UNITY_MAGIC,
+    MappedFile,
+    Tx,
+)
 
 TX_PACKET_SIZE = PACKET_SIZE  # VDEV_TX_DATA_COMM_SIZE: header + TX body 0..991
 TX_BODY_SIZE = TX_PACKET_SIZE - HEADER_SIZE

@@ -75,7 +75,7 @@ class RunDirLock:
             os.close(self._fd)
             self._fd = None
 
-    def __enter__(self) -> "RunDirLock":
+    def __enter__(self) -> RunDirLock:
         self.acquire()
         return self
 

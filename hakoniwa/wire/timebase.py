@@ -8,8 +8,8 @@ tick whose elapsed time reaches P x count, so a 37.5 ms stream on a 10 ms tick f
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 US_PER_S = 1_000_000
 

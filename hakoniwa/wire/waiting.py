@@ -19,7 +19,7 @@ import os
 import platform
 import sys
 import time
-from typing import Callable
+from collections.abc import Callable
 
 SPIN_S = 0.002  # polling: busy-wait this long before napping
 NAP_S = 0.00005

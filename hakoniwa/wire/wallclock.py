@@ -13,7 +13,7 @@ moved at all by then is past its ceiling at the floor.
 from __future__ import annotations
 
 import time
-from typing import Callable
+from collections.abc import Callable
 
 from hakoniwa.wire.timebase import US_PER_S
 

@@ -6,8 +6,8 @@ loses at most the test that was running. A kill in the middle of a write leaves 
 its newline (we write each line with its newline in one call); loading drops it (and truncates it away
 before appending). Anything else that does not read back (a complete line that is not a record, a second
 record of the same repetition) means the file is not what we wrote: an error naming the line, and the file
-is left as it is, as Optuna's journal storage does. The first line is a header (space, options and the bench) written atomically
-with the file, so `--resume` can refuse to continue a campaign under different settings.
+is left as it is, as Optuna's journal storage does. The first line is a header (space, options and the bench)
+written atomically with the file, so `--resume` can refuse to continue a campaign under different settings.
 
 Tests run on several benches at once finish in any order, so lines are in the order tests finished; a
 reader orders them by (set, repetition) where it matters. Sets are numbered from 1 in the file, as everywhere
@@ -22,7 +22,7 @@ import json
 import os
 from collections.abc import Mapping
 from dataclasses import dataclass
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from pathlib import Path
 from typing import IO, Any
 
@@ -74,7 +74,7 @@ class TestRecord:
 
 
 def now_timestamp() -> str:
-    return datetime.now(timezone.utc).isoformat(timespec="milliseconds")
+    return datetime.now(UTC).isoformat(timespec="milliseconds")
 
 
 class Journal:

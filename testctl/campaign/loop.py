@@ -29,15 +29,23 @@ from typing import Any
 import numpy as np
 
 from hakoniwa.wire.errors import HakoError
-from testctl.executor import Executor, SerialExecutor, TestSpec
+
 # The configuration lives apart so that --help can read its defaults without NumPy; importers of the campaign
 # find it here too.
 from testctl.campaign.config import PHASE_INIT as PHASE_INIT
 from testctl.campaign.config import CampaignConfig as CampaignConfig
-from testctl.campaign.journal import (JOURNAL_FILE, PHASE_VALIDATION, Journal, JournalError, TestRecord, now_timestamp,
-                             read_journal)
-from testctl.noise_seed import noise_seed
+from testctl.campaign.journal import (
+    JOURNAL_FILE,
+    PHASE_VALIDATION,
+    Journal,
+    JournalError,
+    TestRecord,
+    now_timestamp,
+    read_journal,
+)
 from testctl.campaign.objective import Verdict
+from testctl.executor import Executor, SerialExecutor, TestSpec
+from testctl.noise_seed import noise_seed
 from testctl.result import TestResult
 from testctl.search.optimizers import make_sampler
 from testctl.search.sampler import RandomSampler, Sampler
@@ -107,7 +115,8 @@ class CampaignSummary:
         if not self.bench_faults:
             return None
         causes = ", ".join(f"{words} ({n})" for words, n in self.bench_causes)
-        return f"{self.bench_faults} test{'s' if self.bench_faults > 1 else ''} spoiled by the bench and rerun: {causes}"
+        tests = f"{self.bench_faults} test{'s' if self.bench_faults > 1 else ''}"
+        return f"{tests} spoiled by the bench and rerun: {causes}"
 
 
 def load_config(out_dir: Path) -> CampaignConfig:

@@ -11,12 +11,12 @@ from typing import TYPE_CHECKING
 
 import click
 
+from testctl.campaign.journal import JOURNAL_FILE
 from testctl.campaign.loop import BenchBroken, Campaign, CampaignConfig, CampaignSummary, SetResult
+from testctl.campaign.progress import ProgressLine
 from testctl.executor import Executor, TestSpec
 from testctl.interrupts import on_stop_say, stopped_by
-from testctl.campaign.journal import JOURNAL_FILE
 from testctl.options import VALIDATE_KEY, CampaignPlan
-from testctl.campaign.progress import ProgressLine
 from testctl.result import TestResult
 from testctl.runner import PhysicsGone
 
@@ -44,8 +44,8 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
     from testctl.campaign.patch import BEST_PATCH
     from testctl.campaign.report import BEST_JSON, format_summary, write_best_json, write_report
     from testctl.campaign.study import STUDY_FILE, StudyMirror, attach
-    from testctl.suite.run import BenchFault
     from testctl.campaign.validate import VALIDATION_PNG, draw_validation, validate_best
+    from testctl.suite.run import BenchFault
 
     on_stop_say(resume_hint(p.out_dir))
     validation = None

@@ -33,8 +33,8 @@ from datetime import datetime, timedelta
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from testctl.campaign.loop import CampaignConfig, SetResult
 from testctl.campaign.journal import JOURNAL_FILE, TestRecord, read_journal
+from testctl.campaign.loop import CampaignConfig, SetResult
 from testctl.search.optuna_samplers import distributions, params_of, quiet_optuna
 
 if TYPE_CHECKING:

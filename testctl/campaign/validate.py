@@ -18,8 +18,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from testctl.executor import Executor, TestSpec
 from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, Journal, TestRecord, now_timestamp
+from testctl.executor import Executor, TestSpec
 from testctl.lapstats import LapStats
 from testctl.noise_seed import noise_seed
 from testctl.result import TestResult

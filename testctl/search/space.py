@@ -29,8 +29,16 @@ from typing import Any
 from athrill_sim.bindings import KINDS, SPACE_TYPES, Binding, to_json
 from hakoniwa.conventions import FLOAT32_MAX
 from hakoniwa.wire.errors import HakoError
-from hakoniwa.wire.params import (CARRIER, FIRST_SLOT, FLOAT_TYPES, INT_TYPES, SLOT_ALIGN, fits_area, int_range,
-                                  slot_size)
+from hakoniwa.wire.params import (
+    CARRIER,
+    FIRST_SLOT,
+    FLOAT_TYPES,
+    INT_TYPES,
+    SLOT_ALIGN,
+    fits_area,
+    int_range,
+    slot_size,
+)
 from hakoniwa.wire.protocol import PARAM_END, Rx
 from testctl import paper
 

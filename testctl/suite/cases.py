@@ -42,10 +42,10 @@ import click
 from hakoniwa.conventions import NOISE_SCALE
 from hakoniwa.physics.options import BENCH_FIELDS, BenchOptions, bench_options
 from hakoniwa.wire.errors import HakoError
-from testctl.suite.expect import Expectation, ExpectationError, parse_expectation
 from testctl.campaign.journal import JOURNAL_FILE, JournalError, read_journal
 from testctl.noise_seed import SEED_BITS, noise_seed
 from testctl.search.space import ParameterSpace, SpaceError
+from testctl.suite.expect import Expectation, ExpectationError, parse_expectation
 
 DEFAULT_FILE = "hako-tests.toml"
 MACHINE_FIELDS = ("athrill2", "athrill_timeout_s")  # the machine's business: command line only
@@ -114,7 +114,8 @@ def load_suite(path: Path, base: BenchOptions) -> tuple[Case, ...]:
     for case in out:
         other = folders.setdefault(case_folder(case.name), case.name)
         if other != case.name:
-            raise SuiteError(f"{path}: cases {other!r} and {case.name!r} would share the folder {case_folder(case.name)!r}")
+            raise SuiteError(f"{path}: cases {other!r} and {case.name!r} would share the folder "
+                             f"{case_folder(case.name)!r}")
     return tuple(out)
 
 

@@ -18,11 +18,10 @@ from hakoniwa.physics.options import BenchOptions
 from hakoniwa.wire.errors import HakoError
 from testctl.bench import Bench
 from testctl.executor import Executor, SerialExecutor, TestSpec
-from testctl.suite.expect import Check
 from testctl.lapstats import LapStats, lap_or_inf
 from testctl.result import TestResult
 from testctl.suite.cases import Case
-
+from testctl.suite.expect import Check
 
 WINDOW_PER_BENCH = 2  # tests handed to the executor per bench ahead of their results: none waits for work
 
