@@ -7,9 +7,9 @@ import shutil
 
 import pytest
 
-from conftest import hako
-from ev3rt_corpus import CORPUS, EV3API, NEEDS_SHARED, SKIPPED, WORKSPACE
-from native_fixtures import need_cc
+from tests.helpers.commands import hako
+from tests.helpers.ev3rt_corpus import CORPUS, EV3API, NEEDS_SHARED, SKIPPED, WORKSPACE
+from tests.helpers.native_fixtures import need_cc
 from athrill_sim.native.build import RUNTIME_INCLUDE
 
 

@@ -8,8 +8,7 @@ import sys
 
 import pytest
 
-from athrill_fixtures import REPO
-from realemu_fixtures import base_practice_image, repeatable_athrill2  # noqa: F401 (fixtures)
+from tests.helpers.athrill_fixtures import REPO
 
 
 @pytest.mark.slow
@@ -24,7 +23,7 @@ def test_native_and_real_runs_agree_on_a_subset(base_practice_image, repeatable_
 
 @pytest.mark.slow
 def test_the_team_style_c_and_cpp_programs_agree_natively_and_in_the_real_emulator(repeatable_athrill2):
-    from realemu_fixtures import need_v850_tools
+    from tests.helpers.realemu_fixtures import need_v850_tools
 
     need_v850_tools()
     teams = ("etrobo_cpp_tracer", "cpp_features", "etrobo_hackev", "etrobo_spike_cpp")
@@ -40,8 +39,8 @@ def test_the_team_style_c_and_cpp_programs_agree_natively_and_in_the_real_emulat
 def test_raspike_arts_official_samples_agree_natively_and_in_the_real_emulator(repeatable_athrill2):
     """sample_c5_spike unchanged (both copies) on HackSPi after a force-sensor press, and sample_c5 (the EV3
     API on RasPike) on HackEV."""
-    from raspike_sdk import ART_SAMPLES, NEEDS_RASPIKE
-    from realemu_fixtures import need_v850_tools
+    from tests.helpers.raspike_sdk import ART_SAMPLES, NEEDS_RASPIKE
+    from tests.helpers.realemu_fixtures import need_v850_tools
 
     if not ART_SAMPLES.is_dir():
         pytest.skip(NEEDS_RASPIKE)

@@ -7,14 +7,14 @@ import signal
 
 import pytest
 
-from athrill_fixtures import ASP_IMAGE, SHARED_ATHRILL, athrill2  # noqa: F401  (athrill2 is a fixture)
+from tests.helpers.athrill_fixtures import ASP_IMAGE, SHARED_ATHRILL
 from athrill_sim.apps import C_BUILTIN
-from bench_fixtures import PAPER, physics
+from tests.helpers.bench_fixtures import PAPER, physics
 from hakoniwa.wire.protocol import CrashKind, Event
-from native_fixtures import need_cc
+from tests.helpers.native_fixtures import need_cc
 from testctl.paper import GAIN_RANGE, line_trace_params
 from testctl.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
-from conftest import hako
+from tests.helpers.commands import hako
 
 BLE_SAMPLE = SHARED_ATHRILL / "ev3rt-ble_sample"
 

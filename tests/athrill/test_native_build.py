@@ -15,8 +15,8 @@ from athrill_sim.native.workspace import find_app
 from hakoniwa.wire import protocol, waiting
 from athrill_sim.programs import ProgramError, resolve_program
 from hakoniwa.wire.timebase import PHYSICS_STEP_US
-from native_fixtures import build, need_cc
-from conftest import hako
+from tests.helpers.native_fixtures import build, need_cc
+from tests.helpers.commands import hako
 
 
 def protocol_values() -> dict[str, int | str]:

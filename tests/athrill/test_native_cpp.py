@@ -23,12 +23,12 @@ from athrill_sim.native.build import build_app, find_compiler, find_cxx_compiler
 from athrill_sim.native.makefile import ETROBOC_COMMON, LIBRARY_DIR, evaluate
 from athrill_sim.native.workspace import find_app
 from athrill_sim.programs import ProgramError, resolve_program
-from conftest import hako, one_line_error
-from ev3rt_corpus import EV3RT
-from raspike_sdk import SDK as RASPIKE
-from native_fixtures import need_cc
+from tests.helpers.commands import hako, one_line_error
+from tests.helpers.ev3rt_corpus import EV3RT
+from tests.helpers.raspike_sdk import SDK as RASPIKE
+from tests.helpers.native_fixtures import need_cc
+from tests.helpers.paths import PROGRAMS
 
-PROGRAMS = Path(__file__).parent / "programs"
 TRACER = PROGRAMS / "etrobo_cpp_tracer"
 FEATURES = PROGRAMS / "cpp_features"
 HACKEV = PROGRAMS / "etrobo_hackev"

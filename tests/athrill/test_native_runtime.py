@@ -18,7 +18,7 @@ from athrill_sim.kernel import Kernel
 from hakoniwa.wire.exits import EXIT_BENCH_FAULT
 from hakoniwa.wire.protocol import NEVER_WAKES, Rx, Tx
 from hakoniwa.wire.rundir import LCD_LOG, SDCARD_DIR, SERIAL_INPUT, SERIAL_LOG
-from native_fixtures import FakePhysics, build, finish
+from tests.helpers.native_fixtures import FakePhysics, build, finish
 
 # (C expression, the same call on the Python mock): run in this order by both, every result logged.
 API_CALLS = [

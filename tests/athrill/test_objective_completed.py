@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import hako
+from tests.helpers.commands import hako
 from hakoniwa.wire.protocol import Event, Objective
 from testctl.expect import parse_expectation
 from testctl.journal import JOURNAL_FILE, read_journal

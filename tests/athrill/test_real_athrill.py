@@ -6,9 +6,9 @@ import subprocess
 
 import pytest
 
-from athrill_fixtures import ASP_IMAGE, athrill2  # noqa: F401  (athrill2 is a fixture)
+from tests.helpers.athrill_fixtures import ASP_IMAGE
 from hakoniwa.wire.timebase import ALLOWED_TIME_DIFF_US
-from conftest import hako
+from tests.helpers.commands import hako
 
 
 def hako_trial(*args: str) -> tuple[subprocess.CompletedProcess, dict | None]:

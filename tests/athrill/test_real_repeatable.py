@@ -9,12 +9,12 @@ from pathlib import Path
 
 import pytest
 
-from athrill_fixtures import ASP_IMAGE
+from tests.helpers.athrill_fixtures import ASP_IMAGE
 from athrill_sim.programs import SYNC_WAIT_KEY
 from hakoniwa.wire.timebase import ALLOWED_TIME_DIFF_US
 from testctl.journal import JOURNAL_FILE, read_journal
-from conftest import hako, one_line_error
-from realemu_fixtures import BASE_PRACTICE, base_practice_image, need_v850_tools, repeatable_athrill2  # noqa: F401
+from tests.helpers.commands import hako, one_line_error
+from tests.helpers.realemu_fixtures import BASE_PRACTICE, need_v850_tools
 
 BUSY = "while True: pass"
 TRIAL = ("--kp", "2.5", "--ki", "0.5", "--kd", "3", "--seed", "11", "--noise", "1", "--time-limit", "6", "--json")

@@ -10,8 +10,8 @@ from pathlib import Path
 import pytest
 
 from athrill_sim.v850.toolchain import SHARED, find_tools
-from conftest import hako
-from realemu_fixtures import need_v850_tools, repeatable_athrill2  # noqa: F401
+from tests.helpers.commands import hako
+from tests.helpers.realemu_fixtures import need_v850_tools
 
 RASPIKE = SHARED / "raspike"
 SPIKE_SDK = RASPIKE / "raspike-athrill-v850e2m"

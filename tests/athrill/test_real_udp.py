@@ -9,12 +9,12 @@ from pathlib import Path
 
 import pytest
 
-from athrill_fixtures import ASP_IMAGE, athrill2  # noqa: F401  (athrill2 is a fixture)
+from tests.helpers.athrill_fixtures import ASP_IMAGE
 from athrill_sim.vdev_udp import bench_link, bind_pair
-from conftest import hako, one_line_error
-from realemu_fixtures import ETROBOC_DEVICE_CONFIGS, need_v850_tools
+from tests.helpers.commands import hako, one_line_error
+from tests.helpers.realemu_fixtures import ETROBOC_DEVICE_CONFIGS, need_v850_tools
+from tests.helpers.paths import REPO
 
-REPO = Path(__file__).resolve().parents[1]
 TRACER = REPO / "athrill_sim" / "apps" / "line_trace.c"
 RUNS = 3  # per transport: the hakoniwa mode's laps vary from run to run, their medians less
 LAP_TOLERANCE = 0.02

@@ -12,8 +12,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from athrill_sim.apps.line_trace import INT_MIN, c_int, f32
-from conftest import hako
-from native_fixtures import need_cc
+from tests.helpers.commands import hako
+from tests.helpers.native_fixtures import need_cc
 
 
 @given(st.floats(allow_nan=False))

@@ -12,9 +12,9 @@ from athrill_sim.v850 import ImageError
 from athrill_sim.v850.build import app_files, cache_key, first_error, staged_sources, user_paths
 from athrill_sim.v850.elf import check_image
 from athrill_sim.v850.toolchain import Tools, unpack_toolchain
-from athrill_fixtures import ASP_IMAGE
-from conftest import hako, one_line_error
-from realemu_fixtures import BASE_PRACTICE, need_v850_tools
+from tests.helpers.athrill_fixtures import ASP_IMAGE
+from tests.helpers.commands import hako, one_line_error
+from tests.helpers.realemu_fixtures import BASE_PRACTICE, need_v850_tools
 
 
 def fake_tools(tmp_path: Path) -> Tools:

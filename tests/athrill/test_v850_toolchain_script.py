@@ -10,8 +10,9 @@ import pytest
 
 from athrill_sim.v850 import ImageError
 from athrill_sim.v850.toolchain import find_sdk, find_toolchain
+from tests.helpers.paths import SCRIPTS
 
-SCRIPT = Path(__file__).resolve().parents[1] / "scripts" / "build_v850_toolchain.sh"
+SCRIPT = SCRIPTS / "build_v850_toolchain.sh"
 
 
 def script(*args: str) -> subprocess.CompletedProcess:

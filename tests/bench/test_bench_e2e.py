@@ -12,8 +12,8 @@ import pytest
 from hakoniwa.physics.options import BenchOptions
 from hakoniwa.wire.protocol import CrashKind, Event, Rx, Tx
 from hakoniwa.wire.rundir import LOCK_FILE
-from bench_fixtures import PAPER, ZERO, physics
-from conftest import hako
+from tests.helpers.bench_fixtures import PAPER, ZERO, physics
+from tests.helpers.commands import hako
 
 
 def test_paper_gains_finish_a_lap_and_zero_gains_do_not(tmp_path):

@@ -14,9 +14,9 @@ from pathlib import Path
 
 import pytest
 
-from bench_fixtures import PAPER, ZERO, physics
-from campaign_doubles import result
-from conftest import tagged_env, tagged_processes
+from tests.helpers.bench_fixtures import PAPER, ZERO, physics
+from tests.helpers.campaign_doubles import result
+from tests.helpers.processes import tagged_env, tagged_processes
 from hakoniwa.physics.options import BenchOptions
 from hakoniwa.wire.protocol import ATHRILL_FILE, UNITY_FILE, BenchCause, CrashKind, Event, Tx
 from hakoniwa.wire.rundir import PHYSICS_LOG

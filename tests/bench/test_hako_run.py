@@ -11,7 +11,7 @@ import pytest
 
 from testctl.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
 from testctl.options import SMOKE_DRAWS
-from conftest import hako
+from tests.helpers.commands import hako
 
 
 
@@ -25,7 +25,7 @@ def test_smoke_campaign_writes_every_result_file(tmp_path):
     names = ["journal.jsonl", "results.csv", "best.json", "fig8.png", "fig9.png", "best_trajectory.png"]
     from hakoniwa.physics.video import gl_problem
 
-    filmed = gl_problem() is None  # where MuJoCo can render: the best set's lap, filmed (tests/test_video.py)
+    filmed = gl_problem() is None  # where MuJoCo can render: the best set's lap, filmed (tests/physics/test_video.py)
     if filmed:
         names.append("best_lap.mp4")
     for name in names:

@@ -9,7 +9,7 @@ import threading
 import time
 from pathlib import Path
 
-from bench_fixtures import ZERO, physics
+from tests.helpers.bench_fixtures import ZERO, physics
 from hakoniwa.wire.protocol import CrashKind, Event, Tx
 from hakoniwa.wire.rundir import PHYSICS_LOG
 

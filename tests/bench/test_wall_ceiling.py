@@ -13,8 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from athrill_fixtures import athrill2  # noqa: F401 (a fixture)
-from conftest import one_line_error
+from tests.helpers.commands import one_line_error
 from hakoniwa.wire.wallclock import FACTOR, FLOOR_S, WallCeiling
 
 # athrill2's command line ends with the image; the image's name says how this stand-in behaves.
@@ -135,8 +134,8 @@ void main_task(intptr_t unused)
 def test_a_real_image_whose_initialization_blocks_is_refused_before_any_test(tmp_path, athrill2):
     """The real athrill2 on a real image with an ATT_INI routine that never returns: its clock runs (it counts
     the busy loop's cycles) and the program writes nothing, which the image check says in one line."""
-    from conftest import hako
-    from realemu_fixtures import BASE_PRACTICE, need_v850_tools
+    from tests.helpers.commands import hako
+    from tests.helpers.realemu_fixtures import BASE_PRACTICE, need_v850_tools
 
     need_v850_tools()
     app = tmp_path / "blocking_init"

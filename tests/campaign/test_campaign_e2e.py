@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from campaign_doubles import ScriptedBench, SyntheticBench, result
+from tests.helpers.campaign_doubles import ScriptedBench, SyntheticBench, result
 from hakoniwa.wire.protocol import Event
 from testctl.campaign import Campaign, CampaignConfig, Progress, SetResult
 from testctl.journal import JOURNAL_FILE, read_journal

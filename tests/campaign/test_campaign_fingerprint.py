@@ -10,8 +10,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from conftest import hako, one_line_error
-from native_fixtures import need_cc
+from tests.helpers.commands import hako, one_line_error
+from tests.helpers.native_fixtures import need_cc
 from athrill_sim.python_sources import program_sources
 from hakoniwa.physics.course import COURSES_DIR
 from hakoniwa.physics.options import BenchOptions

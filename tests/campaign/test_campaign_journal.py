@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from campaign_doubles import result
+from tests.helpers.campaign_doubles import result
 from hakoniwa.wire.protocol import Event
 from testctl.journal import Journal, JournalError, TestRecord, read_journal
 
@@ -37,7 +37,7 @@ def test_round_trip_is_exact(tmp_path: Path) -> None:
 def test_sets_are_numbered_from_1_in_the_file_and_bench_faults_are_marked(tmp_path: Path) -> None:
     import json
 
-    from campaign_doubles import BENCH_FAULT
+    from tests.helpers.campaign_doubles import BENCH_FAULT
 
     path = tmp_path / "j.jsonl"
     fault = TestRecord(0, "init", {"Kp": 1.0}, 1, BENCH_FAULT, "t", noise_seed=77, bench="w0")
@@ -134,7 +134,7 @@ def test_a_duplicated_record_is_corruption_naming_its_line(tmp_path: Path) -> No
 
 
 def test_a_bench_fault_and_its_rerun_share_a_repetition(tmp_path: Path) -> None:
-    from campaign_doubles import BENCH_FAULT
+    from tests.helpers.campaign_doubles import BENCH_FAULT
 
     path = tmp_path / "j.jsonl"
     fault = TestRecord(0, "init", {"Kp": 1.0}, 1, BENCH_FAULT, "t")

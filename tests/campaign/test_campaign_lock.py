@@ -16,15 +16,16 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from campaign_doubles import Killed, SyntheticBench
-from campaign_racer import CAMPAIGN
+from tests.helpers.campaign_doubles import Killed, SyntheticBench
+from tests.helpers.campaign_racer import CAMPAIGN
 from testctl.campaign import Campaign
 from testctl.executor import TestSpec
 from testctl.journal import JOURNAL_FILE, read_journal
 from testctl.options import make_out_dir, plan
-from test_campaign_resume import essence
+from tests.campaign.test_campaign_resume import essence
+from tests.helpers.paths import TESTS
 
-RACER = Path(__file__).with_name("campaign_racer.py")
+RACER = TESTS / "helpers" / "campaign_racer.py"
 TESTS = 8  # 4 sets of 2 tests on the synthetic bench
 
 

@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from campaign_doubles import result
+from tests.helpers.campaign_doubles import result
 from hakoniwa.wire.protocol import Event
 from testctl.objective import PAPER_PENALTY_S, RepetitionRule
 from testctl.result import TestResult

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from campaign_doubles import BENCH_FAULT, Killed, SyntheticBench
+from tests.helpers.campaign_doubles import BENCH_FAULT, Killed, SyntheticBench
 from testctl.campaign import MAX_BENCH_FAULTS_IN_A_ROW, BenchBroken, Campaign, CampaignConfig
 from testctl.executor import Executor, TestSpec
 from testctl.journal import JOURNAL_FILE, read_journal

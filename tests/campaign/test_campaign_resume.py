@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from campaign_doubles import Killed, KilledAfter, SyntheticBench
+from tests.helpers.campaign_doubles import Killed, KilledAfter, SyntheticBench
 from testctl.campaign import Campaign, CampaignConfig, load_config
 from testctl.journal import JOURNAL_FILE, JournalError, TestRecord, read_journal
 from testctl.space import Parameter, ParameterSpace

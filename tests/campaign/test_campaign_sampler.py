@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,6 +14,7 @@ from testctl import optimizers
 from testctl.optimizers import make_sampler
 from testctl.sampler import GPyOptSampler, RandomSampler
 from testctl.space import Parameter, ParameterSpace
+from tests.helpers.paths import REPO
 
 # Ranges of very different widths, so that a point scaled wrongly shows up out of bounds.
 SPACE = ParameterSpace(
@@ -23,7 +23,6 @@ SPACE = ParameterSpace(
 LOW = np.array([p.low for p in SPACE.params])
 HIGH = np.array([p.high for p in SPACE.params])
 BEST = np.array([1.0, 150.0, -0.5])
-ROOT = Path(__file__).resolve().parent.parent
 
 
 def bowl(X: np.ndarray) -> np.ndarray:
@@ -62,11 +61,11 @@ def test_a_fresh_process_proposes_the_same_batch() -> None:
     """What `--resume` relies on. The first batch of a process once differed in its last bits: the BLAS and
     OpenMP libraries that importing GPyOpt loads escaped the one-thread limit."""
     code = (
-        "import numpy as np, sys; sys.path.insert(0, 'tests');"
-        "from test_campaign_sampler import SPACE, initial; from testctl.sampler import GPyOptSampler;"
+        "import numpy as np; from tests.campaign.test_campaign_sampler import SPACE, initial;"
+        "from testctl.sampler import GPyOptSampler;"
         "X, Y = initial(20); print(repr(GPyOptSampler(5).suggest_batch(SPACE, X, Y, 3, 3)))"
     )
-    fresh = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT)
+    fresh = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=REPO)
     X, Y = initial(20)
     assert fresh.stdout.strip() == repr(GPyOptSampler(5).suggest_batch(SPACE, X, Y, 3, 3))
 

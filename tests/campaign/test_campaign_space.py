@@ -10,8 +10,9 @@ from hypothesis import strategies as st
 
 from hakoniwa.wire.protocol import Rx
 from testctl.space import ParameterSpace, SpaceError
+from tests.helpers.paths import DOCS
 
-EXAMPLE = Path(__file__).resolve().parent.parent / "docs" / "space-example.toml"
+EXAMPLE = DOCS / "space-example.toml"
 
 GOOD = """
 [[param]]
@@ -46,7 +47,7 @@ def test_example_file_loads_and_round_trips(tmp_path: Path) -> None:
 
 def test_every_parameter_of_the_example_changes_the_lap(tmp_path: Path) -> None:
     """The example searches what the built-in tracer reads: moving any one parameter moves the lap."""
-    from bench_fixtures import physics
+    from tests.helpers.bench_fixtures import physics
 
     space = ParameterSpace.load(EXAMPLE)
     base = (1.539, 4.267, 4.511, 15.0)

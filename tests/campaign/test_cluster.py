@@ -14,7 +14,8 @@ from pathlib import Path
 import pytest
 
 from testctl.journal import JOURNAL_FILE, read_journal
-from conftest import hako, one_line_error, tagged_env, tagged_processes
+from tests.helpers.commands import hako, one_line_error
+from tests.helpers.processes import tagged_env, tagged_processes
 
 DASK = [sys.executable, "-m", "dask"]
 CAMPAIGN = ["--batch", "2", "--trials", "3", "--seed", "1"]

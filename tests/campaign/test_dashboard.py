@@ -19,15 +19,15 @@ from pathlib import Path
 
 import pytest
 
-from conftest import hako, one_line_error
-from campaign_doubles import SyntheticBench
-from test_study import CONFIG, Drawer
+from tests.helpers.commands import hako, one_line_error
+from tests.helpers.campaign_doubles import SyntheticBench
+from tests.campaign.test_study import CONFIG, Drawer
 from testctl.campaign import Campaign
 from testctl.study import STUDY_FILE, StudyMirror
+from tests.helpers.paths import REPO
 
 pytestmark = pytest.mark.skipif(importlib.util.find_spec("optuna_dashboard") is None,
                                 reason="needs optuna-dashboard (pip install -e '.[dashboard]')")
-ROOT = Path(__file__).resolve().parent.parent
 CHROMIUM, CHROMEDRIVER = shutil.which("chromium"), shutil.which("chromedriver")
 
 
@@ -41,7 +41,7 @@ class Dashboard:
 
     def __init__(self, *run_dirs: Path) -> None:
         self.proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "dashboard", *map(str, run_dirs),
-                                      "--port", "0"], stderr=subprocess.PIPE, text=True, cwd=ROOT)
+                                      "--port", "0"], stderr=subprocess.PIPE, text=True, cwd=REPO)
         line = self.proc.stderr.readline()
         found = re.search(r"http://127\.0\.0\.1:(\d+)/dashboard", line)
         assert found, line + self.proc.stderr.read()

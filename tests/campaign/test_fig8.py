@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from matplotlib.colors import to_rgba
 
-from campaign_doubles import ScriptedBench, result
+from tests.helpers.campaign_doubles import ScriptedBench, result
 from hakoniwa.wire.protocol import Event, Rx
 from testctl.campaign import Campaign, CampaignConfig
 from testctl.report import fig8

@@ -12,16 +12,17 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from conftest import hako, one_line_error
-from campaign_doubles import Killed, KilledAfter, SyntheticBench
+from tests.helpers.commands import hako, one_line_error
+from tests.helpers.campaign_doubles import Killed, KilledAfter, SyntheticBench
 from hakoniwa.wire.protocol import Rx
-from test_campaign_resume import essence
-from test_campaign_sampler import ROOT, SPACE, assert_distinct_inside, bowl, initial
+from tests.campaign.test_campaign_resume import essence
+from tests.campaign.test_campaign_sampler import SPACE, assert_distinct_inside, bowl, initial
 from testctl import optimizers
 from testctl.campaign import Campaign, CampaignConfig
 from testctl.journal import JOURNAL_FILE, read_journal
 from testctl.optimizers import OptimizerUnavailable, make_sampler, missing
 from testctl.space import Parameter, ParameterSpace
+from tests.helpers.paths import REPO
 
 GP = pytest.param("optuna-gp", marks=pytest.mark.skipif(importlib.util.find_spec("torch") is None,
                                                          reason="optuna-gp needs PyTorch (pip install -e '.[gp]')"))
@@ -41,10 +42,10 @@ def test_a_batch_is_a_pure_function_of_seed_round_and_data(name: str) -> None:
 @pytest.mark.parametrize("name", ["tpe", "cmaes"])
 def test_a_fresh_process_proposes_the_same_batch(name: str) -> None:
     """What `--resume` relies on: nothing of an earlier process's sampler is carried over."""
-    code = ("import sys; sys.path.insert(0, 'tests'); from test_campaign_sampler import SPACE, initial;"
+    code = ("from tests.campaign.test_campaign_sampler import SPACE, initial;"
             f"from testctl.optimizers import make_sampler; X, Y = initial(11);"
             f"print(repr(make_sampler({name!r}, 5).suggest_batch(SPACE, X, Y, 3, 3)))")
-    fresh = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT)
+    fresh = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=REPO)
     X, Y = initial(11)
     assert fresh.stdout.strip() == repr(make_sampler(name, 5).suggest_batch(SPACE, X, Y, 3, 3))
 

@@ -3,7 +3,7 @@ promised an end it cannot keep."""
 
 from __future__ import annotations
 
-from campaign_doubles import result
+from tests.helpers.campaign_doubles import result
 from hakoniwa.wire.protocol import Event
 from testctl.campaign import Progress
 from testctl.journal import TestRecord

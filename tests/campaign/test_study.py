@@ -13,9 +13,9 @@ import pytest
 from optuna.artifacts import get_all_artifact_meta
 from optuna.distributions import FloatDistribution, IntDistribution
 
-from campaign_doubles import Killed, KilledAfter, SyntheticBench
+from tests.helpers.campaign_doubles import Killed, KilledAfter, SyntheticBench
 from hakoniwa.wire.protocol import Rx
-from test_campaign_parallel import NoisyBench, ShuffledExecutor
+from tests.campaign.test_campaign_parallel import NoisyBench, ShuffledExecutor
 from testctl import study as study_module
 from testctl.campaign import Campaign, CampaignConfig, CampaignSummary
 from testctl.space import Parameter, ParameterSpace

@@ -9,7 +9,7 @@ import shutil
 
 import pytest
 
-from conftest import hako
+from tests.helpers.commands import hako
 from hakoniwa.physics.course import COURSES_DIR
 from hakoniwa.physics.options import BenchOptions
 from testctl.journal import JOURNAL_FILE, read_journal

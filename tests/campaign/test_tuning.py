@@ -18,15 +18,15 @@ from hypothesis import strategies as st
 from athrill_sim.bindings import (Binding, BindingError, as_float32, fill_template, from_json, template_fields,
                                   value_text)
 from athrill_sim.tuning import Edit, apply_edits
-from conftest import hako, one_line_error
+from tests.helpers.commands import hako, one_line_error
 from hakoniwa.wire.params import PARAM_END, slot_size
 from hakoniwa.wire.protocol import open_athrill, open_unity
-from native_fixtures import need_cc
+from tests.helpers.native_fixtures import need_cc
 from testctl.patch import unified_diff
 from testctl.runner import TrialRunner
 from testctl.space import ParameterSpace, SpaceError
+from tests.helpers.paths import PROGRAMS
 
-PROGRAMS = Path(__file__).resolve().parent / "programs"
 KINDS = ("define", "symbol", "file", "source")
 
 
@@ -293,7 +293,7 @@ def test_resume_refuses_a_campaign_whose_data_file_changed(tmp_path: Path) -> No
 
 
 def test_a_bench_that_was_not_told_the_bindings_refuses_them(tmp_path: Path) -> None:
-    from conftest import run_module
+    from tests.helpers.commands import run_module
 
     controller = [sys.executable, "-m", "testctl.cli", "campaign", "--space", str(PROGRAMS / "define.toml"), "--smoke",
                   "--out", str(tmp_path / "out")]

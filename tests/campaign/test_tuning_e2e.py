@@ -16,17 +16,17 @@ from pathlib import Path
 import pytest
 
 from athrill_sim.bindings import as_float32
-from conftest import hako
+from tests.helpers.commands import hako
 from hakoniwa.physics.options import BenchOptions
 from hakoniwa.wire.protocol import open_athrill
-from native_fixtures import need_cc
-from realemu_fixtures import need_v850_tools, repeatable_athrill2  # noqa: F401  (a fixture)
+from tests.helpers.native_fixtures import need_cc
+from tests.helpers.realemu_fixtures import need_v850_tools
 from testctl.bench import Bench
 from testctl.executor import TestSpec
 from testctl.journal import JOURNAL_FILE, read_journal
 from testctl.space import ParameterSpace
+from tests.helpers.paths import PROGRAMS
 
-PROGRAMS = Path(__file__).resolve().parent / "programs"
 KINDS = ("define", "symbol", "file", "source", "constexpr")  # constexpr: a C++ header's, by source parameters
 CAMPAIGN = ("--noise", "0", "--repeats", "1", "--seed", "0", "--init-points", "5", "--trials", "15",
             "--validate", "0")

@@ -6,8 +6,8 @@ import json
 
 import pytest
 
-from campaign_doubles import BENCH_FAULT, Killed, SyntheticBench, result
-from conftest import hako, one_line_error
+from tests.helpers.campaign_doubles import BENCH_FAULT, Killed, SyntheticBench, result
+from tests.helpers.commands import hako, one_line_error
 from hakoniwa.wire.protocol import Event
 from testctl.campaign import Campaign, CampaignConfig
 from testctl.executor import SerialExecutor

@@ -9,7 +9,7 @@ import pytest
 from testctl.journal import JOURNAL_FILE
 
 
-from conftest import one_line_error, run_module as run
+from tests.helpers.commands import one_line_error, run_module as run
 
 
 @pytest.mark.parametrize("args, words", [

@@ -10,14 +10,14 @@ import signal
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 import pytest
 
-from conftest import interruptible
+from tests.helpers.processes import interruptible
 from testctl.interrupts import EXIT_WITHIN_S, safe_to_raise
+from tests.helpers.paths import TESTS
 
-CHILD = Path(__file__).with_name("interrupt_child.py")
+CHILD = TESTS / "helpers" / "interrupt_child.py"
 
 
 def frame_of(module: str):

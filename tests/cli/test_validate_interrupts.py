@@ -15,7 +15,7 @@ import time
 
 import pytest
 
-from conftest import interruptible
+from tests.helpers.processes import interruptible
 from testctl.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
 
 DRAWS = 10

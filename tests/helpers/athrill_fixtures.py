@@ -1,4 +1,5 @@
-"""The real TOPPERS athrill2 and the real EV3RT image from ../shared, built on demand (cached under build/).
+"""The real TOPPERS athrill2 and the real EV3RT image from ../shared, built on demand (cached under build/);
+tests/conftest.py makes the build a session fixture, `athrill2`.
 
 Tests that need them skip with the reason in pytest's summary: no C compiler, or no ../shared beside the
 clone (a fresh clone on its own).
@@ -12,8 +13,9 @@ from pathlib import Path
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[1]
-SHARED_ATHRILL = REPO.parent / "shared" / "third_party" / "athrill"
+from tests.helpers.paths import REPO, SHARED
+
+SHARED_ATHRILL = SHARED / "third_party" / "athrill"
 ASP_IMAGE = SHARED_ATHRILL / "ev3rt-ble_sample" / "asp"
 BUILD_DIR = REPO / "build" / "athrill"
 
@@ -28,8 +30,3 @@ def build_athrill2() -> Path:
                          text=True, timeout=900)
     assert out.returncode == 0, out.stderr[-2000:]
     return Path(out.stdout.strip())
-
-
-@pytest.fixture(scope="session")
-def athrill2() -> Path:
-    return build_athrill2()

@@ -10,11 +10,11 @@ from pathlib import Path
 
 import click
 
-sys.path.insert(0, str(Path(__file__).parent))
-from campaign_doubles import SyntheticBench  # noqa: E402
-from testctl.campaign import Campaign  # noqa: E402
-from testctl.executor import TestSpec  # noqa: E402
-from testctl.options import plan  # noqa: E402
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # run as a script: the repository, for tests.helpers
+from testctl.campaign import Campaign
+from testctl.executor import TestSpec
+from testctl.options import plan
+from tests.helpers.campaign_doubles import SyntheticBench
 
 CAMPAIGN = {"trials": 2, "init_points": 2, "repeats": 3, "seed": 7, "optimizer": "random", "batch": None,
             "noise": None, "space_file": None, "smoke": False}

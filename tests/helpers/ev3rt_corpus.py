@@ -5,9 +5,9 @@ and a line here: what it must do in one test (`Expect`)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 
-SHARED = Path(__file__).resolve().parents[1].parent / "shared"
+from tests.helpers.paths import SHARED
+
 EV3RT = SHARED / "third_party" / "ev3rt" / "ev3rt-athrill-v850e2m"
 WORKSPACE = EV3RT / "sdk" / "workspace"
 EV3API = EV3RT / "sdk" / "common" / "ev3api"

@@ -1,4 +1,4 @@
-"""A process under `testctl.interrupts`, for tests/test_interrupts.py: it stops itself with a signal at a
+"""A process under `testctl.interrupts`, for tests/cli/test_interrupts.py: it stops itself with a signal at a
 chosen bad moment and says on stdout how far it got. Usage: python interrupt_child.py MOMENT SIGNAL."""
 
 from __future__ import annotations

@@ -3,7 +3,7 @@ third_party/raspike/README.md), for the tests that read them; each skips with NE
 
 from __future__ import annotations
 
-from ev3rt_corpus import SHARED
+from tests.helpers.paths import SHARED
 
 RASPIKE = SHARED / "third_party" / "raspike"
 SDK = RASPIKE / "raspike-athrill-v850e2m"

@@ -1,5 +1,6 @@
 """The real emulator's repeatable mode and v850 images for tests: athrill2 built with the sync patch, and the
-EV3RT SDK with its toolchain, from ../shared (cached under build/ and the user cache).
+EV3RT SDK with its toolchain, from ../shared (cached under build/ and the user cache); tests/conftest.py makes
+the builds session fixtures (`repeatable_athrill2`, `base_practice_image`).
 
 Tests that need them skip with the reason in pytest's summary: no C compiler, no ../shared beside the clone,
 no Ruby (EV3RT's generators), no toolchain.
@@ -12,10 +13,11 @@ from pathlib import Path
 
 import pytest
 
-from athrill_fixtures import REPO, build_athrill2
 from athrill_sim.programs import REPEATABLE_DIR
 from athrill_sim.v850 import ImageError
 from athrill_sim.v850.toolchain import SHARED, check_build_tools, find_tools
+from tests.helpers.athrill_fixtures import build_athrill2
+from tests.helpers.paths import REPO
 
 WORKSPACE = SHARED / "ev3rt" / "ev3rt-athrill-v850e2m" / "sdk" / "workspace"
 BASE_PRACTICE = WORKSPACE / "base_practice_1"
@@ -39,20 +41,4 @@ def build_repeatable_athrill2() -> Path:
     out = subprocess.run([str(REPO / "scripts" / "build_athrill2.sh"), "--repeatable", str(REPO / REPEATABLE_DIR)],
                          capture_output=True, text=True, timeout=900)
     assert out.returncode == 0, out.stderr[-2000:]
-    return Path(out.stdout.strip())
-
-
-@pytest.fixture(scope="session")
-def repeatable_athrill2() -> Path:
-    return build_repeatable_athrill2()
-
-
-@pytest.fixture(scope="session")
-def base_practice_image() -> Path:
-    """base_practice_1 built with `hako build` (cached)."""
-    from conftest import hako
-
-    need_v850_tools()
-    out = hako("build", str(BASE_PRACTICE), timeout=900)
-    assert out.returncode == 0, out.stderr
     return Path(out.stdout.strip())

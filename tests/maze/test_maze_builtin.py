@@ -4,7 +4,6 @@ Tests run on the mazes shipped in the package, so they pass on a fresh clone. Th
 (beside the clone) is used for the large checks only; without it they skip, saying so.
 """
 
-from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
@@ -12,8 +11,8 @@ from click.testing import CliRunner
 from maze.builtin import builtin_dir, builtin_names, builtin_path
 from maze.cli import main
 from maze.mazefile import parse_maze
+from tests.helpers.paths import SHARED
 
-SHARED = Path(__file__).resolve().parents[1].parent / "shared"
 SHARED_MAZES = SHARED / "mazes"
 NO_SHARED = "../shared/mazes not found beside the clone: large maze set"
 BUILTIN = sorted(builtin_dir().glob("*.txt"))

@@ -1,5 +1,5 @@
 import pytest
-from test_maze_builtin import large_maze_params
+from tests.maze.test_maze_builtin import large_maze_params
 
 from maze import explorer
 from maze.builtin import builtin_path

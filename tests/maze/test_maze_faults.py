@@ -18,6 +18,7 @@ from maze.outputs import atomic_open
 from maze.render import COLOURS, text_width, title_width
 from maze.restore import records_for
 from maze.wallrecord import WallRecord, encode_log
+from tests.helpers.paths import SCRIPTS
 
 
 def run(*args: object, **kw):
@@ -161,7 +162,7 @@ def test_bench_search_says_where_its_mazes_come_from(tmp_path: Path) -> None:
     import subprocess
     import sys
 
-    script = Path(__file__).parents[1] / "scripts" / "bench_search.py"
+    script = SCRIPTS / "bench_search.py"
     r = subprocess.run([sys.executable, script, "--mazes", tmp_path / "nothing"], capture_output=True, text=True)
     assert r.returncode == 1
     assert "micromouseonline/mazefiles at commit a71f846897fdd2193e726a1276c6774c9ce9ac67" in r.stderr

@@ -1,7 +1,7 @@
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from test_maze_builtin import builtin_maze_params, large_maze_params
+from tests.maze.test_maze_builtin import builtin_maze_params, large_maze_params
 
 from maze.builtin import builtin_path
 from maze.errors import MazeError

@@ -15,8 +15,9 @@ from maze.mazefile import parse_maze
 from maze.mms import parse_command
 from maze.mmsworld import MmsWorld
 from maze.mouseparams import load_mouse
+from tests.helpers.paths import MICE
 
-FLOODFILL = f"{sys.executable} {Path(__file__).parent / 'mice' / 'floodfill.py'}"
+FLOODFILL = f"{sys.executable} {MICE / 'floodfill.py'}"
 
 
 def bench(tmp_path: Path, *mazes: Path):

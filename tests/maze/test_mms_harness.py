@@ -9,13 +9,13 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from conftest import interruptible
+from tests.helpers.processes import interruptible
 from maze.builtin import builtin_path
 from maze.cli import main
 from maze.mazefile import parse_maze
 from maze.restore import load_log, restore
+from tests.helpers.paths import MICE
 
-MICE = Path(__file__).parent / "mice"
 PY = sys.executable
 
 

@@ -128,7 +128,7 @@ def test_a_file_or_folder_named_oval_does_not_shadow_the_builtin_course(tmp_path
 def test_hako_trial_takes_the_builtin_course_beside_a_folder_named_oval(tmp_path):
     import json
 
-    from conftest import hako
+    from tests.helpers.commands import hako
 
     (tmp_path / "oval").mkdir()
     (tmp_path / "line_trace").write_text("")  # nor does a file shadow a built-in app

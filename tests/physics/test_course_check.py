@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import one_line_error
+from tests.helpers.commands import one_line_error
 from hakoniwa.physics.bench import load_bench
 from hakoniwa.physics.course import COURSES_DIR, CourseError, load_course
 from hakoniwa.physics.course_check import check_course

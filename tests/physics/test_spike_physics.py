@@ -7,7 +7,7 @@ import struct
 
 import pytest
 
-from conftest import hako, one_line_error
+from tests.helpers.commands import hako, one_line_error
 from hakoniwa.physics.bench import load_bench
 from hakoniwa.physics.course import load_course
 from hakoniwa.physics.environment import Environment

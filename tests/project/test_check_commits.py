@@ -3,8 +3,9 @@
 import subprocess
 import sys
 from pathlib import Path
+from tests.helpers.paths import SCRIPTS
 
-SCRIPT = Path(__file__).resolve().parent.parent / "scripts" / "check_commits.py"
+SCRIPT = SCRIPTS / "check_commits.py"
 
 
 def _git(repo: Path, *args: str) -> str:

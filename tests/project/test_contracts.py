@@ -16,9 +16,9 @@ from hakoniwa.physics.sync import SyncServer
 from hakoniwa.wire import exits
 from hakoniwa.wire.errors import HakoError
 from maze.errors import MazelogError
+from tests.helpers.paths import REPO
 
-ROOT = Path(__file__).resolve().parents[1]
-PHYSICS = ROOT / "hakoniwa" / "physics"
+PHYSICS = REPO / "hakoniwa" / "physics"
 # Exceptions that steer a loop rather than report an error to the user (see hakoniwa/wire/errors.py).
 SIGNALS = {"AthrillCrash", "ControllerGone", "KernelExit", "PowerCut", "Terminated", "RunBroken"}
 
@@ -55,11 +55,11 @@ def test_the_sync_loops_read_athrill_only_through_slots():
 def our_exceptions() -> list[type[BaseException]]:
     found = []
     for pkg in ("hakoniwa", "athrill_sim", "testctl", "maze"):
-        for path in sorted((ROOT / pkg).rglob("*.py")):
+        for path in sorted((REPO / pkg).rglob("*.py")):
             text = path.read_text()
             if not re.search(r"^class \w+\(.*(Error|Exception|Interrupt)\b", text, re.M):
                 continue
-            parts = path.relative_to(ROOT).with_suffix("").parts
+            parts = path.relative_to(REPO).with_suffix("").parts
             module = importlib.import_module(".".join(parts[:-1] if parts[-1] == "__init__" else parts))
             found += [c for c in vars(module).values() if inspect.isclass(c) and issubclass(c, BaseException)
                       and c.__module__ == module.__name__]
@@ -95,12 +95,12 @@ def literal_statuses(path: Path) -> list[str]:
             hits.append(node)
         elif isinstance(node, ast.IfExp) and {constant(node.body), constant(node.orelse)} & {130, 143}:
             hits.append(node)
-    return [f"{path.relative_to(ROOT)}:{node.lineno}" for node in hits]
+    return [f"{path.relative_to(REPO)}:{node.lineno}" for node in hits]
 
 
 @pytest.mark.parametrize("pkg", ["hakoniwa", "athrill_sim", "testctl", "maze"])
 def test_exit_statuses_are_named_in_one_module(pkg):
-    hits = [hit for path in sorted((ROOT / pkg).rglob("*.py")) if path.name != "exits.py"
+    hits = [hit for path in sorted((REPO / pkg).rglob("*.py")) if path.name != "exits.py"
             for hit in literal_statuses(path)]
     assert hits == []
 
@@ -134,7 +134,7 @@ class FakeServer:
         self.slots = self.transport = FakeAthrill()
         self.scheduler = type("Ticks", (), {"next_tick": staticmethod(lambda: 10**12)})()
         self.now_us, self.end_us, self.answer_before_start = 0, end_us, 0
-        self.run_dir, self.athrill_timeout_s = ROOT, 10.0
+        self.run_dir, self.athrill_timeout_s = REPO, 10.0
         self.ahead_us: list[int] = []
 
     def advance_to(self, target_us: int) -> bool:

@@ -3,11 +3,11 @@ block that differs fails here. The mazelog sessions take seconds (fast suite); t
 
 import importlib.util
 import sys
-from pathlib import Path
 
 import pytest
+from tests.helpers.paths import SCRIPTS
 
-SCRIPT = Path(__file__).resolve().parents[1] / "scripts" / "doc_results.py"
+SCRIPT = SCRIPTS / "doc_results.py"
 
 
 def load():

@@ -4,7 +4,7 @@ checked against the code, so that a page cannot keep a number the code no longer
 The code is the one source: each test reads a table or sentence of a page and compares it with the constant
 it restates. A page that words a fact differently makes its pattern miss, which fails too ("no ... found"),
 rather than passing over it. The byte offsets of `| Rx.NAME | offset |` rows are checked by
-`tests/test_protocol.py::test_the_docs_offset_tables_match_the_layout`.
+`tests/wire/test_protocol.py::test_the_docs_offset_tables_match_the_layout`.
 """
 
 from __future__ import annotations
@@ -23,9 +23,9 @@ from hakoniwa.wire import timebase
 from hakoniwa.wire.exits import EXIT_BENCH_FAULT, EXIT_INTERRUPTED, EXIT_TERMINATED
 from hakoniwa.wire.protocol import BenchCause, CrashKind, Objective, Rx, SyncMode, Tx
 from testctl.campaign_config import CampaignConfig
+from tests.helpers.paths import REPO
 
-ROOT = Path(__file__).resolve().parent.parent
-DOCS = ROOT / "docs"
+DOCS = REPO / "docs"
 DESIGN = DOCS / "DESIGN-NOTES.md"
 _CELL_BAR = re.compile(r"(?<!\\)\|")  # a cell's `\|` is text, not a border
 _UNITS_US = {"µs": 1, "us": 1, "ms": 1_000, "s": 1_000_000}
@@ -133,7 +133,7 @@ def test_the_docs_exit_statuses_are_the_code_s():
 def test_the_docs_repetition_rule_is_the_default_one():
     """`first-to-3-of-5` (or `first to 3 of 5`) in a page is the default repetition rule."""
     rule = CampaignConfig().rule
-    said = [(page.name, int(k), int(n)) for page in [*sorted(DOCS.glob("*.md")), ROOT / "README.md"]
+    said = [(page.name, int(k), int(n)) for page in [*sorted(DOCS.glob("*.md")), REPO / "README.md"]
             for k, n in re.findall(r"first[- ]to[- ](\d+)[- ]of[- ](\d+)", page.read_text())]
     assert said, "no page states the repetition rule"
     assert {(k, n) for _, k, n in said} == {(rule.needed, rule.repeats)}, said

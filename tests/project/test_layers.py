@@ -9,8 +9,8 @@ import sys
 from pathlib import Path
 
 import pytest
+from tests.helpers.paths import REPO
 
-ROOT = Path(__file__).resolve().parents[1]
 OURS = ("hakoniwa", "athrill_sim", "testctl", "maze")
 
 # Bottom to top. A module belongs to the first entry whose prefix it starts with.
@@ -31,8 +31,8 @@ SHARED_WITH_STANDALONE = ("hakoniwa.wire.output", "hakoniwa.wire.exits")
 def modules() -> dict[str, Path]:
     found = {}
     for pkg in OURS:
-        for path in (ROOT / pkg).rglob("*.py"):
-            parts = path.relative_to(ROOT).with_suffix("").parts
+        for path in (REPO / pkg).rglob("*.py"):
+            parts = path.relative_to(REPO).with_suffix("").parts
             name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
             found[name] = path
     return found

@@ -14,11 +14,12 @@ from pathlib import Path
 import pytest
 from junitparser import Failure, JUnitXml
 
-from conftest import hako, one_line_error, tagged_env, tagged_processes
-from test_faults import IDLE_APP
+from tests.helpers.commands import hako, one_line_error
+from tests.helpers.processes import tagged_env, tagged_processes
+from tests.bench.test_faults import IDLE_APP
+from tests.helpers.paths import REPO
 
-ROOT = Path(__file__).resolve().parents[1]
-EXAMPLE = ROOT / "docs" / "examples" / "hako-tests.toml"
+EXAMPLE = REPO / "docs" / "examples" / "hako-tests.toml"
 GAINS = "params = { Kp = 1.539, Ki = 4.267, Kd = 4.511 }\n"
 
 

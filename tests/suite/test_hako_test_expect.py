@@ -7,7 +7,7 @@ import math
 import pytest
 from hypothesis import given, strategies as st
 
-from campaign_doubles import result
+from tests.helpers.campaign_doubles import result
 from hakoniwa.wire.protocol import Event
 from testctl.expect import (EVENTS, OPERATORS, PER_RUN, Bound, EventExpectation, ExpectationError,
                             parse_expectation)

@@ -3,7 +3,6 @@ read from EV3RT's athrill drivers and Athrill's VDEV device)."""
 
 import re
 import struct
-from pathlib import Path
 
 import pytest
 from hypothesis import given
@@ -12,6 +11,7 @@ from hypothesis import strategies as st
 from hakoniwa.wire.protocol import (ATHRILL_FILE, COURSE_BLOCK_POSITIONS, FILE_SIZE, HEADER_SIZE, RX_GUEST_BASE, TX_GUEST_BASE, UNITY_FILE,
                                WINDOW_SIZE, ColorId, Event, Header, LayoutError, Rx, Tx, c_header,
                                goal_time_from_words, goal_time_words, guest_to_body, open_athrill, open_unity)
+from tests.helpers.paths import DOCS
 
 # The README's tables, written out independently of protocol.py.
 REAL_HEADER = {"magic": 0, "version": 4, "athrill_time": 8, "unity_time": 16, "ext_off": 24, "ext_size": 28}
@@ -226,7 +226,7 @@ def test_the_c_header_is_generated_from_this_layout():
 
 def test_the_spike_slots_are_where_the_sdks_header_puts_them():
     """raspike-athrill-v850e2m's ev3_vdev_common.h, read from ../shared: each slot is OFF + 4 * INX."""
-    from raspike_sdk import NEEDS_RASPIKE, VDEV_HEADER
+    from tests.helpers.raspike_sdk import NEEDS_RASPIKE, VDEV_HEADER
 
     if not VDEV_HEADER.is_file():
         pytest.skip(NEEDS_RASPIKE)
@@ -241,7 +241,6 @@ def test_the_spike_slots_are_where_the_sdks_header_puts_them():
         assert getattr(Rx, f"SPIKE_HSV_{axis}") == hsv + 4 * defines[f"SPIKE_SENSOR_HSV_INX_{axis}"]
 
 
-DOCS = Path(__file__).resolve().parent.parent / "docs"
 OFFSET_ROW = re.compile(r"^\|\s*`(Rx|Tx)\.([A-Z0-9_]+)`\s*\|\s*(\d+)\s*\|", re.MULTILINE)
 
 
