@@ -5,7 +5,6 @@ import os
 import signal
 import subprocess
 import sys
-import time
 
 import pytest
 
@@ -14,6 +13,7 @@ from hakoniwa.wire.protocol import CrashKind, Event, Rx, Tx
 from hakoniwa.wire.rundir import LOCK_FILE
 from tests.helpers.bench_fixtures import PAPER, ZERO, physics
 from tests.helpers.commands import hako
+from tests.helpers.waiting import wait_until
 
 
 def test_paper_gains_finish_a_lap_and_zero_gains_do_not(tmp_path):
@@ -30,26 +30,19 @@ def test_paper_gains_finish_a_lap_and_zero_gains_do_not(tmp_path):
     assert (tmp_path / "trajectory.csv").read_text().count("\n") > 100
 
 
-def wait_until(cond, timeout_s: float, what: str) -> None:
-    deadline = time.monotonic() + timeout_s
-    while not cond():
-        assert time.monotonic() < deadline, f"timed out waiting for {what}"
-        time.sleep(0.005)
-
-
 def test_athrill_killed_mid_test_is_a_crash_and_the_bench_stays_usable(tmp_path):
     with physics(tmp_path) as (_, runner):
         runner.write_params(PAPER)
         runner.athrill.write_i32(Tx.START, 1)
-        wait_until(lambda: runner.unity.unity_time_us >= 2_000_000, 30, "two simulated seconds")
+        wait_until(lambda: runner.unity.unity_time_us >= 2_000_000, 30, 0.005, what="two simulated seconds")
         os.kill(runner.athrill.read_u32(Tx.ATHRILL_PID), signal.SIGKILL)
-        wait_until(lambda: runner.unity.read_i32(Rx.EVENT) != Event.NONE, 60, "an event")
+        wait_until(lambda: runner.unity.read_i32(Rx.EVENT) != Event.NONE, 60, 0.005, what="an event")
         assert runner.unity.read_i32(Rx.EVENT) == Event.CRASH  # not HIT_WALL
         # noticed through the process (a program crash with its signal), not by the silence watchdog
         assert runner.unity.read_i32(Rx.CRASH_KIND) == CrashKind.PROGRAM
         assert runner.unity.read_i32(Rx.CRASH_DETAIL) == -signal.SIGKILL
         runner.athrill.write_i32(Tx.START, 0)
-        wait_until(lambda: runner.unity.read_i32(Rx.EVENT) == Event.NONE, 10, "the reset")
+        wait_until(lambda: runner.unity.read_i32(Rx.EVENT) == Event.NONE, 10, 0.005, what="the reset")
         assert runner.run_test(PAPER).event == Event.GOAL
 
 

@@ -9,7 +9,6 @@ import signal
 import subprocess
 import sys
 import threading
-import time
 from pathlib import Path
 
 import pytest
@@ -26,6 +25,7 @@ from testctl.executor import TestSpec
 from testctl.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
 from testctl.report import format_summary
 from testctl.result import TestResult
+from tests.helpers.waiting import wait_until
 
 IDLE_APP = '''
 def idle(api):
@@ -51,10 +51,8 @@ def mid_test(bench: Bench, harm) -> TestResult:
     test = threading.Thread(target=lambda: results.append(bench.run(spec(ZERO))))
     runner = bench.start()
     test.start()
-    deadline = time.monotonic() + 60
-    while runner.athrill.read_u32(Tx.ANSWER_SEQ) < 3:  # the program is in its loop
-        assert time.monotonic() < deadline and test.is_alive()
-        time.sleep(0.01)
+    wait_until(lambda: runner.athrill.read_u32(Tx.ANSWER_SEQ) >= 3, 60, 0.01, alive=test.is_alive,
+               what="the program's loop")
     harm(bench.run_dir)
     test.join(90)
     (r,) = results
@@ -138,10 +136,8 @@ def test_a_physics_process_killed_mid_campaign_is_counted_in_the_summary(tmp_pat
     proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--trials", "3", "--init-points", "2",
                              "--repeats", "1", "--benches", "1", "--noise", "0", "--out", str(out)],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=tagged_env(tag))
-    deadline = time.monotonic() + 300
-    while not ((out / JOURNAL_FILE).exists() and len(read_journal(out / JOURNAL_FILE)[1]) >= 1):
-        assert proc.poll() is None and time.monotonic() < deadline
-        time.sleep(0.1)
+    wait_until(lambda: (out / JOURNAL_FILE).exists() and len(read_journal(out / JOURNAL_FILE)[1]) >= 1, 300, 0.1,
+               alive=lambda: proc.poll() is None, what="a first test")
     # the worker's bench; the campaign's own bench in OUT/run films and draws the best sets, not tested here
     (physics_pid,) = [pid for pid in tagged_processes(tag, b"hakoniwa.physics.main")
                       if str(out).encode() not in Path(f"/proc/{pid}/cmdline").read_bytes()]

@@ -21,6 +21,7 @@ from hakoniwa.physics.sync import exit_crash
 from testctl.journal import JOURNAL_FILE, read_journal
 from tests.helpers.commands import one_line_error
 from tests.helpers.processes import interruptible
+from tests.helpers.waiting import wait_until
 
 IDLE_APP = '''
 def main_task(api):
@@ -97,10 +98,7 @@ def pid_of(module: str, run_dir: Path, timeout_s: float = 60) -> int:
 
 def wait_for_test(run_dir: Path) -> None:
     """Until the physics process has started test 1 (it announces the test's number to Athrill)."""
-    deadline = time.monotonic() + 60
-    while current_test_number(run_dir) < 1:
-        assert time.monotonic() < deadline
-        time.sleep(0.05)
+    wait_until(lambda: current_test_number(run_dir) >= 1, 60, what="test 1")
 
 
 def current_test_number(run_dir: Path) -> int:
@@ -165,10 +163,8 @@ def test_ctrl_c_or_sigterm_ends_a_campaign_with_the_resume_command(tmp_path, sig
     proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--trials", "20", "--repeats", "1",
                              "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True, preexec_fn=interruptible)
-    deadline = time.monotonic() + 300
-    while not ((out / JOURNAL_FILE).exists() and len(read_journal(out / JOURNAL_FILE)[1]) >= 2):
-        assert proc.poll() is None and time.monotonic() < deadline
-        time.sleep(0.1)
+    wait_until(lambda: (out / JOURNAL_FILE).exists() and len(read_journal(out / JOURNAL_FILE)[1]) >= 2, 300, 0.1,
+               alive=lambda: proc.poll() is None, what="two tests")
     if signum == signal.SIGINT:
         os.killpg(proc.pid, signal.SIGINT)  # what the terminal does on Ctrl-C
     else:

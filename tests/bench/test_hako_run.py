@@ -5,13 +5,13 @@ import os
 import signal
 import subprocess
 import sys
-import time
 
 import pytest
 
 from testctl.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
 from testctl.options import SMOKE_DRAWS
 from tests.helpers.commands import hako
+from tests.helpers.waiting import wait_until
 
 
 
@@ -82,10 +82,8 @@ def test_sigkill_mid_campaign_then_resume_loses_and_repeats_nothing(tmp_path):
     proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", *args, "--out", str(killed)],
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     journal = killed / JOURNAL_FILE
-    deadline = time.monotonic() + 300
-    while not (journal.exists() and journal.read_text().count("\n") >= 1 + 3):  # header + 3 tests: mid-set
-        assert proc.poll() is None and time.monotonic() < deadline
-        time.sleep(0.05)
+    wait_until(lambda: journal.exists() and journal.read_text().count("\n") >= 1 + 3, 300,  # header + 3 tests: mid-set
+               alive=lambda: proc.poll() is None, what="3 tests")
     os.kill(proc.pid, signal.SIGKILL)
     proc.wait()
     _, before = read_journal(journal)

@@ -6,12 +6,12 @@ from __future__ import annotations
 import os
 import signal
 import threading
-import time
 from pathlib import Path
 
 from tests.helpers.bench_fixtures import ZERO, physics
 from hakoniwa.wire.protocol import CrashKind, Event, Tx
 from hakoniwa.wire.rundir import PHYSICS_LOG
+from tests.helpers.waiting import wait_until
 
 APPS = '''
 def idle(api):
@@ -37,10 +37,7 @@ def test_a_stopped_athrill_is_a_bench_fault_and_the_next_test_runs(tmp_path):
         results = []
         test = threading.Thread(target=lambda: results.append(runner.run_test(ZERO)))
         test.start()
-        deadline = time.monotonic() + 60
-        while runner.athrill.read_u32(Tx.ANSWER_SEQ) < 2:  # the program is running its loop
-            assert time.monotonic() < deadline
-            time.sleep(0.01)
+        wait_until(lambda: runner.athrill.read_u32(Tx.ANSWER_SEQ) >= 2, 60, 0.01, what="the program's loop")
         pid = runner.athrill.read_u32(Tx.ATHRILL_PID)
         os.kill(pid, signal.SIGSTOP)  # the machine stalls it, longer than --athrill-timeout
         try:

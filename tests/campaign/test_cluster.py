@@ -16,6 +16,7 @@ import pytest
 from testctl.journal import JOURNAL_FILE, read_journal
 from tests.helpers.commands import hako, one_line_error
 from tests.helpers.processes import tagged_env, tagged_processes
+from tests.helpers.waiting import wait_until
 
 DASK = [sys.executable, "-m", "dask"]
 CAMPAIGN = ["--batch", "2", "--trials", "3", "--seed", "1"]
@@ -104,10 +105,7 @@ def test_a_worker_killed_mid_campaign_loses_nothing(tmp_path, local_reference):
         proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--scheduler", cluster.address,
                                  *CAMPAIGN, "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                 text=True)
-        deadline = time.monotonic() + 120
-        while not (out / JOURNAL_FILE).is_file() or len(read_journal(out / JOURNAL_FILE)[1]) < 4:
-            assert time.monotonic() < deadline and proc.poll() is None
-            time.sleep(0.2)
+        wait_until(lambda: journaled(out, 4), 120, 0.2, alive=lambda: proc.poll() is None, what="4 tests")
         os.killpg(cluster.workers[0].pid, signal.SIGKILL)  # the worker and the bench it hosts
         _, err = proc.communicate(timeout=600)
     finally:
@@ -157,10 +155,7 @@ def test_a_bench_killed_mid_campaign_is_rebuilt_and_its_test_rerun(tmp_path, loc
     proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--benches", "2", *CAMPAIGN, "--out",
                              str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             env=tagged_env(tag))
-    deadline = time.monotonic() + 120
-    while not (out / JOURNAL_FILE).is_file() or len(read_journal(out / JOURNAL_FILE)[1]) < 3:
-        assert time.monotonic() < deadline and proc.poll() is None
-        time.sleep(0.2)
+    wait_until(lambda: journaled(out, 3), 120, 0.2, alive=lambda: proc.poll() is None, what="3 tests")
     victims = [p for p in descendants(proc.pid) if is_physics(p)]
     assert victims
     os.kill(victims[0], signal.SIGKILL)
@@ -169,19 +164,18 @@ def test_a_bench_killed_mid_campaign_is_rebuilt_and_its_test_rerun(tmp_path, loc
     assert essence(out) == essence(local_reference)
     # Every bench the campaign started, the rebuilt one too, ended with it (found by the environment tag:
     # once `hako run` is reaped its orphans would no longer be its descendants).
-    deadline = time.monotonic() + 30
-    while tagged_processes(tag, b"hakoniwa.physics.main") and time.monotonic() < deadline:
-        time.sleep(0.2)
-    assert tagged_processes(tag, b"hakoniwa.physics.main") == []
+    wait_until(lambda: tagged_processes(tag, b"hakoniwa.physics.main") == [], 30, 0.2, what="every bench to end")
+
+
+def journaled(out: Path, tests: int) -> bool:
+    """Whether the campaign in `out` has journaled `tests` tests."""
+    return (out / JOURNAL_FILE).is_file() and len(read_journal(out / JOURNAL_FILE)[1]) >= tests
 
 
 def campaign_on(cluster: LocalDask, out: Path) -> subprocess.Popen:
     proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--scheduler", cluster.address,
                              *CAMPAIGN, "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    deadline = time.monotonic() + 120
-    while not (out / JOURNAL_FILE).is_file() or len(read_journal(out / JOURNAL_FILE)[1]) < 1:
-        assert time.monotonic() < deadline and proc.poll() is None
-        time.sleep(0.2)
+    wait_until(lambda: journaled(out, 1), 120, 0.2, alive=lambda: proc.poll() is None, what="a first test")
     return proc
 
 

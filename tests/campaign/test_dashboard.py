@@ -12,7 +12,6 @@ import socket
 import subprocess
 import sys
 import tempfile
-import time
 import urllib.request
 from collections.abc import Iterator
 from pathlib import Path
@@ -25,6 +24,7 @@ from tests.campaign.test_study import CONFIG, Drawer
 from testctl.campaign import Campaign
 from testctl.study import STUDY_FILE, StudyMirror
 from tests.helpers.paths import REPO
+from tests.helpers.waiting import wait_until
 
 pytestmark = pytest.mark.skipif(importlib.util.find_spec("optuna_dashboard") is None,
                                 reason="needs optuna-dashboard (pip install -e '.[dashboard]')")
@@ -109,10 +109,8 @@ def test_the_page_follows_a_running_campaign(tmp_path: Path, dashboard) -> None:
     d = dashboard(tmp_path / "a")
     assert len(studies(d)["a"]["trials"]) == 4
     campaign(tmp_path / "a", trials=3, resume=True)  # two more sets, appended while the dashboard serves
-    deadline = time.monotonic() + 30  # optuna-dashboard caches a small study's trials for 2 s
-    while len(studies(d)["a"]["trials"]) != 6:
-        assert time.monotonic() < deadline
-        time.sleep(0.5)
+    # optuna-dashboard caches a small study's trials for 2 s
+    wait_until(lambda: len(studies(d)["a"]["trials"]) == 6, 30, 0.5, what="the two sets on the dashboard")
 
 
 def test_bad_input_is_one_line(tmp_path: Path) -> None:

@@ -6,6 +6,8 @@ from __future__ import annotations
 import subprocess
 import sys
 
+from click.testing import CliRunner, Result
+
 
 def run_module(module: str, *args: str, timeout: float = 600, **kwargs) -> subprocess.CompletedProcess:
     """`python -m MODULE ARGS` with this interpreter, its output captured as text."""
@@ -26,3 +28,11 @@ def one_line_error(r: subprocess.CompletedProcess, *words: str) -> None:
     assert len(lines) == 1, r.stderr
     for w in words:
         assert w in lines[0], r.stderr
+
+
+def mazelog(*args: object, **kwargs) -> Result:
+    """`mazelog ARGS` in this process through click's test runner (fast enough for hypothesis to call it many
+    times); every argument is given as its text, so a test may pass paths and numbers."""
+    from maze.cli import main
+
+    return CliRunner().invoke(main, [str(a) for a in args], **kwargs)

@@ -6,11 +6,10 @@ Tests run on the mazes shipped in the package, so they pass on a fresh clone. Th
 
 
 import pytest
-from click.testing import CliRunner
 
 from maze.builtin import builtin_dir, builtin_names, builtin_path
-from maze.cli import main
 from maze.mazefile import parse_maze
+from tests.helpers.commands import mazelog
 from tests.helpers.paths import SHARED
 
 SHARED_MAZES = SHARED / "mazes"
@@ -51,13 +50,13 @@ def test_builtin_mazes_are_copies_of_the_shared_ones():
 
 def test_commands_take_a_builtin_name(tmp_path):
     log = tmp_path / "run.bin"
-    result = CliRunner().invoke(main, ["explore", "alljapan-001-1980", "--log", str(log)])
+    result = mazelog("explore", "alljapan-001-1980", "--log", str(log))
     assert result.exit_code == 0 and "shortest path: found" in result.output
-    listing = CliRunner().invoke(main, ["mazes"])
+    listing = mazelog("mazes")
     assert all(name in listing.output for name in builtin_names())
 
 
 def test_an_unknown_maze_name_is_a_one_line_error():
-    result = CliRunner().invoke(main, ["show", "nosuchmaze"])
+    result = mazelog("show", "nosuchmaze")
     assert result.exit_code == 2 and "neither a file nor a built-in maze" in result.output
     assert "Traceback" not in result.output

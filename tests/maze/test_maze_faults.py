@@ -7,28 +7,24 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from click.testing import CliRunner
 from PIL import Image
 
 from maze.builtin import builtin_path
-from maze.cli import main, wrap_title
+from maze.cli import wrap_title
 from maze.direction import EAST, NORTH
 from maze.model import Maze
 from maze.outputs import atomic_open
 from maze.render import COLOURS, text_width, title_width
 from maze.restore import records_for
 from maze.wallrecord import WallRecord, encode_log
+from tests.helpers.commands import mazelog
 from tests.helpers.paths import SCRIPTS
-
-
-def run(*args: object, **kw):
-    return CliRunner().invoke(main, [str(a) for a in args], **kw)
 
 
 @pytest.fixture
 def log(tmp_path: Path) -> Path:
     p = tmp_path / "run.bin"
-    assert run("explore", "alljapan-010-1989-fin", "--log", p).exit_code == 0
+    assert mazelog("explore", "alljapan-010-1989-fin", "--log", p).exit_code == 0
     return p
 
 
@@ -43,14 +39,14 @@ def log(tmp_path: Path) -> Path:
 def test_an_output_that_is_an_input_is_refused_and_the_input_kept(log: Path, args) -> None:
     os.link(log, log.parent / "alias.bin")
     before = log.read_bytes()
-    r = run(*args(log))
+    r = mazelog(*args(log))
     assert r.exit_code == 1 and "refusing to overwrite it" in r.output, r.output
     assert log.read_bytes() == before
 
 
 def test_explore_with_the_same_file_for_log_and_png(tmp_path: Path) -> None:
     x = tmp_path / "x"
-    r = run("explore", "minimaze", "--log", x, "--png", x)
+    r = mazelog("explore", "minimaze", "--log", x, "--png", x)
     assert r.exit_code == 1 and "--log and --png are the same file" in r.output
     assert not x.exists()
 
@@ -58,7 +54,7 @@ def test_explore_with_the_same_file_for_log_and_png(tmp_path: Path) -> None:
 def test_a_maze_file_given_as_the_log_is_not_overwritten(tmp_path: Path) -> None:
     maze = tmp_path / "m.txt"
     maze.write_text(builtin_path("minimaze").read_text())
-    r = run("explore", maze, "--log", maze)
+    r = mazelog("explore", maze, "--log", maze)
     assert r.exit_code == 1 and "is the input MAZE" in r.output
     assert maze.read_text() == builtin_path("minimaze").read_text()
 
@@ -85,7 +81,7 @@ def _umask() -> int:
 def test_path_on_an_empty_file(tmp_path: Path) -> None:
     empty = tmp_path / "empty.bin"
     empty.write_bytes(b"")
-    r = run("path", empty)
+    r = mazelog("path", empty)
     assert r.exit_code == 1
     assert r.output.strip() == f"Error: {empty}: empty file (neither a maze file nor a wall log with any record)"
 
@@ -97,31 +93,31 @@ def test_path_without_maze_says_what_it_assumed(tmp_path: Path) -> None:
             taiwan.set(x, y, d, False)
     log = tmp_path / "taiwan.bin"
     log.write_bytes(encode_log(records_for(taiwan)))
-    r = CliRunner().invoke(main, ["path", str(log)])
+    r = mazelog("path", str(log))
     assert r.exit_code == 0
     assert "note: assumed 32x32 with the central goal, as no --maze or --size was given" in r.stderr
     assert "its records span only 21x21 cells: is it a 21x21 maze? (--size 21)" in r.stderr
     assert "(assumed)" in r.stdout
-    told = CliRunner().invoke(main, ["path", str(log), "--size", "21"])
+    told = mazelog("path", str(log), "--size", "21")
     assert told.exit_code == 0 and "note:" not in told.stderr and "21x21" in told.stdout
 
 
 def test_path_refuses_a_log_outside_the_assumed_size(tmp_path: Path) -> None:
     log = tmp_path / "big.bin"
     log.write_bytes(encode_log([WallRecord(0, 1, NORTH, False), WallRecord(40, 3, EAST, True)]))
-    r = run("path", log)
+    r = mazelog("path", log)
     assert r.exit_code == 1
     assert ("record 1: cell (40, 3) is outside the 32x32 maze: not a log of a 32x32 maze; give --maze or --size"
             in r.output)
 
 
 def test_info_help_names_only_its_own_options() -> None:
-    r = run("info", "-h")
+    r = mazelog("info", "-h")
     assert r.exit_code == 0 and "--maze" not in r.output
 
 
 def test_version() -> None:
-    r = run("--version")
+    r = mazelog("--version")
     assert r.exit_code == 0 and r.output.startswith("mazelog, version ")
 
 
@@ -131,30 +127,30 @@ def test_version() -> None:
 ])
 def test_no_stray_line_along_the_bottom_of_a_picture(tmp_path: Path, command: list[str]) -> None:
     png = tmp_path / "m.png"
-    assert run(*command, png).exit_code == 0
+    assert mazelog(*command, png).exit_code == 0
     pixels = np.array(Image.open(png).convert("RGB"))
     wall = np.all(pixels == COLOURS["wall"], axis=2)
     assert not wall[-4:].any()  # the legend's swatch is higher up; the last rows are margin
 
 
 def test_path_png_keeps_every_move(tmp_path: Path) -> None:
-    moves = run("path", "japan2019hef")
+    moves = mazelog("path", "japan2019hef")
     assert moves.exit_code == 0
     sequence = next(line for line in moves.output.splitlines() if line.startswith("moves:")).split(None, 1)[1]
     lines = wrap_title(sequence, 32)
     assert " ".join(lines) == sequence and len(lines) > 1
     assert all(text_width(line) <= title_width(32) for line in lines)
     png = tmp_path / "p.png"
-    assert run("path", "japan2019hef", "--png", png).exit_code == 0
+    assert mazelog("path", "japan2019hef", "--png", png).exit_code == 0
     assert Image.open(png).height > 700  # the title grew by the extra lines
 
 
 def test_the_doc_encode_command_works_in_an_empty_folder(tmp_path: Path, monkeypatch) -> None:
     monkeypatch.chdir(tmp_path)
-    r = CliRunner().invoke(main, ["encode", "seed-log.txt", "seed.bin"])
+    r = mazelog("encode", "seed-log.txt", "seed.bin")
     assert r.exit_code == 0, r.output
     assert "30 records, 60 bytes -> seed.bin" in r.output
-    info = CliRunner().invoke(main, ["info", "--size", "4", "seed.bin"])
+    info = mazelog("info", "--size", "4", "seed.bin")
     assert "known inner walls: 24 of 24" in info.output
 
 
@@ -171,6 +167,6 @@ def test_bench_search_says_where_its_mazes_come_from(tmp_path: Path) -> None:
 
 def test_an_output_in_a_missing_folder_is_named_as_given(tmp_path: Path) -> None:
     out = tmp_path / "no" / "such" / "run.bin"
-    r = run("explore", "minimaze", "--log", out)
+    r = mazelog("explore", "minimaze", "--log", out)
     assert r.exit_code == 1
     assert r.output.strip() == f"Error: {out}: cannot write there (No such file or directory)"

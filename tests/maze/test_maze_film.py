@@ -5,24 +5,19 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from click.testing import CliRunner
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from PIL import Image
 
 from maze.builtin import builtin_path
-from maze.cli import main
 from maze.explorer import explore
 from maze.film import MAX_FRAMES, default_stride, write_gif
 from maze.mazefile import parse_maze
 from maze.render import COLOURS, PALETTE
 from maze.wallrecord import WallRecord, encode_log
+from tests.helpers.commands import mazelog
 
 CLASSIC = builtin_path("alljapan-010-1989-fin")
-
-
-def run(*args):
-    return CliRunner().invoke(main, [str(a) for a in args])
 
 
 @pytest.fixture(scope="module")
@@ -48,9 +43,9 @@ def has_colour(pixels: np.ndarray, name: str) -> bool:
 def test_film_has_a_frame_per_stride_and_ends_on_the_replay_png(tmp_path, search_log, stride):
     log, records = search_log
     gif, png = tmp_path / "run.gif", tmp_path / "last.png"
-    result = run("replay", log, "--size", 16, "--animate", gif, "--stride", stride)
+    result = mazelog("replay", log, "--size", 16, "--animate", gif, "--stride", stride)
     assert result.exit_code == 0, result.output
-    assert run("replay", log, "--size", 16, "--format", "png", "--out", png).exit_code == 0
+    assert mazelog("replay", log, "--size", 16, "--format", "png", "--out", png).exit_code == 0
     frames = Image.open(gif).n_frames
     assert frames == 1 + -(-len(records) // stride)  # the empty maze, then every stride records and the last
     assert (rgb(gif, frames - 1) == rgb(png)).all()
@@ -64,14 +59,14 @@ def test_with_the_true_maze_the_film_marks_the_path_and_a_misread_wall(tmp_path,
     bad_log = tmp_path / "misread.bin"
     bad_log.write_bytes(encode_log(bad))
     gif, png = tmp_path / "run.gif", tmp_path / "last.png"
-    assert run("replay", bad_log, "--maze", CLASSIC, "--animate", gif).exit_code == 0
-    assert run("replay", bad_log, "--maze", CLASSIC, "--format", "png", "--out", png).exit_code == 0
+    assert mazelog("replay", bad_log, "--maze", CLASSIC, "--animate", gif).exit_code == 0
+    assert mazelog("replay", bad_log, "--maze", CLASSIC, "--format", "png", "--out", png).exit_code == 0
     last = rgb(png)
     frames = Image.open(gif).n_frames
     assert (rgb(gif, frames - 1) == last).all()
     assert has_colour(last, "trail") and has_colour(last, "wrong") and has_colour(last, "mouse")
     truthful = tmp_path / "truthful.png"
-    run("replay", log, "--maze", CLASSIC, "--format", "png", "--out", truthful)
+    mazelog("replay", log, "--maze", CLASSIC, "--format", "png", "--out", truthful)
     maze_area = rgb(truthful)[: -60]  # above the legend, whose swatch has the colour
     assert not has_colour(maze_area, "wrong")
 
@@ -79,9 +74,9 @@ def test_with_the_true_maze_the_film_marks_the_path_and_a_misread_wall(tmp_path,
 def test_a_32x32_search_film_is_a_few_mb_at_the_default_stride(tmp_path):
     truth = builtin_path("japan2019hef")
     log, gif = tmp_path / "run.bin", tmp_path / "run.gif"
-    assert run("explore", truth, "--log", log).exit_code == 0
+    assert mazelog("explore", truth, "--log", log).exit_code == 0
     records = log.stat().st_size // 2
-    result = run("replay", log, "--maze", truth, "--animate", gif)
+    result = mazelog("replay", log, "--maze", truth, "--animate", gif)
     assert result.exit_code == 0, result.output
     stride = default_stride(records)
     assert f"one per {stride} records" in result.output
@@ -90,7 +85,7 @@ def test_a_32x32_search_film_is_a_few_mb_at_the_default_stride(tmp_path):
 
 def test_animate_into_a_missing_folder_is_a_one_line_error(search_log):
     log, _ = search_log
-    result = run("replay", log, "--animate", "/nonexistent/dir/run.gif")
+    result = mazelog("replay", log, "--animate", "/nonexistent/dir/run.gif")
     assert result.exit_code != 0 and result.output.startswith("Error") and "Traceback" not in result.output
 
 

@@ -3,17 +3,16 @@
 from pathlib import Path
 
 import pytest
-from click.testing import CliRunner
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from maze.builtin import builtin_path
-from maze.cli import main
 from maze.direction import EAST
 from maze.errors import MazeError
 from maze.mazefile import parse_maze
 from maze.mazeformats import MAZ_BYTES, dump_maz, dump_num, parse_maz, parse_num
 from maze.model import Maze
+from tests.helpers.commands import mazelog
 
 
 def random_maze(size: int, walls: list[bool]) -> Maze:
@@ -60,9 +59,9 @@ def test_a_real_maze_survives_both_formats(tmp_path: Path) -> None:
     truth = parse_maze(builtin_path("alljapan-010-1989-fin").read_text())
     for suffix in (".maz", ".num"):
         out = tmp_path / f"m{suffix}"
-        r = CliRunner().invoke(main, ["show", "alljapan-010-1989-fin", "--out", str(out)])
+        r = mazelog("show", "alljapan-010-1989-fin", "--out", str(out))
         assert r.exit_code == 0, r.output
-        back = CliRunner().invoke(main, ["show", str(out)])
+        back = mazelog("show", str(out))
         assert back.exit_code == 0 and back.output.splitlines()[-1] == r.output.splitlines()[-1]
         assert (parse_maz(out.read_bytes()) if suffix == ".maz" else parse_num(out.read_text())).same_walls(truth)
 
@@ -71,7 +70,7 @@ def test_a_real_maze_survives_both_formats(tmp_path: Path) -> None:
 def test_a_maz_file_of_the_wrong_size_is_one_line(tmp_path: Path, size: int) -> None:
     bad = tmp_path / "bad.maz"
     bad.write_bytes(bytes(size))
-    r = CliRunner().invoke(main, ["explore", str(bad), "--log", str(tmp_path / "x.bin")])
+    r = mazelog("explore", str(bad), "--log", str(tmp_path / "x.bin"))
     assert r.exit_code == 1
     assert r.output.strip() == f"Error: {bad}: a .maz file is 256 bytes (16x16, one per cell), this one is {size}"
 
@@ -81,7 +80,7 @@ def test_num_mazes_of_other_sizes_explore(tmp_path: Path) -> None:
     maze.set(0, 0, EAST, True)
     f = tmp_path / "taiwan.num"
     f.write_text(dump_num(maze))
-    r = CliRunner().invoke(main, ["explore", str(f), "--log", str(tmp_path / "t.bin")])
+    r = mazelog("explore", str(f), "--log", str(tmp_path / "t.bin"))
     assert r.exit_code == 0 and "cells visited" in r.output and "of 441" in r.output
 
 
@@ -164,10 +163,10 @@ def test_show_warns_about_a_maz_whose_cells_disagree_and_strict_refuses_it(tmp_p
     data[0] = 2  # cell (0, 0) marks its east wall; cell (1, 0) does not mark its west one
     bad = tmp_path / "bad.maz"
     bad.write_bytes(bytes(data))
-    r = CliRunner().invoke(main, ["show", str(bad)])
+    r = mazelog("show", str(bad))
     assert r.exit_code == 0
     assert (f"warning: {bad}: 1 wall marked by one of its two cells only (first: cell (0, 0) marks its east wall, "
             f"cell (1, 0) not its west wall): taken as walls") in r.stderr
-    strict = CliRunner().invoke(main, ["show", str(bad), "--strict"])
+    strict = mazelog("show", str(bad), "--strict")
     assert strict.exit_code == 1
     assert strict.output.strip().startswith(f"Error: {bad}: 1 wall marked by one of its two cells only")

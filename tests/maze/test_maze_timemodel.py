@@ -3,12 +3,10 @@
 from math import pi, sqrt
 
 import pytest
-from click.testing import CliRunner
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from maze.builtin import builtin_path
-from maze.cli import main
 from maze.direction import EAST, NORTH, SOUTH, WEST
 from maze.errors import MazeError
 from maze.fastpath import ALONG_TURNS, DIAGONAL_TURNS, fastest_route, run_of_cells, turn_shapes
@@ -17,6 +15,7 @@ from maze.model import Maze
 from maze.motion import TURNS, search_run, straight_seconds, turn_seconds
 from maze.mouseparams import builtin_table, load_mouse, mouse_from_table
 from maze.stepmap import pessimistic, shortest_path
+from tests.helpers.commands import mazelog
 
 # A mouse with round numbers: 1 m cells, 1 m/s^2, turns at 0.5 m/s with no lateral limit unless a test sets one.
 ROUND = {"cell": 1.0, "search": {"speed": 0.5, "accel": 1.0, "pivot_time": 2.0},
@@ -155,7 +154,7 @@ def test_bad_mouse_file_is_one_line_error(tmp_path, text, message):
     bad.write_text(text)
     with pytest.raises(MazeError, match=message):
         load_mouse(str(bad), 32)
-    result = CliRunner().invoke(main, ["path", "japan2009hef", "--objective", "time", "--timing", str(bad)])
+    result = mazelog("path", "japan2009hef", "--objective", "time", "--timing", str(bad))
     assert result.exit_code == 1 and result.output.startswith("Error: ") and result.output.count("\n") == 1
 
 

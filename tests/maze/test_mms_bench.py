@@ -5,16 +5,15 @@ import sys
 from pathlib import Path
 
 import pytest
-from click.testing import CliRunner
 
 from maze.bench import commands_for
 from maze.builtin import builtin_names, builtin_path
-from maze.cli import main
 from maze.explorer import explore
 from maze.mazefile import parse_maze
 from maze.mms import parse_command
 from maze.mmsworld import MmsWorld
 from maze.mouseparams import load_mouse
+from tests.helpers.commands import mazelog
 from tests.helpers.paths import MICE
 
 FLOODFILL = f"{sys.executable} {MICE / 'floodfill.py'}"
@@ -22,8 +21,8 @@ FLOODFILL = f"{sys.executable} {MICE / 'floodfill.py'}"
 
 def bench(tmp_path: Path, *mazes: Path):
     out = tmp_path / "bench"
-    r = CliRunner().invoke(main, ["bench", *map(str, mazes), "--strategy", "stop", "--strategy", "full",
-                                  "--mouse", FLOODFILL, "--jobs", "2", "--out", str(out)])
+    r = mazelog("bench", *map(str, mazes), "--strategy", "stop", "--strategy", "full",
+                "--mouse", FLOODFILL, "--jobs", "2", "--out", str(out))
     assert r.exit_code == 0, r.output
     with open(out / "results.csv") as fp:
         rows = list(csv.DictReader(fp))
@@ -59,5 +58,5 @@ def test_a_built_in_strategy_replayed_through_the_world_senses_what_it_learned()
 
 
 def test_bench_refuses_a_mouse_naming_no_program(tmp_path: Path) -> None:
-    r = CliRunner().invoke(main, ["bench", "--mouse", "no-such-mouse", "--out", str(tmp_path / "b")])
+    r = mazelog("bench", "--mouse", "no-such-mouse", "--out", str(tmp_path / "b"))
     assert r.exit_code == 1 and "'no-such-mouse' is not found on PATH" in r.output

@@ -7,20 +7,15 @@ import sys
 from pathlib import Path
 
 import pytest
-from click.testing import CliRunner
 
-from tests.helpers.processes import interruptible
 from maze.builtin import builtin_path
-from maze.cli import main
 from maze.mazefile import parse_maze
 from maze.restore import load_log, restore
+from tests.helpers.commands import mazelog
 from tests.helpers.paths import MICE
+from tests.helpers.processes import interruptible
 
 PY = sys.executable
-
-
-def run(*args: object):
-    return CliRunner().invoke(main, [str(a) for a in args])
 
 
 def field(output: str, name: str) -> str:
@@ -38,7 +33,7 @@ def sensed_walls_are_true(log: Path, maze_name: str) -> int:
 
 def test_mms_python_template_runs_unchanged(tmp_path: Path) -> None:
     log = tmp_path / "py.bin"
-    r = run("explore", "japan2019hef", "--mouse", f"{PY} {MICE / 'mms_python' / 'Main.py'}", "--max-steps", 2000,
+    r = mazelog("explore", "japan2019hef", "--mouse", f"{PY} {MICE / 'mms_python' / 'Main.py'}", "--max-steps", 2000,
             "--log", log)
     assert r.exit_code == 0, r.output
     assert "--max-steps 2000 reached" in r.output and field(r.output, "steps") == "2000"
@@ -54,7 +49,7 @@ def test_mms_cpp_template_runs_unchanged(tmp_path: Path) -> None:
     src = MICE / "mms_cpp"
     subprocess.run([gxx, "-O1", "-o", exe, src / "Main.cpp", src / "API.cpp"], check=True)
     log = tmp_path / "cpp.bin"
-    r = run("explore", "japan2019hef", "--mouse", exe, "--max-steps", 2000, "--log", log)
+    r = mazelog("explore", "japan2019hef", "--mouse", exe, "--max-steps", 2000, "--log", log)
     assert r.exit_code == 0, r.output
     assert field(r.output, "steps") == "2000"
     assert sensed_walls_are_true(log, "japan2019hef") > 100
@@ -63,12 +58,12 @@ def test_mms_cpp_template_runs_unchanged(tmp_path: Path) -> None:
 def test_floodfill_mouse_knows_the_path_that_mazelog_path_finds_on_its_log(tmp_path: Path) -> None:
     log = tmp_path / "ff.bin"
     maze = "alljapan-010-1989-fin"
-    r = run("explore", maze, "--mouse", f"{PY} {MICE / 'floodfill.py'}", "--objective", "time", "--diagonal",
+    r = mazelog("explore", maze, "--mouse", f"{PY} {MICE / 'floodfill.py'}", "--objective", "time", "--diagonal",
             "--log", log)
     assert r.exit_code == 0, r.output
     assert "the program exited, status 0" in r.output
     found = field(r.output, "fastest path").split()[1]  # "found 7.929 s, true ..."
-    p = run("path", log, "--maze", maze, "--objective", "time", "--diagonal")
+    p = mazelog("path", log, "--maze", maze, "--objective", "time", "--diagonal")
     assert p.exit_code == 0, p.output
     assert field(p.output, "time").split()[0] == found
     assert "best-run-distance -1" not in r.output  # it reached the goal: mms recorded a run
@@ -85,7 +80,7 @@ def test_floodfill_mouse_knows_the_path_that_mazelog_path_finds_on_its_log(tmp_p
 ])
 def test_a_broken_mouse_gets_one_line_and_its_log_is_kept(tmp_path: Path, mouse: str, words: str) -> None:
     log = tmp_path / "bad.bin"
-    r = run("explore", "minimaze", "--mouse", f"{PY} {MICE / mouse}", "--log", log)
+    r = mazelog("explore", "minimaze", "--mouse", f"{PY} {MICE / mouse}", "--log", log)
     assert r.exit_code == 1
     error = [line for line in r.output.splitlines() if line.startswith("Error:")]
     assert len(error) == 1 and words in error[0], r.output
@@ -95,7 +90,7 @@ def test_a_broken_mouse_gets_one_line_and_its_log_is_kept(tmp_path: Path, mouse:
 
 
 def test_a_mouse_that_never_reads_its_answers_times_out(tmp_path: Path) -> None:
-    r = run("explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'deaf.py'}", "--timeout", "0.5",
+    r = mazelog("explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'deaf.py'}", "--timeout", "0.5",
             "--log", tmp_path / "d.bin")
     assert r.exit_code == 1
     assert "Error: --mouse: the program read none of its answers for 0.5 s" in r.output
@@ -103,7 +98,7 @@ def test_a_mouse_that_never_reads_its_answers_times_out(tmp_path: Path) -> None:
 
 
 def test_a_mouse_that_never_answers_times_out(tmp_path: Path) -> None:
-    r = run("explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'silent.py'}", "--timeout", "0.5",
+    r = mazelog("explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'silent.py'}", "--timeout", "0.5",
             "--log", tmp_path / "s.bin")
     assert r.exit_code == 1
     assert "Error: --mouse: the program sent no command for 0.5 s (last command: 'wallFront' (line 1))" in r.output
@@ -111,7 +106,7 @@ def test_a_mouse_that_never_answers_times_out(tmp_path: Path) -> None:
 
 def test_a_slow_start_up_is_not_a_silence(tmp_path: Path) -> None:
     """--timeout is the wait for each next command; the first one also waits for the program to start."""
-    r = run("explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'slowstart.py'}", "--timeout", "0.5",
+    r = mazelog("explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'slowstart.py'}", "--timeout", "0.5",
             "--log", tmp_path / "slow.bin")
     assert r.exit_code == 0, r.output
 
@@ -120,16 +115,15 @@ def test_a_mouse_that_never_starts_talking_times_out(tmp_path: Path, monkeypatch
     import maze.harness
 
     monkeypatch.setattr(maze.harness, "STARTUP_S", 1.0)
-    r = run("explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'mute.py'}", "--timeout", "0.2",
+    r = mazelog("explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'mute.py'}", "--timeout", "0.2",
             "--log", tmp_path / "m.bin")
     assert r.exit_code == 1
     assert "Error: --mouse: the program sent no command for 1 s (last command: (none yet))" in r.output
 
 
 def test_bad_coordinates_are_a_warning_as_mms_ignores_them(tmp_path: Path) -> None:
-    r = CliRunner().invoke(main, ["explore", "minimaze", "--mouse",
-                                 f"{PY} {MICE / 'bad' / 'badcoords.py'}", "--log",
-                                 str(tmp_path / "b.bin")])
+    r = mazelog("explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'badcoords.py'}", "--log",
+                str(tmp_path / "b.bin"))
     assert "warning: setColor 99 99: outside the 16x16 maze (ignored, as mms does)" in r.stderr
 
 
@@ -139,20 +133,20 @@ def test_bad_coordinates_are_a_warning_as_mms_ignores_them(tmp_path: Path) -> No
     ("'unclosed", "No closing quotation"),
 ])
 def test_mouse_naming_no_program(tmp_path: Path, command: str, words: str) -> None:
-    r = run("explore", "minimaze", "--mouse", command, "--log", tmp_path / "x.bin")
+    r = mazelog("explore", "minimaze", "--mouse", command, "--log", tmp_path / "x.bin")
     assert r.exit_code == 1 and words in r.output and "Traceback" not in r.output
 
 
 def test_strategy_and_mouse_exclude_each_other(tmp_path: Path) -> None:
-    r = run("explore", "minimaze", "--mouse", "true", "--strategy", "full", "--log", tmp_path / "x.bin")
+    r = mazelog("explore", "minimaze", "--mouse", "true", "--strategy", "full", "--log", tmp_path / "x.bin")
     assert r.exit_code == 2 and "exclude each other" in r.output
-    r = run("explore", "minimaze", "--max-steps", 5, "--log", tmp_path / "x.bin")
+    r = mazelog("explore", "minimaze", "--max-steps", 5, "--log", tmp_path / "x.bin")
     assert r.exit_code == 2 and "--max-steps needs --mouse" in r.output
 
 
 def test_reset_and_power_cut_leave_the_log_a_restore_path_must_handle(tmp_path: Path) -> None:
     log = tmp_path / "cut.bin"
-    r = run("explore", "alljapan-010-1989-fin", "--mouse", f"{PY} {MICE / 'floodfill.py'}", "--reset-at", 20,
+    r = mazelog("explore", "alljapan-010-1989-fin", "--mouse", f"{PY} {MICE / 'floodfill.py'}", "--reset-at", 20,
             "--power-cut", "reset", "--log", log)
     assert r.exit_code == 0, r.output
     assert field(r.output, "resets") == "1"
@@ -166,7 +160,7 @@ def test_reset_and_power_cut_leave_the_log_a_restore_path_must_handle(tmp_path: 
 
 
 def test_time_budget_ends_the_run(tmp_path: Path) -> None:
-    r = run("explore", "japan2019hef", "--mouse", f"{PY} {MICE / 'mms_python' / 'Main.py'}", "--time-budget", 20,
+    r = mazelog("explore", "japan2019hef", "--mouse", f"{PY} {MICE / 'mms_python' / 'Main.py'}", "--time-budget", 20,
             "--log", tmp_path / "b.bin")
     assert r.exit_code == 0 and "--time-budget 20 s of modelled search time used up" in r.output
     assert 20 < float(field(r.output, "search time").split()[0]) < 22
@@ -177,7 +171,7 @@ def test_a_film_shows_the_mouse_marks(tmp_path: Path) -> None:
     from PIL import Image
 
     gif, png = tmp_path / "ff.gif", tmp_path / "ff.png"
-    r = run("explore", "alljapan-010-1989-fin", "--mouse", f"{PY} {MICE / 'floodfill.py'}", "--log",
+    r = mazelog("explore", "alljapan-010-1989-fin", "--mouse", f"{PY} {MICE / 'floodfill.py'}", "--log",
             tmp_path / "ff.bin", "--animate", gif, "--png", png)
     assert r.exit_code == 0, r.output
     with Image.open(gif) as film:
@@ -209,7 +203,7 @@ def test_ctrl_c_keeps_the_logs_and_exits_130(tmp_path: Path) -> None:
 
 def test_power_cut_at_a_reset_that_never_came_cuts_nothing(tmp_path: Path) -> None:
     log = tmp_path / "whole.bin"
-    r = run("explore", "minimaze", "--mouse", f"{PY} {MICE / 'floodfill.py'}", "--reset-at", 100000,
+    r = mazelog("explore", "minimaze", "--mouse", f"{PY} {MICE / 'floodfill.py'}", "--reset-at", 100000,
             "--power-cut", "reset", "--log", log)
     assert r.exit_code == 0, r.output
     assert "(no reset happened, so no power cut)" in r.output
@@ -221,7 +215,7 @@ def test_a_chatty_mouse_s_stderr_is_capped_keeping_head_and_tail(tmp_path: Path,
 
     cap = 2000
     monkeypatch.setattr(maze.harness, "LOG_CAP_BYTES", cap)
-    r = run("explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'chatty.py'}", "--log", tmp_path / "c.bin")
+    r = mazelog("explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'chatty.py'}", "--log", tmp_path / "c.bin")
     assert r.exit_code == 1
     assert "Error: --mouse: the program exited with status 3: last words" in r.output  # read from the kept tail
     kept = (tmp_path / "c.stderr.txt").read_bytes()
@@ -237,7 +231,7 @@ def test_a_mouse_cut_at_the_command_cap_exits_with_its_own_status(tmp_path: Path
 
     monkeypatch.setattr(maze.harness, "MAX_COMMANDS", 300)
     log = tmp_path / "cap.bin"
-    r = run("explore", "japan2019hef", "--mouse", f"{PY} {MICE / 'mms_python' / 'Main.py'}", "--log", log)
+    r = mazelog("explore", "japan2019hef", "--mouse", f"{PY} {MICE / 'mms_python' / 'Main.py'}", "--log", log)
     assert r.exit_code == EXIT_COMMAND_CAP != 0
     errors = [line for line in r.stderr.splitlines() if line.startswith("Error:")]
     assert errors == [f"Error: --mouse: cut at 300 commands, its search unfinished (give --max-steps or "

@@ -18,6 +18,7 @@ from tests.helpers.commands import hako, one_line_error
 from tests.helpers.processes import tagged_env, tagged_processes
 from tests.bench.test_faults import IDLE_APP
 from tests.helpers.paths import REPO
+from tests.helpers.waiting import wait_until
 
 EXAMPLE = REPO / "docs" / "examples" / "hako-tests.toml"
 GAINS = "params = { Kp = 1.539, Ki = 4.267, Kd = 4.511 }\n"
@@ -108,10 +109,8 @@ def test_a_bench_killed_mid_run_is_exit_2_not_a_failed_case(tmp_path, benches):
                              str(out), "--junit", str(tmp_path / "out.xml")], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, env=env, start_new_session=True)
     try:
-        deadline = time.monotonic() + 120
-        while not (victims := tagged_processes(tag, b"hakoniwa.physics.main")):
-            assert time.monotonic() < deadline and proc.poll() is None
-            time.sleep(0.05)
+        victims = wait_until(lambda: tagged_processes(tag, b"hakoniwa.physics.main"), 120,
+                             alive=lambda: proc.poll() is None, what="a bench")
         os.kill(victims[0], signal.SIGKILL)
         stdout, err = proc.communicate(timeout=300)
     finally:
@@ -136,10 +135,8 @@ def test_sigterm_ends_hako_test_with_one_line_and_143(tmp_path):
                              str(tmp_path / "out")], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             env=env, start_new_session=True)
     try:
-        deadline = time.monotonic() + 120
-        while not tagged_processes(tag, b"hakoniwa.physics.main"):
-            assert time.monotonic() < deadline and proc.poll() is None
-            time.sleep(0.05)
+        wait_until(lambda: tagged_processes(tag, b"hakoniwa.physics.main"), 120, alive=lambda: proc.poll() is None,
+                   what="a bench")
         proc.terminate()
         _, err = proc.communicate(timeout=120)
     finally:
