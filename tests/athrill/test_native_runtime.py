@@ -5,6 +5,7 @@ import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import pytest
 
@@ -16,9 +17,10 @@ from athrill_sim.ev3api import (COLOR_SENSOR, ENTER_BUTTON, EV3_FONT_MEDIUM, EV3
                                 FileInfo, MemFile, RgbRaw)
 from athrill_sim.kernel import Kernel
 from hakoniwa.wire.exits import EXIT_BENCH_FAULT
-from hakoniwa.wire.protocol import NEVER_WAKES, Rx, Tx
+from hakoniwa.wire.protocol import ATHRILL_FILE, NEVER_WAKES, UNITY_FILE, Rx, Tx
 from hakoniwa.wire.rundir import LCD_LOG, SDCARD_DIR, SERIAL_INPUT, SERIAL_LOG
 from tests.helpers.native_fixtures import FakePhysics, build, finish
+from tests.helpers.waiting import wait_until
 
 # (C expression, the same call on the Python mock): run in this order by both, every result logged.
 API_CALLS = [
@@ -268,12 +270,24 @@ def test_a_program_whose_tasks_all_end_never_wakes_and_exits(tmp_path):
     assert proc.wait(timeout=10) == 0
 
 
+def maps_the_bench_files(pid: int, run_dir: Path) -> bool:
+    """Whether process `pid` has the run directory's two mapped files mapped."""
+    try:
+        maps = Path(f"/proc/{pid}/maps").read_text()
+    except OSError:
+        return False
+    return all(str(run_dir.resolve() / name) in maps for name in (UNITY_FILE, ATHRILL_FILE))
+
+
 def test_a_prelaunched_program_waits_for_its_own_test(tmp_path):
     exe = build(tmp_path / "app", SLEEPER_APP)
     bench = FakePhysics(tmp_path / "run")
     bench.unity.write_u32(Rx.TEST_SEQ, 1)
     proc = bench.start(exe, test=2)
-    time.sleep(0.3)
+    # Positive evidence that it runs: it has mapped the bench's files (it gets that far before it waits).
+    wait_until(lambda: maps_the_bench_files(proc.pid, bench.run_dir), 30, 0.01, alive=lambda: proc.poll() is None,
+               what="the program to open the bench's files")
+    time.sleep(0.3)  # sixty of its naps: time enough to take the files, which it must not before its test
     assert proc.poll() is None and bench.athrill.read_u32(Tx.ATHRILL_PID) == 0  # waiting, hands off the files
     bench.unity.write_u32(Rx.TEST_SEQ, 2)
     assert bench.wakes(proc, 250_000) == [100_000, 200_000, 300_000]

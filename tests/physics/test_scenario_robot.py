@@ -1,9 +1,12 @@
 """Scenario and robot files: what they mean, and that any text is either that or one ScenarioError/RobotError."""
 
+import json
+
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from hakoniwa.physics.robot import DEFAULT_WIRING
 from hakoniwa.physics.robots import BUILT_IN, RobotError, load_robot, parse_robot
 from hakoniwa.physics.scenario import ScenarioError, parse_scenario
 
@@ -66,9 +69,31 @@ def test_any_press_table_is_a_press_or_one_scenario_error(pairs):
         assert press.at_us >= 0 and press.for_us > 0 and (press.sensor is None) != (press.button is None)
 
 
-@given(st.text(max_size=200))
-def test_any_robot_text_parses_or_is_one_robot_error(text):
+# Mostly what an EV3 robot file may say, so that many draws parse, and some of what it may not.
+MOTOR_PORTS = st.sampled_from(["A", "B", "C", "D", "a", "b", "c", "d", "E", "AB", 1])
+SENSORS = st.tuples(st.sampled_from([1, 2, 3, 4] * 3 + [5, "1", True]),
+                    st.sampled_from(["touch", "color", "ultrasonic", "gyro"] * 3 + ["force", "sonar"]))
+
+
+def toml_value(value: object) -> str:
+    return str(value).lower() if isinstance(value, bool) else json.dumps(value)
+
+
+@given(name=st.none() | st.text("abcXYZ-_ ", min_size=1, max_size=8), left=st.none() | MOTOR_PORTS,
+       right=st.none() | MOTOR_PORTS, sensors=st.lists(SENSORS, max_size=3),
+       bumper=st.none() | st.booleans() | st.just(1))
+def test_any_robot_file_is_the_robot_it_says_or_one_robot_error(name, left, right, sensors, bumper):
+    given_keys = {"name": name, "left_motor": left, "right_motor": right, "bumper": bumper}
+    text = "".join(f"{k} = {toml_value(v)}\n" for k, v in given_keys.items() if v is not None)
+    text += "".join(f"[[sensor]]\nport = {toml_value(port)}\nkind = {toml_value(kind)}\n" for port, kind in sensors)
     try:
-        parse_robot(text, "r.toml")
-    except RobotError:
-        pass
+        robot = parse_robot(text, "r.toml")
+    except RobotError as e:
+        assert "\n" not in str(e)
+        return
+    assert robot.name == (name if name is not None else "r.toml")
+    assert robot.wiring.left == (DEFAULT_WIRING.left if left is None else "ABCD".index(left.upper()))
+    assert robot.wiring.right == (DEFAULT_WIRING.right if right is None else "ABCD".index(right.upper()))
+    assert dict(robot.sensors) == {str(port): kind for port, kind in sensors}
+    assert len(robot.sensors) == len(sensors)  # no port given twice
+    assert robot.bumper is (bumper is True)
