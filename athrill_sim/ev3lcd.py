@@ -3,7 +3,7 @@
 EV3RT on Athrill draws nothing (ev3api_lcd.c returns E_OK); every drawing call is kept, in order, as a line of
 the run directory's lcd.txt stamped with the simulated time, so that the physics process draws lcd.png from
 it (hakoniwa/physics/lcd.py) whichever mock ran the program. Argument checks are EV3RT's: an unknown font is
-E_ID. The line format is lcd.py's, and tests/test_native_runtime.py compares the two runtimes' files.
+E_ID. The line format is lcd.py's, and tests/athrill/test_native_runtime.py compares the two runtimes' files.
 """
 
 from __future__ import annotations

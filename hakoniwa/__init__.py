@@ -1,4 +1,4 @@
-"""The Hakoniwa-style test bench, as a stack of layers, bottom to top (`tests/test_layers.py` holds each
+"""The Hakoniwa-style test bench, as a stack of layers, bottom to top (`tests/project/test_layers.py` holds each
 module to importing only its own layer and those below it):
 
 1. `hakoniwa.wire`: the contract every process shares, standard library only.

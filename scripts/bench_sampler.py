@@ -56,7 +56,7 @@ def valley(x: np.ndarray) -> float:
 
 
 def doubles(x: np.ndarray) -> float:
-    """The lap of the campaign tests' synthetic bench (tests/campaign_doubles.py): 2 s per unit of squared
+    """The lap of the campaign tests' synthetic bench (tests/helpers/campaign_doubles.py): 2 s per unit of squared
     distance from the paper's best gains (1.5, 4.3, 4.5) above 32 s, failing from 50 s on (69%)."""
     lap = 32.0 + 2.0 * float(np.sum((x - (1.5, 4.3, 4.5)) ** 2))
     return lap if lap < 50.0 else PENALTY_S

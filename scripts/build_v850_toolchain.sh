@@ -3,7 +3,8 @@
 # C++, with libstdc++) and newlib 3.3.0, for EV3RT's RH850 ABI (-mv850e2v3 -mhard-float -mdisable-callt), from
 # Debian 12's source packages (binutils-source, gcc-12-source, newlib-source: their tarballs under /usr/src) or
 # the upstream tarballs they hold. The gcc configuration is the one of the toolchain ../shared ships
-# (`v850-elf-gcc -v`), which EV3RT's images were checked with; tests/test_v850_toolchain_script.py holds it there.
+# (`v850-elf-gcc -v`), which EV3RT's images were checked with; tests/athrill/test_v850_toolchain_script.py holds it
+# there.
 #
 # Two things athrill2 needs are built in: target libraries with -gdwarf-2 (its DWARF reader knows 2 and 3 only)
 # and a specs file that gives gas -mv850e2v3 by default and -mno-bcond17 always (athrill's v850e2m decoder

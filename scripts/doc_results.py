@@ -9,7 +9,7 @@ command run once, its output written into each of its views (a console excerpt, 
 Usage: python scripts/doc_results.py [--check] [--all] [--only NAME]...
 Without --check the docs are rewritten; with it nothing is written, and the exit status is 1 when a doc's result
 differs from what the code prints now. The console blocks take seconds and run by default; RESULTS' campaigns
-take minutes and run with --all (`tests/test_doc_results.py`: the console blocks in the fast suite, the rest
+take minutes and run with --all (`tests/project/test_doc_results.py`: the console blocks in the fast suite, the rest
 slow). Every command is exactly repeatable (fixed seeds, one bench); wall times are the only thing compared
 loosely (VOLATILE), and a doc keeps its own figure for them.
 """

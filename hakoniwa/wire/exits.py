@@ -1,6 +1,6 @@
 """The exit statuses of every program of the bench and of mazelog, besides 0 and click's own (1 for an error,
 2 for a bad option): what a shell, CI or a parent process reads of how a run ended. Standard library only, so
-that `maze` may use it too (`tests/test_layers.py`'s SHARED_WITH_STANDALONE)."""
+that `maze` may use it too (`tests/project/test_layers.py`'s SHARED_WITH_STANDALONE)."""
 
 from __future__ import annotations
 

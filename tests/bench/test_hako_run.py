@@ -1,0 +1,116 @@
+"""`hako run` end to end: the campaign over the real three-process bench."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+
+import pytest
+
+from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
+from testctl.options import SMOKE_DRAWS
+from tests.helpers.commands import hako
+from tests.helpers.waiting import wait_until
+
+
+
+
+def test_smoke_campaign_writes_every_result_file(tmp_path):
+    out = tmp_path / "smoke"
+    r = hako("run", "--smoke", "--out", str(out))
+    assert r.returncode == 0, r.stderr
+    assert "best:" in r.stdout
+    assert f"campaign {out}: sets 0/4, tests 0, benches" in r.stderr  # stderr is no terminal: plain progress
+    names = ["journal.jsonl", "results.csv", "best.json", "fig8.png", "fig9.png", "best_trajectory.png"]
+    from hakoniwa.physics.video import gl_problem
+
+    filmed = gl_problem() is None  # where MuJoCo can render: the best set's lap, filmed (tests/physics/test_video.py)
+    if filmed:
+        names.append("best_lap.mp4")
+    for name in names:
+        assert (out / name).stat().st_size > 0, name
+    if filmed:  # and in the study, beside the trajectory
+        import optuna
+        from optuna.artifacts import get_all_artifact_meta
+
+        from testctl.campaign.study import open_storage, study_name
+
+        study = optuna.load_study(study_name=study_name(out), storage=open_storage(out))
+        assert {"best_trajectory.png", "best_lap.mp4"} <= {m.filename for m in get_all_artifact_meta(study)}
+    best = json.loads((out / "best.json").read_text())
+    _, records = read_journal(out / JOURNAL_FILE)
+    searched = [r for r in records if r.phase != PHASE_VALIDATION]
+    assert len(searched) == best["n_tests"] == 4  # 2 initial + 2 iterations, 1 test each
+    assert len(records) - len(searched) == SMOKE_DRAWS  # the validation's draws, journaled too
+    assert best["success"] and 20 < best["lap_time_s"] < 60
+
+
+@pytest.mark.parametrize("content, message", [
+    ("this is = = not toml", "TOML"),
+    ('[[param]]\nname = "Kp"\noffset = 540\nlow = 5.0\nhigh = 1.0\n', "low"),
+    ('[[param]]\nname = "Kp"\noffset = 12\nlow = 0.0\nhigh = 1.0\n', "offset"),
+    ('[[param]]\nname = "Kp"\noffset = 540\nlow = 0.0\nhigh = 1e39\n', "float32"),
+    ('[[param]]\nname = "Kp"\noffset = 540\nlow = 0.0\nhigh = 1.0\n[[fixed]]\nname = "p"\noffset = 552\n'
+     'value = 1e39\n', "float32"),
+])
+def test_bad_space_file_is_a_one_line_error(tmp_path, content, message):
+    space = tmp_path / "space.toml"
+    space.write_text(content)
+    r = hako("run", "--space", str(space), "--out", str(tmp_path / "o"), timeout=120)
+    assert r.returncode != 0
+    assert message in r.stderr and "Traceback" not in r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "o" / JOURNAL_FILE).exists()
+
+
+def test_resume_refuses_other_settings(tmp_path):
+    r = hako("run", "--resume", str(tmp_path / "nothing-here"), timeout=120)
+    assert r.returncode != 0 and "Traceback" not in r.stderr
+
+
+def set_tests(records):
+    return sorted((r.set_index, r.rep, tuple(sorted(r.params.items())), r.result.event, r.result.goal_time_us)
+                  for r in records)
+
+
+@pytest.mark.slow
+def test_sigkill_mid_campaign_then_resume_loses_and_repeats_nothing(tmp_path):
+    args = ["--optimizer", "random", "--init-points", "2", "--trials", "4", "--repeats", "3", "--seed", "7",
+            "--noise", "0"]
+    killed = tmp_path / "killed"
+    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", *args, "--out", str(killed)],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    journal = killed / JOURNAL_FILE
+    wait_until(lambda: journal.exists() and journal.read_text().count("\n") >= 1 + 3, 300,  # header + 3 tests: mid-set
+               alive=lambda: proc.poll() is None, what="3 tests")
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.wait()
+    _, before = read_journal(journal)
+    assert 3 <= len(before) < 12
+
+    r = hako("run", "--resume", str(killed))
+    assert r.returncode == 0, r.stderr
+
+    whole = tmp_path / "whole"
+    assert hako("run", *args, "--out", str(whole)).returncode == 0
+    _, resumed = read_journal(journal)
+    _, uninterrupted = read_journal(whole / JOURNAL_FILE)
+    assert set(set_tests(before)) <= set(set_tests(resumed))  # nothing finished was lost
+    assert set_tests(resumed) == set_tests(uninterrupted)  # nothing repeated, nothing skipped
+    searched = [r for r in resumed if r.phase != PHASE_VALIDATION]
+    assert len(searched) == 12  # deterministic bench: each of 6 sets is decided by 2 equal tests of 3
+
+
+@pytest.mark.slow
+def test_the_papers_arrangement_gives_the_same_campaign(tmp_path):
+    """The physics process starting the controller on its one bench (paper Fig. 3) and `hako run` on a Dask
+    bench give the same results for the same seed."""
+    via_hako = tmp_path / "hako"
+    assert hako("run", "--smoke", "--out", str(via_hako)).returncode == 0
+    paper = tmp_path / "paper"
+    r = subprocess.run([sys.executable, "-m", "hakoniwa.physics.main", "--run-dir", str(tmp_path / "run"), "--",
+                        sys.executable, "-m", "testctl.cli", "campaign", "--smoke", "--out", str(paper)],
+                       capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    assert (paper / "results.csv").read_text() == (via_hako / "results.csv").read_text()

@@ -1,0 +1,1 @@
+"""What the tests of several areas share: commands, processes, paths, builds and doubles."""

@@ -1,0 +1,32 @@
+"""The real TOPPERS athrill2 and the real EV3RT image from ../shared, built on demand (cached under build/);
+tests/conftest.py makes the build a session fixture, `athrill2`.
+
+Tests that need them skip with the reason in pytest's summary: no C compiler, or no ../shared beside the
+clone (a fresh clone on its own).
+"""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from tests.helpers.paths import REPO, SHARED
+
+SHARED_ATHRILL = SHARED / "third_party" / "athrill"
+ASP_IMAGE = SHARED_ATHRILL / "ev3rt-ble_sample" / "asp"
+BUILD_DIR = REPO / "build" / "athrill"
+
+
+def build_athrill2() -> Path:
+    """athrill2, built from ../shared with scripts/build_athrill2.sh (cached), or a pytest skip saying why."""
+    if shutil.which("cc") is None and shutil.which("gcc") is None:
+        pytest.skip("needs a C compiler (cc) to build the real athrill2")
+    if not ASP_IMAGE.is_file():
+        pytest.skip(f"needs the real Athrill sources and EV3RT image at {SHARED_ATHRILL} (../shared)")
+    out = subprocess.run([str(REPO / "scripts" / "build_athrill2.sh"), str(BUILD_DIR)], capture_output=True,
+                         text=True, timeout=900)
+    assert out.returncode == 0, out.stderr[-2000:]
+    return Path(out.stdout.strip())
