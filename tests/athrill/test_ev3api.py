@@ -3,9 +3,25 @@
 import pytest
 
 from athrill_sim.bus import BusError, MemoryBus
-from athrill_sim.ev3api import (COLOR_SENSOR, E_ID, E_OBJ, E_OK, E_PAR, EV3_PORT_1, EV3_PORT_2, EV3_PORT_3,
-                                EV3_PORT_A, EV3_PORT_B, EV3_PORT_D, ENTER_BUTTON, GYRO_SENSOR, LARGE_MOTOR, LED_ORANGE,
-                                TOUCH_SENSOR, ULTRASONIC_SENSOR, Ev3Api)
+from athrill_sim.ev3api import (
+    COLOR_SENSOR,
+    E_ID,
+    E_OBJ,
+    E_OK,
+    ENTER_BUTTON,
+    EV3_PORT_1,
+    EV3_PORT_2,
+    EV3_PORT_3,
+    EV3_PORT_A,
+    EV3_PORT_B,
+    EV3_PORT_D,
+    GYRO_SENSOR,
+    LARGE_MOTOR,
+    LED_ORANGE,
+    TOUCH_SENSOR,
+    ULTRASONIC_SENSOR,
+    Ev3Api,
+)
 from athrill_sim.kernel import Kernel
 from hakoniwa.wire.protocol import Rx, Tx, open_athrill, open_unity
 

@@ -7,10 +7,10 @@ import shutil
 
 import pytest
 
+from athrill_sim.native.build import RUNTIME_INCLUDE
 from tests.helpers.commands import hako
 from tests.helpers.ev3rt_corpus import CORPUS, EV3API, NEEDS_SHARED, SKIPPED, WORKSPACE
 from tests.helpers.native_fixtures import need_cc
-from athrill_sim.native.build import RUNTIME_INCLUDE
 
 
 def test_every_sample_is_in_the_corpus_or_skipped_with_a_reason():

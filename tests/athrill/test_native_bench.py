@@ -7,14 +7,14 @@ import signal
 
 import pytest
 
-from tests.helpers.athrill_fixtures import ASP_IMAGE, SHARED_ATHRILL
 from athrill_sim.apps import C_BUILTIN
-from tests.helpers.bench_fixtures import PAPER, physics
 from hakoniwa.wire.protocol import CrashKind, Event
-from tests.helpers.native_fixtures import need_cc
-from testctl.paper import GAIN_RANGE, line_trace_params
 from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
+from testctl.paper import GAIN_RANGE, line_trace_params
+from tests.helpers.athrill_fixtures import ASP_IMAGE, SHARED_ATHRILL
+from tests.helpers.bench_fixtures import PAPER, physics
 from tests.helpers.commands import hako
+from tests.helpers.native_fixtures import need_cc
 
 BLE_SAMPLE = SHARED_ATHRILL / "ev3rt-ble_sample"
 
@@ -57,7 +57,7 @@ def test_the_unmodified_ev3rt_sample_follows_the_line_natively(tmp_path):
 
 
 @pytest.mark.slow
-def test_the_ev3rt_sample_runs_natively_as_it_runs_in_the_real_emulator(athrill2, tmp_path):  # noqa: F811
+def test_the_ev3rt_sample_runs_natively_as_it_runs_in_the_real_emulator(athrill2, tmp_path):
     need_cc()
     # the unpatched athrill2, so TOPPERS' own protocol (the repeatable mode needs the patched one)
     real = hako("trial", "--app", str(ASP_IMAGE), "--athrill2", str(athrill2), "--sync", "hakoniwa", "--json",

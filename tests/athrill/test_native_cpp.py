@@ -25,9 +25,9 @@ from athrill_sim.native.workspace import find_app
 from athrill_sim.programs import ProgramError, resolve_program
 from tests.helpers.commands import hako, one_line_error
 from tests.helpers.ev3rt_corpus import EV3RT
-from tests.helpers.raspike_sdk import SDK as RASPIKE
 from tests.helpers.native_fixtures import need_cc
 from tests.helpers.paths import PROGRAMS
+from tests.helpers.raspike_sdk import SDK as RASPIKE
 
 TRACER = PROGRAMS / "etrobo_cpp_tracer"
 FEATURES = PROGRAMS / "cpp_features"

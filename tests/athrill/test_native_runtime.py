@@ -10,11 +10,34 @@ from pathlib import Path
 import pytest
 
 from athrill_sim.bus import MemoryBus
-from athrill_sim.ev3api import (COLOR_SENSOR, ENTER_BUTTON, EV3_FONT_MEDIUM, EV3_FONT_SMALL, EV3_LCD_BLACK,
-                                EV3_LCD_WHITE, EV3_PORT_1, EV3_PORT_2, EV3_PORT_3, EV3_PORT_4, EV3_PORT_A,
-                                EV3_PORT_B, EV3_PORT_C, EV3_PORT_D, EV3_SERIAL_BT, GYRO_SENSOR, LARGE_MOTOR,
-                                LED_ORANGE, LEFT_BUTTON, MEDIUM_MOTOR, TOUCH_SENSOR, ULTRASONIC_SENSOR, Ev3Api,
-                                FileInfo, MemFile, RgbRaw)
+from athrill_sim.ev3api import (
+    COLOR_SENSOR,
+    ENTER_BUTTON,
+    EV3_FONT_MEDIUM,
+    EV3_FONT_SMALL,
+    EV3_LCD_BLACK,
+    EV3_LCD_WHITE,
+    EV3_PORT_1,
+    EV3_PORT_2,
+    EV3_PORT_3,
+    EV3_PORT_4,
+    EV3_PORT_A,
+    EV3_PORT_B,
+    EV3_PORT_C,
+    EV3_PORT_D,
+    EV3_SERIAL_BT,
+    GYRO_SENSOR,
+    LARGE_MOTOR,
+    LED_ORANGE,
+    LEFT_BUTTON,
+    MEDIUM_MOTOR,
+    TOUCH_SENSOR,
+    ULTRASONIC_SENSOR,
+    Ev3Api,
+    FileInfo,
+    MemFile,
+    RgbRaw,
+)
 from athrill_sim.kernel import Kernel
 from hakoniwa.wire.exits import EXIT_BENCH_FAULT
 from hakoniwa.wire.protocol import ATHRILL_FILE, NEVER_WAKES, UNITY_FILE, Rx, Tx
@@ -77,7 +100,8 @@ API_CALLS = [
     ("ev3_motor_rotate(EV3_PORT_A, 90, 30, true)", lambda a: a.ev3_motor_rotate(EV3_PORT_A, 90, 30, True)),
     ("ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 15, -33)", lambda a: a.ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 15, -33)),
     ("ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 20, 101)", lambda a: a.ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 20, 101)),
-    ("ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, -150, 77)", lambda a: a.ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, -150, 77)),
+    ("ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, -150, 77)",
+     lambda a: a.ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, -150, 77)),
     ("ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 15, 0)", lambda a: a.ev3_motor_steer(EV3_PORT_A, EV3_PORT_B, 15, 0)),
     ("ev3_motor_steer(EV3_PORT_A, EV3_PORT_D, 20, 0)", lambda a: a.ev3_motor_steer(EV3_PORT_A, EV3_PORT_D, 20, 0)),
     ("ev3_motor_stop(EV3_PORT_B, true)", lambda a: a.ev3_motor_stop(EV3_PORT_B, True)),

@@ -12,11 +12,11 @@ from pathlib import Path
 
 import pytest
 
-from hakoniwa.wire.output import CappedOutput
-from tests.helpers.commands import hako, one_line_error, run_module
 from hakoniwa.wire.exits import EXIT_BENCH_FAULT
+from hakoniwa.wire.output import CappedOutput
 from hakoniwa.wire.processes import BENCH_FAULT_MARKER
 from hakoniwa.wire.protocol import ATHRILL_FILE
+from tests.helpers.commands import hako, one_line_error, run_module
 from tests.helpers.native_fixtures import FakePhysics, build, need_cc
 
 APPS = '''

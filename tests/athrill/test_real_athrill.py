@@ -6,8 +6,8 @@ import subprocess
 
 import pytest
 
-from tests.helpers.athrill_fixtures import ASP_IMAGE
 from hakoniwa.wire.timebase import ALLOWED_TIME_DIFF_US
+from tests.helpers.athrill_fixtures import ASP_IMAGE
 from tests.helpers.commands import hako
 
 

@@ -9,9 +9,9 @@ from pathlib import Path
 
 import pytest
 
+from tests.athrill.test_native_cpp import FEATURE_LINES, FEATURES, SPIKE_TRACER, TRACER, press, program_lines
 from tests.helpers.commands import hako, one_line_error
 from tests.helpers.realemu_fixtures import need_v850_tools
-from tests.athrill.test_native_cpp import FEATURE_LINES, FEATURES, SPIKE_TRACER, TRACER, press, program_lines
 
 
 def build(app: Path) -> Path:
@@ -55,7 +55,7 @@ def test_hako_build_takes_the_spike_sdk_for_a_spike_program_and_its_image_laps(r
     """No --sdk, no --toolchain: the program includes libcpp-spike and says USE_RASPIKE_ART, so ET Robocon's
     SPIKE SDK builds it, with EV3RT's toolchain (the SPIKE SDK has none beside it)."""
     need_v850_tools()
-    from tests.helpers.raspike_sdk import SDK, NEEDS_RASPIKE
+    from tests.helpers.raspike_sdk import NEEDS_RASPIKE, SDK
 
     if not SDK.is_dir():
         pytest.skip(NEEDS_RASPIKE)

@@ -9,10 +9,10 @@ from pathlib import Path
 
 import pytest
 
-from tests.helpers.athrill_fixtures import ASP_IMAGE
 from athrill_sim.programs import SYNC_WAIT_KEY
 from hakoniwa.wire.timebase import ALLOWED_TIME_DIFF_US
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
+from tests.helpers.athrill_fixtures import ASP_IMAGE
 from tests.helpers.commands import hako, one_line_error
 from tests.helpers.realemu_fixtures import BASE_PRACTICE, need_v850_tools
 

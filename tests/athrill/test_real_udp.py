@@ -9,11 +9,11 @@ from pathlib import Path
 
 import pytest
 
-from tests.helpers.athrill_fixtures import ASP_IMAGE
 from athrill_sim.vdev_udp import bench_link, bind_pair
+from tests.helpers.athrill_fixtures import ASP_IMAGE
 from tests.helpers.commands import hako, one_line_error
-from tests.helpers.realemu_fixtures import ETROBOC_DEVICE_CONFIGS, need_v850_tools
 from tests.helpers.paths import REPO
+from tests.helpers.realemu_fixtures import ETROBOC_DEVICE_CONFIGS, need_v850_tools
 
 TRACER = REPO / "athrill_sim" / "apps" / "line_trace.c"
 RUNS = 3  # per transport: the hakoniwa mode's laps vary from run to run, their medians less

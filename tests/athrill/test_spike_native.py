@@ -13,15 +13,22 @@ import numpy
 import pytest
 
 from athrill_sim.native import NativeBuildError
-from tests.helpers.commands import hako
 from athrill_sim.native.build import RUNTIME_INCLUDE, build_app
 from athrill_sim.native.spike import INCLUDE_DIRS
 from hakoniwa.wire.protocol import TOUCH_PRESSED, Rx, Tx
-from tests.helpers.native_fixtures import FakePhysics, build, finish
-from tests.helpers.realemu_fixtures import need_v850_tools
-from tests.helpers.raspike_sdk import (ART_SAMPLES, LIBCPP_SPIKE, NEEDS_RASPIKE, PBIO_HEADERS, SDK, SDK_SAMPLES,
-                         SPIKE_HEADERS)
 from tests.athrill.test_ev3rt_corpus import declarations
+from tests.helpers.commands import hako
+from tests.helpers.native_fixtures import FakePhysics, build, finish
+from tests.helpers.raspike_sdk import (
+    ART_SAMPLES,
+    LIBCPP_SPIKE,
+    NEEDS_RASPIKE,
+    PBIO_HEADERS,
+    SDK,
+    SDK_SAMPLES,
+    SPIKE_HEADERS,
+)
+from tests.helpers.realemu_fixtures import need_v850_tools
 
 OURS = INCLUDE_DIRS[0]
 # Declared with SPIKE-RT's (or pbio's) signatures, but not provided: a call is a link error naming it.

@@ -153,7 +153,8 @@ def test_no_ruby_is_one_line_naming_it(tmp_path):
 def test_a_compile_error_is_one_line_with_the_compilers_message(tmp_path):
     need_v850_tools()
     (tmp_path / "broken").mkdir()  # app.c alone: app.cfg and app.h are written for it
-    (tmp_path / "broken" / "app.c").write_text('#include "ev3api.h"\nvoid main_task(intptr_t x) { undeclared_thing = 1; }\n')
+    (tmp_path / "broken" / "app.c").write_text('#include "ev3api.h"\n'
+                                               'void main_task(intptr_t x) { undeclared_thing = 1; }\n')
     r = hako("build", str(tmp_path / "broken"), timeout=900)
     one_line_error(r, "does not build", f"{tmp_path / 'broken' / 'app.c'}:2:", "error:", "undeclared_thing")
     assert "workspace" not in r.stderr  # the user's file, not the scratch copy's

@@ -67,7 +67,8 @@ def test_silent_athrill_is_a_crash_within_the_timeout(tmp_path):
 
 def test_a_run_directory_serves_one_run_at_a_time(tmp_path):
     with physics(tmp_path):
-        second = subprocess.run(BenchOptions().physics_command(tmp_path, []), capture_output=True, text=True, timeout=60)
+        second = subprocess.run(BenchOptions().physics_command(tmp_path, []), capture_output=True, text=True,
+                                timeout=60)
     assert second.returncode != 0
     assert "in use by another run" in second.stderr
     assert "Traceback" not in second.stderr

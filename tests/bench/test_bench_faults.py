@@ -13,18 +13,18 @@ from pathlib import Path
 
 import pytest
 
-from tests.helpers.bench_fixtures import PAPER, ZERO, physics
-from tests.helpers.campaign_doubles import result
-from tests.helpers.processes import tagged_env, tagged_processes
 from hakoniwa.physics.options import BenchOptions
 from hakoniwa.wire.protocol import ATHRILL_FILE, UNITY_FILE, BenchCause, CrashKind, Event, Tx
 from hakoniwa.wire.rundir import PHYSICS_LOG
 from testctl.bench import Bench
-from testctl.campaign.loop import Campaign, CampaignConfig
-from testctl.executor import TestSpec
 from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
+from testctl.campaign.loop import Campaign, CampaignConfig
 from testctl.campaign.report import format_summary
+from testctl.executor import TestSpec
 from testctl.result import TestResult
+from tests.helpers.bench_fixtures import PAPER, ZERO, physics
+from tests.helpers.campaign_doubles import result
+from tests.helpers.processes import tagged_env, tagged_processes
 from tests.helpers.waiting import wait_until
 
 IDLE_APP = '''
@@ -182,8 +182,8 @@ def test_the_campaigns_own_bench_failing_under_a_picture_reruns_it(tmp_path):
 
 
 def test_the_campaigns_own_bench_failing_twice_is_one_bench_error(tmp_path):
-    from testctl.runner import PhysicsGone
     from testctl.campaign.session import trial_for_picture
+    from testctl.runner import PhysicsGone
     from testctl.suite.run import BenchFault
 
     spoiled = TestResult(Event.CRASH, 0, 0.01, crash_kind=CrashKind.BENCH, bench_cause=BenchCause.FILE_DAMAGED)

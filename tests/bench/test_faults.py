@@ -12,13 +12,13 @@ from pathlib import Path
 
 import pytest
 
-from tests.helpers.bench_fixtures import PAPER, physics
+from hakoniwa.physics.sync import exit_crash
 from hakoniwa.wire.exits import EXIT_BENCH_FAULT
 from hakoniwa.wire.processes import BENCH_FAULT_MARKER
 from hakoniwa.wire.protocol import ATHRILL_FILE, HEADER_SIZE, UNITY_FILE, BenchCause, CrashKind, Event, Rx
 from hakoniwa.wire.rundir import PHYSICS_LOG
-from hakoniwa.physics.sync import exit_crash
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
+from tests.helpers.bench_fixtures import PAPER, physics
 from tests.helpers.commands import one_line_error
 from tests.helpers.processes import interruptible
 from tests.helpers.waiting import wait_until

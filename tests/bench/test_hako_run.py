@@ -14,8 +14,6 @@ from tests.helpers.commands import hako
 from tests.helpers.waiting import wait_until
 
 
-
-
 def test_smoke_campaign_writes_every_result_file(tmp_path):
     out = tmp_path / "smoke"
     r = hako("run", "--smoke", "--out", str(out))

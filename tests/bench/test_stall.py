@@ -8,9 +8,9 @@ import signal
 import threading
 from pathlib import Path
 
-from tests.helpers.bench_fixtures import ZERO, physics
 from hakoniwa.wire.protocol import CrashKind, Event, Tx
 from hakoniwa.wire.rundir import PHYSICS_LOG
+from tests.helpers.bench_fixtures import ZERO, physics
 from tests.helpers.waiting import wait_until
 
 APPS = '''

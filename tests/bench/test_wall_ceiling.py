@@ -13,8 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from tests.helpers.commands import one_line_error
 from hakoniwa.wire.wallclock import FACTOR, FLOOR_S, WallCeiling
+from tests.helpers.commands import one_line_error
 
 # athrill2's command line ends with the image; the image's name says how this stand-in behaves.
 FAKE_ATHRILL2 = f'''#!{sys.executable}

@@ -8,12 +8,12 @@ from pathlib import Path
 
 import pytest
 
-from tests.helpers.campaign_doubles import ScriptedBench, SyntheticBench, result
 from hakoniwa.wire.protocol import Event
-from testctl.campaign.loop import Campaign, CampaignConfig, Progress, SetResult
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
+from testctl.campaign.loop import Campaign, CampaignConfig, Progress, SetResult
 from testctl.campaign.objective import RepetitionRule
 from testctl.campaign.report import best_so_far, format_summary, l1_changes, write_report
+from tests.helpers.campaign_doubles import ScriptedBench, SyntheticBench, result
 
 
 @pytest.mark.parametrize("optimizer", ["gpyopt", "random"])

@@ -10,13 +10,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from tests.helpers.commands import hako, one_line_error
-from tests.helpers.native_fixtures import need_cc
 from athrill_sim.python_sources import program_sources
 from hakoniwa.physics.course import COURSES_DIR
 from hakoniwa.physics.options import BenchOptions
 from testctl.campaign.fingerprint import FILES_KEY, changes, fingerprint
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
+from tests.helpers.commands import hako, one_line_error
+from tests.helpers.native_fixtures import need_cc
 
 IDLE_C = '#include "ev3api.h"\nvoid main_task(intptr_t unused) { while (1) tslp_tsk(100000); }\n'
 FIELDS = ("course", "app")

@@ -6,9 +6,9 @@ from pathlib import Path
 
 import pytest
 
-from tests.helpers.campaign_doubles import result
 from hakoniwa.wire.protocol import Event
 from testctl.campaign.journal import Journal, JournalError, TestRecord, read_journal
+from tests.helpers.campaign_doubles import result
 
 HEADER = {"space": {"param": []}, "options": {}}
 

@@ -16,13 +16,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from tests.helpers.campaign_doubles import Killed, SyntheticBench
-from tests.helpers.campaign_racer import CAMPAIGN
+from testctl.campaign.journal import JOURNAL_FILE, read_journal
 from testctl.campaign.loop import Campaign
 from testctl.executor import TestSpec
-from testctl.campaign.journal import JOURNAL_FILE, read_journal
 from testctl.options import make_out_dir, plan
 from tests.campaign.test_campaign_resume import essence
+from tests.helpers.campaign_doubles import Killed, SyntheticBench
+from tests.helpers.campaign_racer import CAMPAIGN
 from tests.helpers.paths import TESTS
 
 RACER = TESTS / "helpers" / "campaign_racer.py"

@@ -9,10 +9,10 @@ from pathlib import Path
 
 import pytest
 
-from tests.helpers.campaign_doubles import Killed, KilledAfter, SyntheticBench
-from testctl.campaign.loop import Campaign, CampaignConfig, load_config
 from testctl.campaign.journal import JOURNAL_FILE, JournalError, TestRecord, read_journal
+from testctl.campaign.loop import Campaign, CampaignConfig, load_config
 from testctl.search.space import Parameter, ParameterSpace
+from tests.helpers.campaign_doubles import Killed, KilledAfter, SyntheticBench
 
 # 4 sets of 2 tests each (the synthetic bench is deterministic, so every set is 2-0 or 0-2).
 CONFIGS = {

@@ -18,11 +18,11 @@ from pathlib import Path
 
 import pytest
 
-from tests.helpers.commands import hako, one_line_error
-from tests.helpers.campaign_doubles import SyntheticBench
-from tests.campaign.test_study import CONFIG, Drawer
 from testctl.campaign.loop import Campaign
 from testctl.campaign.study import STUDY_FILE, StudyMirror
+from tests.campaign.test_study import CONFIG, Drawer
+from tests.helpers.campaign_doubles import SyntheticBench
+from tests.helpers.commands import hako, one_line_error
 from tests.helpers.paths import REPO
 from tests.helpers.waiting import wait_until
 
@@ -136,7 +136,8 @@ def test_without_optuna_dashboard_one_line_says_what_to_install(tmp_path: Path, 
 
     campaign(tmp_path / "a")
     real = importlib.util.find_spec
-    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "optuna_dashboard" else real(name, *a))
+    monkeypatch.setattr(importlib.util, "find_spec",
+                        lambda name, *a: None if name == "optuna_dashboard" else real(name, *a))
     r = CliRunner().invoke(main, ["dashboard", str(tmp_path / "a")])
     assert r.exit_code == 1 and r.output.strip().splitlines() == [
         "Error: hako dashboard needs optuna-dashboard, which is not installed: pip install -e '.[dashboard]' "
@@ -186,7 +187,8 @@ def test_a_smoke_campaign_in_a_real_browser(tmp_path: Path, dashboard) -> None:
         for words in ("Trial 0", "Trial 3", "lap_s", "Artifacts", "set-001.png"):
             assert words in body, body
         browser.save_screenshot(str(tmp_path / "trials.png"))
-        images = [i for i in browser.find_elements(By.TAG_NAME, "img") if "/artifacts/" in (i.get_attribute("src") or "")]
+        images = [i for i in browser.find_elements(By.TAG_NAME, "img")
+                  if "/artifacts/" in (i.get_attribute("src") or "")]
         assert images and all(browser.execute_script("return arguments[0].naturalWidth", i) > 100 for i in images)
     finally:
         browser.quit()

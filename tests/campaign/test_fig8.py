@@ -5,11 +5,11 @@ from __future__ import annotations
 
 from matplotlib.colors import to_rgba
 
-from tests.helpers.campaign_doubles import ScriptedBench, result
 from hakoniwa.wire.protocol import Event, Rx
 from testctl.campaign.loop import Campaign, CampaignConfig
 from testctl.campaign.report import fig8
 from testctl.search.space import Parameter, ParameterSpace
+from tests.helpers.campaign_doubles import ScriptedBench, result
 
 SPACE = ParameterSpace((Parameter("Kp", Rx.KP, 0, 5), Parameter("Ki", Rx.KI, 0, 5), Parameter("Kd", Rx.KD, 0, 5),
                         Parameter("motor_power", Rx.MOTOR_POWER, 10, 30)))

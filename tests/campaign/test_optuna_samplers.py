@@ -12,16 +12,16 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from tests.helpers.commands import hako, one_line_error
-from tests.helpers.campaign_doubles import Killed, KilledAfter, SyntheticBench
 from hakoniwa.wire.protocol import Rx
-from tests.campaign.test_campaign_resume import essence
-from tests.campaign.test_campaign_sampler import SPACE, assert_distinct_inside, bowl, initial
-from testctl.search import optimizers
-from testctl.campaign.loop import Campaign, CampaignConfig
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
+from testctl.campaign.loop import Campaign, CampaignConfig
+from testctl.search import optimizers
 from testctl.search.optimizers import OptimizerUnavailable, make_sampler, missing
 from testctl.search.space import Parameter, ParameterSpace
+from tests.campaign.test_campaign_resume import essence
+from tests.campaign.test_campaign_sampler import SPACE, assert_distinct_inside, bowl, initial
+from tests.helpers.campaign_doubles import Killed, KilledAfter, SyntheticBench
+from tests.helpers.commands import hako, one_line_error
 from tests.helpers.paths import REPO
 
 GP = pytest.param("optuna-gp", marks=pytest.mark.skipif(importlib.util.find_spec("torch") is None,

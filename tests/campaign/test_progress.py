@@ -3,11 +3,11 @@ promised an end it cannot keep."""
 
 from __future__ import annotations
 
-from tests.helpers.campaign_doubles import result
 from hakoniwa.wire.protocol import Event
-from testctl.campaign.loop import Progress
 from testctl.campaign.journal import TestRecord
+from testctl.campaign.loop import Progress
 from testctl.campaign.progress import PLAIN_EVERY_S, PLAIN_EVERY_TESTS, RECENT_TESTS, ProgressLine, format_duration
+from tests.helpers.campaign_doubles import result
 
 
 class FakeBar:

@@ -13,13 +13,13 @@ import pytest
 from optuna.artifacts import get_all_artifact_meta
 from optuna.distributions import FloatDistribution, IntDistribution
 
-from tests.helpers.campaign_doubles import Killed, KilledAfter, SyntheticBench
 from hakoniwa.wire.protocol import Rx
-from tests.campaign.test_campaign_parallel import NoisyBench, ShuffledExecutor
 from testctl.campaign import study as study_module
 from testctl.campaign.loop import Campaign, CampaignConfig, CampaignSummary
-from testctl.search.space import Parameter, ParameterSpace
 from testctl.campaign.study import STUDY_FILE, StudyMirror, attach, open_storage, trajectory_png
+from testctl.search.space import Parameter, ParameterSpace
+from tests.campaign.test_campaign_parallel import NoisyBench, ShuffledExecutor
+from tests.helpers.campaign_doubles import Killed, KilledAfter, SyntheticBench
 
 # 6 sets of 2 tests each on the deterministic synthetic bench; several improve on the best before them.
 CONFIG = CampaignConfig(init_points=3, trials=3, repeats=3, seed=11, optimizer="random")

@@ -9,10 +9,10 @@ import shutil
 
 import pytest
 
-from tests.helpers.commands import hako
 from hakoniwa.physics.course import COURSES_DIR
 from hakoniwa.physics.options import BenchOptions
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
+from tests.helpers.commands import hako
 
 
 def short_course(tmp_path, seconds: int):

@@ -15,16 +15,23 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from athrill_sim.bindings import (Binding, BindingError, as_float32, fill_template, from_json, template_fields,
-                                  value_text)
+from athrill_sim.bindings import (
+    Binding,
+    BindingError,
+    as_float32,
+    fill_template,
+    from_json,
+    template_fields,
+    value_text,
+)
 from athrill_sim.tuning import Edit, apply_edits
-from tests.helpers.commands import hako, one_line_error
 from hakoniwa.wire.params import PARAM_END, slot_size
 from hakoniwa.wire.protocol import open_athrill, open_unity
-from tests.helpers.native_fixtures import need_cc
 from testctl.campaign.patch import unified_diff
 from testctl.runner import TrialRunner
 from testctl.search.space import ParameterSpace, SpaceError
+from tests.helpers.commands import hako, one_line_error
+from tests.helpers.native_fixtures import need_cc
 from tests.helpers.paths import PROGRAMS
 
 KINDS = ("define", "symbol", "file", "source")

@@ -16,16 +16,16 @@ from pathlib import Path
 import pytest
 
 from athrill_sim.bindings import as_float32
-from tests.helpers.commands import hako
 from hakoniwa.physics.options import BenchOptions
 from hakoniwa.wire.protocol import open_athrill
-from tests.helpers.native_fixtures import need_cc
-from tests.helpers.realemu_fixtures import need_v850_tools
 from testctl.bench import Bench
-from testctl.executor import TestSpec
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
+from testctl.executor import TestSpec
 from testctl.search.space import ParameterSpace
+from tests.helpers.commands import hako
+from tests.helpers.native_fixtures import need_cc
 from tests.helpers.paths import PROGRAMS
+from tests.helpers.realemu_fixtures import need_v850_tools
 
 KINDS = ("define", "symbol", "file", "source", "constexpr")  # constexpr: a C++ header's, by source parameters
 CAMPAIGN = ("--noise", "0", "--repeats", "1", "--seed", "0", "--init-points", "5", "--trials", "15",
@@ -186,7 +186,7 @@ def test_a_define_gives_exactly_the_float32_or_float64_of_the_proposal(tmp_path)
 
 
 @pytest.mark.slow
-def test_a_global_of_a_v850_image_is_set_exactly_in_the_real_emulator(repeatable_athrill2, tmp_path):  # noqa: F811
+def test_a_global_of_a_v850_image_is_set_exactly_in_the_real_emulator(repeatable_athrill2, tmp_path):
     need_v850_tools()
     raw = report(tmp_path, REPORTER_SPACE, (F, D, I), emulator="athrill2", athrill2=str(repeatable_athrill2))
     f, double_size, i, s = struct.unpack_from("<fI8xii", raw)
@@ -262,7 +262,7 @@ def test_a_cpp_programs_qualified_globals_hold_exactly_the_proposal(tmp_path):
 
 
 @pytest.mark.slow
-def test_a_cpp_images_qualified_globals_are_set_exactly_in_the_real_emulator(repeatable_athrill2, tmp_path):  # noqa: F811
+def test_a_cpp_images_qualified_globals_are_set_exactly_in_the_real_emulator(repeatable_athrill2, tmp_path):
     """hako build strips a C++ image's debug information; the types come from its asp.debug."""
     need_v850_tools()
     f, d, power = cpp_report(tmp_path, emulator="athrill2", athrill2=str(repeatable_athrill2))

@@ -6,16 +6,16 @@ import json
 
 import pytest
 
+from hakoniwa.wire.protocol import Event
+from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
+from testctl.campaign.loop import Campaign, CampaignConfig
+from testctl.campaign.validate import validate_best, validation_specs
+from testctl.executor import SerialExecutor
+from testctl.lap_figure import lap_figure
+from testctl.options import MAX_DRAWS, VALIDATE_KEY, plan
+from testctl.suite.run import BenchFault
 from tests.helpers.campaign_doubles import BENCH_FAULT, Killed, SyntheticBench, result
 from tests.helpers.commands import hako, one_line_error
-from hakoniwa.wire.protocol import Event
-from testctl.campaign.loop import Campaign, CampaignConfig
-from testctl.executor import SerialExecutor
-from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
-from testctl.options import MAX_DRAWS, VALIDATE_KEY, plan
-from testctl.lap_figure import lap_figure
-from testctl.suite.run import BenchFault
-from testctl.campaign.validate import validate_best, validation_specs
 
 
 def campaign(tmp_path, **options):

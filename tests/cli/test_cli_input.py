@@ -3,13 +3,11 @@ before any test runs; and `-h` everywhere."""
 
 from __future__ import annotations
 
-
 import pytest
 
 from testctl.campaign.journal import JOURNAL_FILE
-
-
-from tests.helpers.commands import one_line_error, run_module as run
+from tests.helpers.commands import one_line_error
+from tests.helpers.commands import run_module as run
 
 
 @pytest.mark.parametrize("args, words", [

@@ -13,9 +13,9 @@ import time
 
 import pytest
 
-from tests.helpers.processes import interruptible
 from testctl.interrupts import EXIT_WITHIN_S, safe_to_raise
 from tests.helpers.paths import TESTS
+from tests.helpers.processes import interruptible
 
 CHILD = TESTS / "helpers" / "interrupt_child.py"
 

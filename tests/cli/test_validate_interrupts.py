@@ -15,8 +15,8 @@ import time
 
 import pytest
 
-from tests.helpers.processes import interruptible
 from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
+from tests.helpers.processes import interruptible
 
 DRAWS = 10
 VALIDATING = "validating the best set"

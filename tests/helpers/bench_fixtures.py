@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import os
 import subprocess
+from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterator
 
 from hakoniwa.physics.options import BenchOptions
 from testctl.paper import BEST_GAINS, line_trace_params

@@ -57,7 +57,8 @@ def test_replay_formats(small_log, tmp_path):
 
 
 def test_bad_options_are_one_line_errors(small_log):
-    for args in (["--format", "png"], ["--until", "9"], ["--drop-last", "5"], ["--size", "65"], ["--view", "3", "--format", "json"]):
+    for args in (["--format", "png"], ["--until", "9"], ["--drop-last", "5"], ["--size", "65"],
+                 ["--view", "3", "--format", "json"]):
         result = mazelog("replay", small_log, *args)
         assert result.exit_code == 2 or result.exit_code == 1, args
         assert no_traceback(result) and "Error" in result.output, args
@@ -160,7 +161,8 @@ def test_power_cut_reports_what_was_written(tmp_path):
     line = next(ln for ln in result.output.splitlines() if ln.startswith("wall log:"))
     assert "1 of " in line and "records written before the power cut at byte 3 and 1 byte of the next" in line
     assert f"flash image {log.stat().st_size} bytes" in line
-    assert "records applied: 1 of 2 in the log (1 skipped as anomalous)" in mazelog("replay", log, "--size", "16").stdout
+    replayed = mazelog("replay", log, "--size", "16").stdout
+    assert "records applied: 1 of 2 in the log (1 skipped as anomalous)" in replayed
 
 
 def test_explore_png_is_readable_and_has_a_legend(tmp_path):
@@ -170,7 +172,8 @@ def test_explore_png_is_readable_and_has_a_legend(tmp_path):
     from maze.render import COLOURS
 
     png = tmp_path / "run.png"
-    assert mazelog("explore", CLASSIC, "--log", tmp_path / "run.bin", "--png", png, "--strategy", "closing").exit_code == 0
+    explored = mazelog("explore", CLASSIC, "--log", tmp_path / "run.bin", "--png", png, "--strategy", "closing")
+    assert explored.exit_code == 0
     image = Image.open(png)
     assert image.width >= 600 and image.height >= image.width
     legend = [image.getpixel((x, y)) for y in range(image.height - 60, image.height) for x in range(image.width)]

@@ -1,5 +1,4 @@
 import pytest
-from tests.maze.test_maze_builtin import large_maze_params
 
 from maze import explorer
 from maze.builtin import builtin_path
@@ -11,6 +10,7 @@ from maze.mazefile import parse_maze
 from maze.restore import restore
 from maze.strategies import OPTIMAL_CLAIMED, STRATEGIES
 from maze.wallrecord import WallRecord
+from tests.maze.test_maze_builtin import large_maze_params
 
 # five built-in 16x16 mazes, spread over the years
 CLASSIC = [builtin_path(n) for n in ("alljapan-001-1980", "alljapan-007-1986-pre", "alljapan-011-1990-exp-pre",

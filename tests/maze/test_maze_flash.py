@@ -10,13 +10,13 @@ from maze.flash import (
     NorFlash,
     PowerCut,
     compare_schemes,
+    inner_wall_ids,
     log_sectors,
     log_writes,
     pack_snapshot,
     run_writes,
     snapshot_bytes,
     unpack_snapshot,
-    inner_wall_ids,
 )
 from maze.mazefile import parse_maze
 from maze.restore import load_log, restore

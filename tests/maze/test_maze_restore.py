@@ -1,7 +1,6 @@
 import re
 
 import pytest
-from tests.maze.test_maze_builtin import builtin_maze_params, large_maze_params
 
 from maze.direction import EAST, NORTH, SOUTH
 from maze.errors import MazeError
@@ -10,6 +9,7 @@ from maze.model import Maze, inner_wall_count
 from maze.restore import apply_records, load_log, records_for, restore, select
 from maze.wallrecord import RECORD_BYTES, WallRecord, encode_log, parse_text_records
 from tests.helpers.paths import SHARED
+from tests.maze.test_maze_builtin import builtin_maze_params, large_maze_params
 
 SEED = SHARED / "seeds" / "wall-log-backup.md"
 needs_seed = pytest.mark.skipif(

@@ -4,8 +4,18 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from maze.model import Maze
-from maze.stepmap import (UNREACHED, bit, cells_of, known_cells, layers, mask_of, open_sides, optimistic,
-                          pessimistic, step_map)
+from maze.stepmap import (
+    UNREACHED,
+    bit,
+    cells_of,
+    known_cells,
+    layers,
+    mask_of,
+    open_sides,
+    optimistic,
+    pessimistic,
+    step_map,
+)
 
 
 @st.composite

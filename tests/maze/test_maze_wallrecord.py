@@ -63,7 +63,8 @@ def test_torn_last_record_is_reported_with_its_index():
 
 def test_diagonal_direction_is_reported_and_skipped():
     bad = 1 | 1 << 6 | 3 << 12
-    data = encode_log([WallRecord(0, 1, NORTH, False)]) + struct.pack("<H", bad) + encode_log([WallRecord(0, 1, EAST, True)])
+    data = (encode_log([WallRecord(0, 1, NORTH, False)]) + struct.pack("<H", bad)
+            + encode_log([WallRecord(0, 1, EAST, True)]))
     scan = scan_log(data)
     assert [i for i, _ in scan.records] == [0, 2]
     assert [a.index for a in scan.anomalies] == [1]

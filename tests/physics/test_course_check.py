@@ -11,13 +11,13 @@ from pathlib import Path
 
 import pytest
 
-from tests.helpers.commands import one_line_error
 from hakoniwa.physics.bench import load_bench
 from hakoniwa.physics.course import COURSES_DIR, CourseError, load_course
 from hakoniwa.physics.course_check import check_course
 from hakoniwa.physics.options import BenchOptions
 from hakoniwa.physics.robot import EV3_BODY, HACKSPI_BODY
 from hakoniwa.physics.scenario import ScenarioError
+from tests.helpers.commands import one_line_error
 
 START = "[start]                        # the robot's axle centre; its color sensor sits on the line's outer edge\n" \
         "x = -0.38\ny = -0.52\nyaw_deg = 0\n"

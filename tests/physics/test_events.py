@@ -7,9 +7,9 @@ import pytest
 
 from hakoniwa.physics.course import load_course
 from hakoniwa.physics.options import DEFAULT_COURSE
-from hakoniwa.wire.protocol import Event
 from hakoniwa.physics.task import LapTask
 from hakoniwa.physics.world import World
+from hakoniwa.wire.protocol import Event
 
 
 @pytest.fixture(scope="module")

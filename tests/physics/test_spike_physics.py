@@ -7,7 +7,6 @@ import struct
 
 import pytest
 
-from tests.helpers.commands import hako, one_line_error
 from hakoniwa.physics.bench import load_bench
 from hakoniwa.physics.course import load_course
 from hakoniwa.physics.environment import Environment
@@ -18,6 +17,7 @@ from hakoniwa.physics.scenario import ScenarioError, parse_scenario
 from hakoniwa.physics.sensors import hsv_of
 from hakoniwa.physics.slots import Slots
 from hakoniwa.wire.protocol import UNITY_FILE
+from tests.helpers.commands import hako, one_line_error
 
 G_MM_S2 = 9806.65
 

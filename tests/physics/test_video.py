@@ -14,11 +14,11 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from tests.helpers.commands import hako, one_line_error
 from hakoniwa.physics.course import COURSES_DIR, load_course
 from hakoniwa.physics.replay import REPLAY_FILE, Replay, RobotLook, read_replay, write_replay
 from hakoniwa.physics.robots import DEFAULT_ROBOT, HACKSPI
 from hakoniwa.physics.video_options import VideoOptions
+from tests.helpers.commands import hako, one_line_error
 
 OVAL = load_course("oval")
 

@@ -3,6 +3,7 @@
 import subprocess
 import sys
 from pathlib import Path
+
 from tests.helpers.paths import SCRIPTS
 
 SCRIPT = SCRIPTS / "check_commits.py"

@@ -5,6 +5,7 @@ import importlib.util
 import sys
 
 import pytest
+
 from tests.helpers.paths import SCRIPTS
 
 SCRIPT = SCRIPTS / "doc_results.py"
@@ -59,7 +60,8 @@ def test_a_view_in_a_table_cell_or_a_toml_comment_is_rewritten_in_place():
                    "138 s | cmd |\n")
     comment = "# doc-results: validate-example-comment\n# old\n# /doc-results\n"
     new, _ = doc_results.refresh(comment, "x.toml", lambda name: True, {"validate-example": out})
-    assert new.splitlines()[1].startswith("# `hako run --trials 20 --validate 30` now finds Kp 3.633, Ki 0, Kd 0: lap 32.57 s")
+    assert new.splitlines()[1].startswith(
+        "# `hako run --trials 20 --validate 30` now finds Kp 3.633, Ki 0, Kd 0: lap 32.57 s")
 
 
 def test_an_unknown_block_name_is_one_line():

@@ -14,10 +14,10 @@ from pathlib import Path
 import pytest
 from junitparser import Failure, JUnitXml
 
-from tests.helpers.commands import hako, one_line_error
-from tests.helpers.processes import tagged_env, tagged_processes
 from tests.bench.test_faults import IDLE_APP
+from tests.helpers.commands import hako, one_line_error
 from tests.helpers.paths import REPO
+from tests.helpers.processes import tagged_env, tagged_processes
 from tests.helpers.waiting import wait_until
 
 EXAMPLE = REPO / "docs" / "examples" / "hako-tests.toml"

@@ -5,13 +5,21 @@ from __future__ import annotations
 import math
 
 import pytest
-from hypothesis import given, strategies as st
+from hypothesis import given
+from hypothesis import strategies as st
 
-from tests.helpers.campaign_doubles import result
 from hakoniwa.wire.protocol import Event
-from testctl.suite.expect import (EVENTS, OPERATORS, PER_RUN, Bound, EventExpectation, ExpectationError,
-                            parse_expectation)
 from testctl.lapstats import LapStats, percentile
+from testctl.suite.expect import (
+    EVENTS,
+    OPERATORS,
+    PER_RUN,
+    Bound,
+    EventExpectation,
+    ExpectationError,
+    parse_expectation,
+)
+from tests.helpers.campaign_doubles import result
 
 QUANTITIES = st.one_of(st.sampled_from([*PER_RUN, "success"]), st.integers(1, 99).map(lambda p: f"p{p}"))
 LIMITS = st.floats(allow_nan=False, allow_infinity=False, min_value=-1e9, max_value=1e9)

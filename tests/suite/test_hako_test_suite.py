@@ -6,13 +6,14 @@ import json
 from pathlib import Path
 
 import pytest
-from hypothesis import given, settings, HealthCheck, strategies as st
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from hakoniwa.physics.options import BenchOptions
 from hakoniwa.wire.protocol import Rx
-from testctl.suite.expect import Bound, EventExpectation
 from testctl.search.space import ParameterSpace
 from testctl.suite.cases import DEFAULT_SEEDS, SuiteError, drawn_seeds, load_suite
+from testctl.suite.expect import Bound, EventExpectation
 
 GAINS = "params = { Kp = 1.5, Ki = 4.0, Kd = 4.5 }\n"
 
@@ -70,7 +71,7 @@ def test_a_case_from_a_campaign_takes_its_best_set_by_its_spaces_names(tmp_path)
     (f'[case.a]\nseeds = []\n{GAINS}expect = ["GOAL"]\n', ["seeds", "non-empty list"]),
     (f'[case.a]\nseeds = [-1]\n{GAINS}expect = ["GOAL"]\n', ["seeds", "0..4294967295"]),
     (f'[case.a]\nseeds = true\n{GAINS}expect = ["GOAL"]\n', ["seeds"]),
-    (f'[case.a]\nfrom = "runs/none"\nexpect = ["GOAL"]\n', ["from", "best.json does not exist"]),
+    ('[case.a]\nfrom = "runs/none"\nexpect = ["GOAL"]\n', ["from", "best.json does not exist"]),
     ('[case.a]\nparams = { Kp = 1.0 }\nexpect = ["GOAL"]\n', ["no value for Ki, Kd"]),
     ('[case.a]\nparams = { Kq = 1.0 }\nexpect = ["GOAL"]\n', ["no parameter 'Kq'"]),
     ('[case.a]\nparams = { Kp = "x", Ki = 1, Kd = 1 }\nexpect = ["GOAL"]\n', ["Kp = 'x' is not a number"]),

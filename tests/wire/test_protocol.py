@@ -8,9 +8,28 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from hakoniwa.wire.protocol import (ATHRILL_FILE, COURSE_BLOCK_POSITIONS, FILE_SIZE, HEADER_SIZE, RX_GUEST_BASE, TX_GUEST_BASE, UNITY_FILE,
-                               WINDOW_SIZE, ColorId, Event, Header, LayoutError, Rx, Tx, c_header,
-                               goal_time_from_words, goal_time_words, guest_to_body, open_athrill, open_unity)
+from hakoniwa.wire.protocol import (
+    ATHRILL_FILE,
+    COURSE_BLOCK_POSITIONS,
+    FILE_SIZE,
+    HEADER_SIZE,
+    RX_GUEST_BASE,
+    TX_GUEST_BASE,
+    UNITY_FILE,
+    WINDOW_SIZE,
+    ColorId,
+    Event,
+    Header,
+    LayoutError,
+    Rx,
+    Tx,
+    c_header,
+    goal_time_from_words,
+    goal_time_words,
+    guest_to_body,
+    open_athrill,
+    open_unity,
+)
 from tests.helpers.paths import DOCS
 
 # The README's tables, written out independently of protocol.py.
@@ -33,7 +52,8 @@ REAL_ETROBOC_TX = {"completed": 512 - 32}
 # ET Robocon's SPIKE SDK, raspike-athrill-v850e2m target/v850_gcc/pil/include/ev3_vdev_common.h:
 # SPIKE_SENSOR_IMU_OFF 272 + 4 * (ACCELARATION_X 0, _Y 1, _Z 2, VELOCITY_X 3, _Y 4, _Z 5) and
 # SPIKE_SENSOR_HSV_OFF 296 + 4 * (H 0, S 1, V 2); raspike_hub.c reads the IMU words as float bits.
-REAL_SPIKE_RX = {"spike_imu": 272, "spike_hsv": 296, "spike_imu_accel_x": 272, "spike_imu_accel_y": 276, "spike_imu_accel_z": 280,
+REAL_SPIKE_RX = {"spike_imu": 272, "spike_hsv": 296,
+                 "spike_imu_accel_x": 272, "spike_imu_accel_y": 276, "spike_imu_accel_z": 280,
                  "spike_imu_angvel_x": 284, "spike_imu_angvel_y": 288, "spike_imu_angvel_z": 292,
                  "spike_hsv_h": 296, "spike_hsv_s": 300, "spike_hsv_v": 304}
 

@@ -10,10 +10,23 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from athrill_sim.programs import ProgramError, resolve_program
-from athrill_sim.vdev_udp import (PORT_RANGE, Endpoint, Hex, LinkError, bench_link, bind_fixed, bind_pair,
-                                  check_free, lookup, parse_device_config, port_free, user_link)
+from athrill_sim.vdev_udp import (
+    PORT_RANGE,
+    Endpoint,
+    Hex,
+    LinkError,
+    bench_link,
+    bind_fixed,
+    bind_pair,
+    check_free,
+    lookup,
+    parse_device_config,
+    port_free,
+    user_link,
+)
 from tests.helpers.commands import hako, one_line_error
 from tests.helpers.realemu_fixtures import ETROBOC_DEVICE_CONFIGS
+
 UDP_BASE = "DEBUG_FUNC_ENABLE_VDEV\t1\nDEVICE_CONFIG_TIMER_FD\t400\n"
 
 keys = st.from_regex(r"[A-Z][A-Z0-9_]{0,30}", fullmatch=True)

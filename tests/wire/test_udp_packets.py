@@ -7,9 +7,21 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from hakoniwa.wire.packets import (REQUESTS, RX_PACKET_SIZE, TX_BODY_SIZE, TX_PACKET_SIZE, TX_TAKEN_END,
-                                   PacketError, TxPacket, decode_rx, decode_tx, encode_tx, merge_requests,
-                                   rx_packet, store_tx)
+from hakoniwa.wire.packets import (
+    REQUESTS,
+    RX_PACKET_SIZE,
+    TX_BODY_SIZE,
+    TX_PACKET_SIZE,
+    TX_TAKEN_END,
+    PacketError,
+    TxPacket,
+    decode_rx,
+    decode_tx,
+    encode_tx,
+    merge_requests,
+    rx_packet,
+    store_tx,
+)
 from hakoniwa.wire.protocol import PARAM_END, Rx, Tx, open_athrill, open_unity
 
 # vdev.h: VDEV_TX_DATA_COMM_SIZE 1024, a 32-byte header (magic ETTX, version 1, micon time at 8, unity time
