@@ -40,8 +40,18 @@ _DEFAULT = CampaignConfig()  # the help text's defaults are the configuration's 
 _RULE = _DEFAULT.rule
 
 
-def _count(n: int, thing: str) -> str:
-    return f"{n} {thing}{'' if n == 1 else 's'}"
+def _count(n: int, thing: str, things: str = "") -> str:
+    return f"{n} {thing if n == 1 else things or thing + 's'}"
+
+
+RUN_HELP = (  # `hako run`'s help, from the configuration's defaults
+    f"Search the robot program's parameters by Bayesian optimization, as in the paper: "
+    f"{_count(_DEFAULT.init_points, 'random set')}, then --trials sets proposed by GPyOpt (EI), --batch at a time; "
+    f"each set tested until {_count(_RULE.needed, 'success', 'successes')} or {_count(_RULE.failures_needed, 'failure')} "
+    "(one test with --noise 0 on the real emulator's repeatable mode, where every test of a set is the same); the "
+    "objective is the mean lap time (the time limit for a failure; with --objective completed, the mean time the "
+    "program notified its completion). Tests run on --benches benches at once; then the best set is tested on "
+    "--validate fresh noise draws. Every test is journaled; kill and --resume at any time.")
 
 
 _OPTIONS = [

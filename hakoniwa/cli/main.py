@@ -25,7 +25,16 @@ from hakoniwa.wire.processes import describe_exit
 from hakoniwa.wire.rundir import TRAJECTORY_FILE, diagnose
 from testctl import paper
 from testctl.launch import controller_command, run_physics
-from testctl.options import DEFAULT_DRAWS, MAX_DRAWS, SMOKE_DRAWS, campaign_options, make_out_dir, noise_options, plan
+from testctl.options import (
+    DEFAULT_DRAWS,
+    MAX_DRAWS,
+    RUN_HELP,
+    SMOKE_DRAWS,
+    campaign_options,
+    make_out_dir,
+    noise_options,
+    plan,
+)
 from testctl.suite.cases import DEFAULT_FILE
 
 POWER = Float32(-100.0, 100.0)
@@ -177,7 +186,7 @@ def how_many_benches(benches: int | None, scheduler: str | None) -> int:
     return benches or default_benches()
 
 
-@main.command(context_settings=HELP)
+@main.command(context_settings=HELP, help=RUN_HELP)
 @bench_options
 @benches_options
 @campaign_options
@@ -186,13 +195,6 @@ def how_many_benches(benches: int | None, scheduler: str | None) -> int:
                    f"and lap quantiles; 0 skips [{DEFAULT_DRAWS}; {SMOKE_DRAWS} with --smoke; 1 with --noise 0, "
                    f"where every draw is the same test; on --resume, the campaign's].")
 def run(benches: int | None, scheduler: str | None, validate: int | None, **options) -> None:
-    """Search the robot program's parameters by Bayesian optimization, as in the paper: 5 random sets, then
-    --trials sets proposed by GPyOpt (EI), --batch at a time; each set tested until 3 successes or 3
-    failures (one test with --noise 0 on the real emulator's repeatable mode, where every test of a set is
-    the same); the objective is the mean lap time (the time limit for a failure; with --objective completed,
-    the mean time the program notified its completion). Tests run on --benches
-    benches at once; then the best set is tested on --validate fresh noise draws.
-    Every test is journaled; kill and --resume at any time."""
     from testctl.interrupts import interrupts, stopped_by
 
     with interrupts():
