@@ -47,7 +47,8 @@ def _count(n: int, thing: str, things: str = "") -> str:
 RUN_HELP = (  # `hako run`'s help, from the configuration's defaults
     f"Search the robot program's parameters by Bayesian optimization, as in the paper: "
     f"{_count(_DEFAULT.init_points, 'random set')}, then --trials sets proposed by GPyOpt (EI), --batch at a time; "
-    f"each set tested until {_count(_RULE.needed, 'success', 'successes')} or {_count(_RULE.failures_needed, 'failure')} "
+    f"each set tested until {_count(_RULE.needed, 'success', 'successes')} or "
+    f"{_count(_RULE.failures_needed, 'failure')} "
     "(one test with --noise 0 on the real emulator's repeatable mode, where every test of a set is the same); the "
     "objective is the mean lap time (the time limit for a failure; with --objective completed, the mean time the "
     "program notified its completion). Tests run on --benches benches at once; then the best set is tested on "

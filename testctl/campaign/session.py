@@ -45,7 +45,7 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
     from testctl.campaign.report import BEST_JSON, format_summary, write_best_json, write_report
     from testctl.campaign.study import STUDY_FILE, StudyMirror, attach
     from testctl.campaign.validate import VALIDATION_PNG, draw_validation, validate_best
-    from testctl.suite.run import BenchFault
+    from testctl.executor import BenchFault
 
     on_stop_say(resume_hint(p.out_dir))
     validation = None
@@ -132,7 +132,7 @@ def trial_for_picture(trial_once: TrialOnce, spec: TestSpec, tries: int = 2) -> 
     a damaged file) says nothing of the set, so the test runs again on the rebuilt bench before the campaign
     gives up with one line."""
     from hakoniwa.wire.protocol import LayoutError
-    from testctl.suite.run import BenchFault
+    from testctl.executor import BenchFault
 
     for attempt in range(1, tries + 1):
         try:

@@ -19,11 +19,10 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, Journal, TestRecord, now_timestamp
-from testctl.executor import Executor, TestSpec
+from testctl.executor import Executor, TestSpec, bench_fault, results_of
 from testctl.lapstats import LapStats
 from testctl.noise_seed import noise_seed
 from testctl.result import TestResult
-from testctl.suite.run import bench_fault, results_of
 
 if TYPE_CHECKING:
     from testctl.campaign.loop import CampaignSummary  # NumPy: not for `hako --help`
@@ -62,7 +61,7 @@ def validation_specs(summary: CampaignSummary, draws: int) -> list[TestSpec]:
 def validate_best(summary: CampaignSummary, executor: Executor, draws: int, out_dir: Path,
                   on_result: Callable[[TestSpec, TestResult], None] = lambda spec, result: None) -> Validation:
     """Run the best set on the `draws` fresh noise draws that `out_dir`'s journal lacks, journaling each
-    (a bench fault is journaled, and stops it: `testctl.suite.run.BenchFault`). `on_result` hears of every draw,
+    (a bench fault is journaled, and stops it: `testctl.executor.BenchFault`). `on_result` hears of every draw,
     the journaled ones first."""
     best = summary.best
     assert best is not None

@@ -11,23 +11,15 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import AbstractContextManager, contextmanager
 from dataclasses import dataclass
-from itertools import islice
 from pathlib import Path
 
 from hakoniwa.physics.options import BenchOptions
-from hakoniwa.wire.errors import HakoError
 from testctl.bench import Bench
-from testctl.executor import Executor, SerialExecutor, TestSpec
+from testctl.executor import Executor, SerialExecutor, TestSpec, bench_fault, results_of
 from testctl.lapstats import LapStats, lap_or_inf
 from testctl.result import TestResult
 from testctl.suite.cases import Case
 from testctl.suite.expect import Check
-
-WINDOW_PER_BENCH = 2  # tests handed to the executor per bench ahead of their results: none waits for work
-
-
-class BenchFault(HakoError, RuntimeError):
-    """A bench spoiled a test: the run is broken (exit 2), whatever the cases would have shown."""
 
 
 @dataclass(frozen=True)
@@ -71,29 +63,6 @@ def judge(case: Case, runs: Sequence[Run]) -> CaseRun:
     results = [r.result for r in runs]
     labels = [r.label for r in runs]
     return CaseRun(case, tuple(runs), tuple(e.check(results, labels) for e in case.expect))
-
-
-def results_of(executor: Executor, specs: Iterable[TestSpec]) -> Iterator[tuple[TestSpec, TestResult, str]]:
-    """Run every spec on `executor`, yielding each as it finishes with its result and bench. Only
-    WINDOW_PER_BENCH tests per bench are out at a time: a local cluster's scheduler lives in this process,
-    and 100 000 tests submitted at once held every one of them there (memory grew by 20 MB/s)."""
-    todo = iter(specs)
-    pending = 0
-    for spec in islice(todo, WINDOW_PER_BENCH * executor.capacity):
-        executor.submit(spec)
-        pending += 1
-    while pending:
-        finished = executor.next_result()
-        pending -= 1
-        for spec in islice(todo, 1):  # the bench's next test before this one's result is handled
-            executor.submit(spec)
-            pending += 1
-        yield finished
-
-
-def bench_fault(result: TestResult, bench: str) -> BenchFault:
-    return BenchFault(f"the bench {bench} spoiled a test ({result.crash_reason()}); "
-                      "a bench fault says nothing of the program, so the test run is void")
 
 
 def run_specs(executor: Executor, specs: Iterable[TestSpec],

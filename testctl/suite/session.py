@@ -12,12 +12,13 @@ import click
 
 from hakoniwa.wire.exits import EXIT_CASES_FAILED, EXIT_RUN_BROKEN
 from hakoniwa.wire.protocol import LayoutError
+from testctl.executor import BenchFault
 from testctl.interrupts import on_stop_say, stopped_by
 from testctl.runner import PhysicsGone
 from testctl.suite.cases import Case
 from testctl.suite.junit import write_junit
 from testctl.suite.report import format_table, keep_case_files, results_dict
-from testctl.suite.run import BenchFault, bench_executor, rerun_worst, run_cases
+from testctl.suite.run import bench_executor, rerun_worst, run_cases
 
 
 class RunBroken(click.ClickException):

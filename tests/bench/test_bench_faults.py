@@ -183,8 +183,8 @@ def test_the_campaigns_own_bench_failing_under_a_picture_reruns_it(tmp_path):
 
 def test_the_campaigns_own_bench_failing_twice_is_one_bench_error(tmp_path):
     from testctl.campaign.session import trial_for_picture
+    from testctl.executor import BenchFault
     from testctl.runner import PhysicsGone
-    from testctl.suite.run import BenchFault
 
     spoiled = TestResult(Event.CRASH, 0, 0.01, crash_kind=CrashKind.BENCH, bench_cause=BenchCause.FILE_DAMAGED)
     with pytest.raises(BenchFault, match="spoiled set 0's picture twice"):

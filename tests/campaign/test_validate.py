@@ -10,10 +10,9 @@ from hakoniwa.wire.protocol import Event
 from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
 from testctl.campaign.loop import Campaign, CampaignConfig
 from testctl.campaign.validate import validate_best, validation_specs
-from testctl.executor import SerialExecutor
+from testctl.executor import BenchFault, SerialExecutor
 from testctl.lap_figure import lap_figure
 from testctl.options import MAX_DRAWS, VALIDATE_KEY, plan
-from testctl.suite.run import BenchFault
 from tests.helpers.campaign_doubles import BENCH_FAULT, Killed, SyntheticBench, result
 from tests.helpers.commands import hako, one_line_error
 
