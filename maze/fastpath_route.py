@@ -6,6 +6,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import cached_property
 
+import numpy as np
+
 from .direction import ALONG, STEP
 from .fastpath_build import B, G, StaticGraph, entered_cell
 from .model import Cell
@@ -47,10 +49,19 @@ class RouteDecoder:
         return self.graph.wall_at.tolist()
 
     @cached_property
-    def _turn_shape_of(self) -> dict[tuple[int, int], int]:
-        """(source node, destination node) of a turn edge -> its shape's index."""
+    def _turn_keys(self) -> tuple[np.ndarray, np.ndarray]:
+        """The turn edges' keys (source node * node count + destination node, each pair once), sorted, and
+        their shapes' indices in that order: a route looks up a few dozen of the 60 000 turns of a 32x32
+        diagonal graph, so sorting once (milliseconds) beats building a dict of them all (tens)."""
         turns = self.graph.turns
-        return dict(zip(zip(turns.src.tolist(), turns.dst.tolist()), turns.shape.tolist()))
+        keys = turns.src * (self.graph.start_node + 1) + turns.dst
+        order = np.argsort(keys)
+        return keys[order], turns.shape[order]
+
+    def _turn_shape_of(self, u: int, v: int) -> int:
+        """The shape's index of the turn edge u->v."""
+        keys, shapes = self._turn_keys
+        return int(shapes[np.searchsorted(keys, u * (self.graph.start_node + 1) + v)])
 
     def _edge(self, u: int, v: int, start: Cell) -> tuple[list[tuple[int, int]], str, float]:
         """The walls a start or turn edge u->v crosses (as points), its token and its length in cells."""
@@ -62,7 +73,7 @@ class RouteDecoder:
             n = (abs(vx - cx) + abs(vy - cy) + 1) // 2
             return [(cx + (2 * k - 1) * dx, cy + (2 * k - 1) * dy) for k in range(1, n + 1)], f"S{n - 0.5:g}", n - 0.5
         (ux, uy), _ = g.point(u)
-        shape = g.shapes[self._turn_shape_of[(u, v)]]
+        shape = g.shapes[self._turn_shape_of(u, v)]
         return [(ux + ox, uy + oy) for ox, oy in shape.offsets], shape.token, TURNS[shape.name].cells
 
     def route(self, nodes: list[int], times: list[float], start: Cell) -> Route:
