@@ -10,7 +10,7 @@ module to importing only its own layer and those below it):
 
 This root imports only `hakoniwa.wire.numerics` (standard library), so that a process that needs only the wire
 contract does not load MuJoCo. It pins the floating-point kernels before anything of ours imports numpy, so
-every process of a campaign computes alike on every machine.
+that every process of a campaign computes alike on every x86-64 machine with AVX2.
 """
 
 from hakoniwa.wire.numerics import pin_kernels

@@ -4,6 +4,8 @@ The campaign submits `TestSpec`s (one repetition of one parameter set, with its 
 ones back in whatever order they finish; a set's verdict never depends on that order. `SerialExecutor` runs
 them one at a time on one bench, in submission order: the controller attached to a single physics process
 (the paper's arrangement), and the campaign's tests. `testctl.cluster` runs them on many benches.
+`results_of` feeds any executor a few tests per bench at a time, for the campaign, its validation and
+`hako test` alike.
 """
 
 from __future__ import annotations
@@ -72,7 +74,8 @@ class SerialExecutor(Executor):
 
 
 class BenchFault(HakoError, RuntimeError):
-    """A bench spoiled a test: the run is broken (exit 2), whatever the cases would have shown."""
+    """A bench spoiled a test that cannot be run again in its place (a `hako test` run, a validation, a
+    campaign's picture): the run is broken (exit 2), whatever the test would have shown."""
 
 
 def results_of(executor: Executor, specs: Iterable[TestSpec]) -> Iterator[tuple[TestSpec, TestResult, str]]:
