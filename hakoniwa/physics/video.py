@@ -15,12 +15,14 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
+from hakoniwa.physics.scene import HEIGHT, WIDTH, Scene, build_scene  # before mujoco: it picks the OpenGL backend
+
+# isort: split
 import mujoco
 import numpy as np
 
 from hakoniwa.physics.course import Course, load_course
 from hakoniwa.physics.replay import Replay
-from hakoniwa.physics.scene import HEIGHT, WIDTH, Scene, build_scene  # first: it picks the OpenGL backend
 from hakoniwa.physics.video_options import VideoOptions
 from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.timebase import US_PER_S

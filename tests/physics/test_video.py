@@ -266,3 +266,15 @@ def test_view_paces_the_lockstep_and_changes_nothing_it_reports(tmp_path: Path) 
     assert viewed.returncode == 0, viewed.stderr
     assert viewed.stdout == plain.stdout
     assert wall >= json.loads(plain.stdout)["lap_time_s"] / 8
+
+
+def test_the_film_module_picks_egl_before_mujoco_chooses_its_backend() -> None:
+    """A user's shell has no MUJOCO_GL: the film module must set EGL before MuJoCo is imported, or MuJoCo takes
+    GLFW and the campaign's film of the best lap fails headless (the test suite itself sets MUJOCO_GL)."""
+    import subprocess
+    import sys
+
+    code = "import os\nimport hakoniwa.physics.video\nprint(os.environ.get('MUJOCO_GL'))"
+    env = {k: v for k, v in os.environ.items() if k != "MUJOCO_GL"}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
+    assert out.stdout.strip() == "egl"
