@@ -39,11 +39,15 @@ class VideoError(HakoError, RuntimeError):
 
 
 def gl_problem() -> str | None:
-    """Why MuJoCo cannot render offscreen here, or None when it can."""
+    """Why MuJoCo cannot render offscreen here, or None when it can. The probe goes as far as MuJoCo's own
+    rendering context: GLFW without a display only warns when its GL context is made, and fails there."""
     try:
         ctx = mujoco.GLContext(16, 16)
         ctx.make_current()
-        ctx.free()
+        try:
+            mujoco.MjrContext(mujoco.MjModel.from_xml_string("<mujoco/>"), mujoco.mjtFontScale.mjFONTSCALE_100)
+        finally:
+            ctx.free()
     except Exception as e:  # the backends raise what their libraries raise: ImportError, OSError, RuntimeError
         backend = os.environ.get("MUJOCO_GL", "glfw")
         why = str(e).splitlines()[0] if str(e) else type(e).__name__

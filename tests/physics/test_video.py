@@ -278,3 +278,16 @@ def test_the_film_module_picks_egl_before_mujoco_chooses_its_backend() -> None:
     env = {k: v for k, v in os.environ.items() if k != "MUJOCO_GL"}
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
     assert out.stdout.strip() == "egl"
+
+
+def test_a_backend_that_opens_a_context_but_cannot_render_is_told_before_the_film() -> None:
+    """GLFW without a display only warns when its context is made; MuJoCo's rendering context then fails. The
+    probe must say so, so that a film is refused in one line instead of a traceback after the campaign."""
+    import subprocess
+    import sys
+
+    code = ("import warnings\nwarnings.simplefilter('ignore')\n"
+            "from hakoniwa.physics.video import gl_problem\nprint(gl_problem())")
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")} | {"MUJOCO_GL": "glfw"}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
+    assert out.stdout.startswith("MuJoCo cannot render here (MUJOCO_GL=glfw"), out.stdout
