@@ -14,11 +14,15 @@ from __future__ import annotations
 import os
 import sys
 import tempfile
+from ctypes.util import find_library
 from dataclasses import dataclass
 from pathlib import Path
 
-if "mujoco" not in sys.modules:  # MuJoCo picks its OpenGL backend when imported: headless (EGL) unless told
-    os.environ.setdefault("MUJOCO_GL", "egl")
+# MuJoCo picks its OpenGL backend when imported: headless EGL unless told, where its library is found. Without
+# it, MUJOCO_GL=egl breaks `import mujoco` itself (PyOpenGL's EGL module fails with an AttributeError), where
+# MuJoCo's own default fails only when a film asks for a context, which `video.gl_problem` turns into a note.
+if "mujoco" not in sys.modules and "MUJOCO_GL" not in os.environ and find_library("EGL") is not None:
+    os.environ["MUJOCO_GL"] = "egl"
 
 import mujoco
 import numpy as np

@@ -291,3 +291,18 @@ def test_a_backend_that_opens_a_context_but_cannot_render_is_told_before_the_fil
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")} | {"MUJOCO_GL": "glfw"}
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
     assert out.stdout.startswith("MuJoCo cannot render here (MUJOCO_GL=glfw"), out.stdout
+
+
+def test_a_machine_without_egl_gets_a_note_not_a_traceback_at_import() -> None:
+    """With MUJOCO_GL=egl and no libEGL, PyOpenGL breaks `import mujoco` itself, and the campaign that had
+    written all its results ended in a traceback when it came to film its best lap (seen on a GPU machine
+    whose image has no libEGL). Without EGL the backend is left to MuJoCo, and the probe says why not."""
+    import subprocess
+    import sys
+
+    code = ("import ctypes.util, os, warnings\nwarnings.simplefilter('ignore')\n"
+            "ctypes.util.find_library = lambda name: None\n"
+            "import hakoniwa.physics.video as video\nprint(os.environ.get('MUJOCO_GL'), video.gl_problem() is None)")
+    env = {k: v for k, v in os.environ.items() if k not in ("MUJOCO_GL", "DISPLAY", "WAYLAND_DISPLAY")}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
+    assert out.stdout.split() == ["None", "False"], out.stdout
