@@ -5,6 +5,11 @@ by side on the same budget.
                      process, so that the optimizer's own time per round is measured inside the very run):
                      tests per second over the campaign, the speedup over one bench, and the sampler's
                      seconds per round (median and the last round, the one with the most sets).
+--benches 1,2,3 --pinned 1,2,4
+                     The same as a user runs it: `hako run --trials N --benches B --validate 0` (batch 1, the
+                     default), pinned to the first 1, 2, 4 CPUs (from --first-cpu), for every B; tests per
+                     second over the campaign's tests (first test's start to last test's end, from the
+                     journal) and the whole command's wall time. What `hako`'s default bench count rests on.
 --full               The wall time of the paper's `hako run --trials 100` exactly as a user runs it (default
                      benches, noise on, first to 3 of 5); for the README's "how long".
 --compare            Every optimizer (GPyOpt EI, Optuna's TPE, CMA-ES and GP, random search) on three problems
@@ -60,6 +65,30 @@ def campaign(out: Path, *args: str) -> float | None:
     return time.monotonic() - start
 
 
+def pinned_scaling(cores: list[int], benches: list[int], trials: int, first_cpu: int) -> None:
+    """Campaigns as `hako run` runs them, each pinned to its cores, for the default bench count."""
+    from datetime import datetime
+
+    print(f"`hako run --trials {trials} --benches B --validate 0`, batch 1, pinned from CPU {first_cpu}; {load()}")
+    print(f"{'cores':>5} {'benches':>7} {'tests':>6} {'tests s':>8} {'tests/s':>8} {'wall s':>7}")
+    for c in cores:
+        cpus = f"{first_cpu}-{first_cpu + c - 1}"
+        for b in benches:
+            with tempfile.TemporaryDirectory(prefix="hako-bench-pinned-") as tmp:
+                out = Path(tmp) / "campaign"
+                cmd = ["taskset", "-c", cpus, sys.executable, "-m", "hakoniwa.cli", "run", "--trials", str(trials),
+                       "--benches", str(b), "--validate", "0", "--seed", "0", "--out", str(out)]
+                start = time.monotonic()
+                r = subprocess.run(cmd, capture_output=True, text=True)
+                wall = time.monotonic() - start
+                if r.returncode != 0:
+                    raise click.ClickException(f"{' '.join(cmd)} failed: {r.stderr.strip().splitlines()[-1:]}")
+                rows = [json.loads(line) for line in (out / JOURNAL_FILE).read_text().splitlines()[1:]]
+            ends = [datetime.fromisoformat(r["time"]).timestamp() for r in rows]
+            span = max(ends) - min(e - r["wall_s"] for e, r in zip(ends, rows))
+            print(f"{c:>5} {b:>7} {len(rows):>6} {span:>8.1f} {len(rows) / span:>8.2f} {wall:>7.1f}", flush=True)
+
+
 def best_after(values: list[float], n: int) -> float:
     return list(accumulate(values, min))[min(n, len(values)) - 1]
 
@@ -92,6 +121,9 @@ def scaling(benches: list[int], trials: int) -> None:
 
 @click.command(context_settings={"help_option_names": ["-h", "--help"]})
 @click.option("--benches", default=None, help="Bench counts to compare, e.g. 1,2,4,8 (the first is the baseline).")
+@click.option("--pinned", default=None, help="With --benches: core counts to pin `hako run` campaigns to, e.g. "
+                                           "1,2,4.")
+@click.option("--first-cpu", default=0, show_default=True, help="The first CPU --pinned campaigns use.")
 @click.option("--trials", default=20, show_default=True, help="Optimization sets of each --benches campaign.")
 @click.option("--full", is_flag=True, help="Time the paper's `hako run --trials 100`.")
 @click.option("--full-benches", type=int, default=None, help="--benches for --full [hako's default].")
@@ -104,10 +136,13 @@ def scaling(benches: list[int], trials: int) -> None:
 @click.option("--problems", default=",".join(PROBLEMS), show_default=True, help="Problems for --compare.")
 @click.option("--optimizers", default=",".join(COMPARED), show_default=True, help="Optimizers for --compare.")
 @click.option("--jobs", default=1, show_default=True, help="--compare campaigns run at once (one bench each).")
-def main(benches: str | None, trials: int, full: bool, full_benches: int | None, compare: bool, work: Path,
-         seeds: str, problems: str, optimizers: str, jobs: int) -> None:
+def main(benches: str | None, pinned: str | None, first_cpu: int, trials: int, full: bool, full_benches: int | None,
+         compare: bool, work: Path, seeds: str, problems: str, optimizers: str, jobs: int) -> None:
     """Print campaign throughput and quality figures."""
-    if benches:
+    if benches and pinned:
+        pinned_scaling([int(c) for c in pinned.split(",")], [int(b) for b in benches.split(",")], trials,
+                       first_cpu)
+    elif benches:
         scaling([int(b) for b in benches.split(",")], trials)
     work.mkdir(parents=True, exist_ok=True)
     if full:

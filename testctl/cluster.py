@@ -17,6 +17,7 @@ from __future__ import annotations
 import logging
 import multiprocessing
 import os
+import queue
 import shlex
 import shutil
 import sys
@@ -28,7 +29,7 @@ from pathlib import Path
 from typing import cast
 
 from dask.typing import Key
-from distributed import Client, LocalCluster, as_completed, get_worker
+from distributed import Client, Future, LocalCluster, get_worker
 from distributed.diagnostics.plugin import WorkerPlugin
 
 from hakoniwa.physics.options import BenchOptions
@@ -41,8 +42,7 @@ PLUGIN_NAME = "hakoniwa-bench"
 RETRIES = 2  # a campaign's test whose bench died is run again this many times before it gives up
 CONNECT_TIMEOUT_S = 10
 NO_WORKERS_TIMEOUT_S = 60.0  # a cluster without a worker this long is not coming back by itself
-POLL_S = 0.05  # how often a wait for results looks for one
-LOOK_EVERY_S = 1.0  # and how often it asks the scheduler about the workers
+LOOK_EVERY_S = 1.0  # how often a wait for results asks the scheduler about the workers
 
 
 # What multiprocessing's resource tracker says when this process dies without closing the workers' queues
@@ -139,30 +139,33 @@ class DaskExecutor(Executor):
         self.client.register_plugin(BenchHost(options), name=PLUGIN_NAME)
         self.where = scheduler or "the local cluster"
         self.capacity = len(self.client.scheduler_info()["workers"])
-        self._done = as_completed()
+        # Finished futures, as Dask's own thread reports them: a wait wakes the moment a test ends. With one
+        # set proposed at a time, every moment between a set's last test and the next proposal leaves all
+        # the benches idle (polling every 50 ms cost a full campaign 2-3 s).
+        self._done: queue.SimpleQueue[Future] = queue.SimpleQueue()
         self._specs: dict[Key, TestSpec] = {}  # by the future's key
 
     def submit(self, spec: TestSpec) -> None:
         future = self.client.submit(run_on_worker, spec, retries=self._retries, pure=False)
         self._specs[future.key] = spec
-        self._done.add(future)
+        future.add_done_callback(self._done.put)
 
     def next_result(self) -> tuple[TestSpec, TestResult, str]:
         without_workers_since: float | None = None
-        next_look = time.monotonic() + LOOK_EVERY_S
-        while not self._done.has_ready():
-            time.sleep(POLL_S)
-            if (now := time.monotonic()) < next_look:
-                continue
-            next_look = now + LOOK_EVERY_S
+        while True:
+            try:
+                future = self._done.get(timeout=LOOK_EVERY_S)
+                break
+            except queue.Empty:
+                pass
             if not self._workers():
+                now = time.monotonic()
                 without_workers_since = without_workers_since or now
                 if now - without_workers_since > NO_WORKERS_TIMEOUT_S:
                     raise ClusterError(f"every Dask worker of {self.where} is gone (none for "
                                        f"{NO_WORKERS_TIMEOUT_S:.0f} s); start workers again")
             else:
                 without_workers_since = None
-        future = next(self._done)
         spec = self._specs.pop(future.key)
         try:
             result, bench = future.result()
