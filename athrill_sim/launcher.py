@@ -14,7 +14,8 @@ import subprocess
 import threading
 from pathlib import Path
 
-from athrill_sim.programs import Program
+from athrill_sim.programs import MOCK_ARGV, Program
+from athrill_sim.zygote import ForkedProcess, Zygote
 from hakoniwa.wire.output import CappedOutput
 from hakoniwa.wire.rundir import ATHRILL_LOG
 
@@ -27,14 +28,33 @@ class AthrillLauncher:
         self._log = open(run_dir / ATHRILL_LOG, "ab")
         self._write_lock = threading.Lock()
         self._outputs: dict[int, CappedOutput] = {}  # by pid, while the process or its output lasts
+        self._zygote: Zygote | None = None  # started by the first test of a program it can fork
+        self._forks = True  # until the zygote fails once
         program.prepare(run_dir)
 
     def _spawn(self, seq: int, program: Program) -> subprocess.Popen:
-        proc = program.spawn(self.run_dir, seq, subprocess.PIPE)
+        proc = (program.forkable and self._fork(seq, program)) or program.spawn(self.run_dir, seq, subprocess.PIPE)
         self._outputs = {pid: out for pid, out in self._outputs.items() if out.running}
         assert proc.stdout is not None  # spawned with stdout=PIPE
         self._outputs[proc.pid] = CappedOutput(proc.stdout, self._log, self._write_lock, f"the Athrill of test {seq}")
         return proc
+
+    def _fork(self, seq: int, program: Program) -> ForkedProcess | None:
+        """The mock for test `seq` forked by the bench's zygote; None where there is none (the caller then
+        starts it the usual way, and so does every later test)."""
+        if not self._forks:
+            return None
+        try:
+            if self._zygote is None:
+                self._zygote = Zygote()
+            return self._zygote.spawn(program.args(self.run_dir, seq)[len(MOCK_ARGV):],
+                                      self.run_dir if program.in_run_dir else None)
+        except OSError:  # ZygoteGone too
+            self._forks = False
+            if self._zygote is not None:
+                self._zygote.close()
+                self._zygote = None
+            return None
 
     def last_lines(self, proc: subprocess.Popen, n: int) -> list[str]:
         """The last lines an ended process printed: a crashed program's own error."""
@@ -66,6 +86,9 @@ class AthrillLauncher:
         if self._spare is not None:
             kill(self._spare[2])
             self._spare = None
+        if self._zygote is not None:
+            self._zygote.close()
+            self._zygote = None
         for out in self._outputs.values():
             out.join()
         self._log.close()

@@ -101,6 +101,7 @@ class Program:
     image: Path | None = None  # the file argv runs: the native Athrill, or the v850 image athrill2 loads
     sdcard: Path | None = None  # the program's own sdcard/ folder, copied onto the bench's SD card
     tuning: Any = field(default=None, compare=False)  # athrill_sim.tuning.Tuning: the parameters' bindings
+    forkable: bool = False  # argv is MOCK_ARGV + arguments: `athrill_sim.zygote` can fork it instead
 
     def prepare(self, run_dir: Path) -> None:
         for name, text in self.config_files.items():
@@ -131,21 +132,26 @@ class Program:
             lines = [line for line in out.strip().splitlines() if line.strip()]
             raise ProgramError(lines[-1].removeprefix("Error: ") if lines else "the robot program cannot run")
 
+    def args(self, run_dir: Path, test_seq: int) -> list[str]:
+        return [a.format(test=test_seq, run_dir=run_dir) for a in self.argv]
+
     def spawn(self, run_dir: Path, test_seq: int, output) -> subprocess.Popen:
         """Start the process for test `test_seq`. It gets a session of its own, so that a Ctrl-C meant for
         the campaign does not kill it mid-test (the physics process stops it), and dies with the physics
         process, so that nothing is left running if that is killed."""
-        args = [a.format(test=test_seq, run_dir=run_dir) for a in self.argv]
-        return subprocess.Popen(args, stdin=subprocess.DEVNULL, stdout=output, stderr=subprocess.STDOUT,
-                                cwd=run_dir if self.in_run_dir else None, start_new_session=True,
-                                preexec_fn=die_with_parent)
+        return subprocess.Popen(self.args(run_dir, test_seq), stdin=subprocess.DEVNULL, stdout=output,
+                                stderr=subprocess.STDOUT, cwd=run_dir if self.in_run_dir else None,
+                                start_new_session=True, preexec_fn=die_with_parent)
+
+
+MOCK_ARGV = (sys.executable, "-m", "athrill_sim.main")  # the mock Athrill, whose arguments follow
 
 
 def python_program(spec: str) -> Program:
-    mock = (sys.executable, "-m", "athrill_sim.main", "--app", spec)
+    mock = (*MOCK_ARGV, "--app", spec)
     return Program(f"python app {spec}", SyncMode.LOCKSTEP, True,
                    (*mock, "--run-dir", "{run_dir}", "--test", "{test}"), check_argv=(*mock, "--check"),
-                   files=python_program_files(spec))
+                   files=python_program_files(spec), forkable=True)
 
 
 def python_program_files(spec: str) -> tuple[Path, ...]:
