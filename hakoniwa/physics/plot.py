@@ -14,13 +14,13 @@ def read_trajectory(path: Path) -> list[tuple[float, float]]:
 
 
 def draw_trajectory(course: Course, path_xy: list[tuple[float, float]], out: Path, title: str = "") -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    """Drawn on a bare Figure (Agg), never through pyplot's global state: a campaign draws improving sets on
+    a thread of its own while its loop goes on."""
+    from matplotlib.figure import Figure
     from matplotlib.patches import Rectangle
 
-    fig, ax = plt.subplots(figsize=(11, 5))
+    fig = Figure(figsize=(11, 5))
+    ax = fig.subplots()
     ax.imshow(course.floor, cmap="gray", extent=course.extent, vmin=0, vmax=100, origin="upper")
     for i, w in enumerate(course.walls):
         ax.add_patch(Rectangle((w.x - w.hx, w.y - w.hy), 2 * w.hx, 2 * w.hy, color="slategray",
@@ -45,4 +45,3 @@ def draw_trajectory(course: Course, path_xy: list[tuple[float, float]], out: Pat
     ax.set_aspect("equal")
     fig.tight_layout()
     fig.savefig(out, dpi=110, bbox_inches="tight")
-    plt.close(fig)

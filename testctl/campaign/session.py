@@ -3,7 +3,9 @@ clear word when it stops early (how it stopped, and how to continue it)."""
 
 from __future__ import annotations
 
+import queue
 import sys
+import threading
 from collections import Counter
 from collections.abc import Callable
 from pathlib import Path
@@ -28,6 +30,45 @@ BEST_TRAJECTORY_PNG = "best_trajectory.png"
 TrialOnce = Callable[[TestSpec], tuple[TestResult, Path]]
 # Writes best.patch for the best set's values ({name: value}) and says what it sets (testctl.campaign.patch.PatchInfo).
 PatchWriter = Callable[[Path, dict[str, float]], "PatchInfo"]
+
+
+class InBackground:
+    """Runs the calls of `fn` in order on a thread of its own, so that the campaign's loop never waits for them.
+    The study mirror reruns each set that improves on the best on the campaign's own bench and draws it
+    (a test and a picture, about a second); with one set proposed at a time, every bench sat idle meanwhile.
+    An exception there is raised in the caller's thread, at its next call or at `join`. The thread lives as
+    long as the process: the bench's physics process it may start dies with the thread that started it
+    (`PR_SET_PDEATHSIG` follows the thread), and the campaign's end reruns the best set on that bench."""
+
+    def __init__(self, fn: Callable[..., None]) -> None:
+        self._fn = fn
+        self._calls: queue.Queue[tuple] = queue.Queue()
+        self._error: BaseException | None = None
+        threading.Thread(target=self._work, name="study-mirror", daemon=True).start()
+
+    def _work(self) -> None:
+        while True:
+            args = self._calls.get()
+            try:
+                if self._error is None:
+                    self._fn(*args)
+            except BaseException as e:  # noqa: B036  # handed to the caller's thread, which raises it
+                self._error = e
+            finally:
+                self._calls.task_done()
+
+    def _raise(self) -> None:
+        if self._error is not None:
+            raise self._error
+
+    def __call__(self, *args) -> None:
+        self._raise()
+        self._calls.put(args)
+
+    def join(self) -> None:
+        """Wait for the calls made so far; raise what one of them raised."""
+        self._calls.join()
+        self._raise()
 
 
 def resume_hint(out_dir: Path) -> str:
@@ -55,9 +96,11 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
                                item_show_func=lambda s: s, file=sys.stderr) as bar:
             plain = None if sys.stderr.isatty() else lambda line: click.echo(f"{label}: {line}", err=True)
             mirror = StudyMirror(p.out_dir, lambda s, png: draw_set(p.config, s, trial_once, course_folder, png))
+            mirror_update = InBackground(mirror.update)
             summary = Campaign(p.config, p.out_dir, executor, on_progress=ProgressLine(bar, plain=plain),
-                               on_sets=mirror.update, resume=p.resume, bench_info=bench_info,
+                               on_sets=mirror_update, resume=p.resume, bench_info=bench_info,
                                header={VALIDATE_KEY: validate}).run()
+            mirror_update.join()
         patch = None
         if summary.best is not None and write_patch is not None:
             space = summary.config.space
