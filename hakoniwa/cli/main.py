@@ -12,6 +12,7 @@ import json
 import os
 import sys
 import tempfile
+import threading
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, overload
 
@@ -248,13 +249,19 @@ def _run(benches: int | None, scheduler: str | None, validate: int | None, optio
             last[:] = [spec, (result, run_dir)]
         return last[1]
 
+    # The cluster takes a second or two to close: that happens while the best lap is drawn and filmed.
+    closing = threading.Thread(target=executor.close, name="cluster-close")
     try:
         run_campaign(p, executor, bench_info={**bench_info(bench), FILES_KEY: files},
                      trial_once=trial_once, course_folder=Path(bench.course),
-                     failures=(ClusterError,), validate=validate, write_patch=patch_writer(program))
+                     failures=(ClusterError,), validate=validate, write_patch=patch_writer(program),
+                     benches_done=closing.start)
     finally:
         local.close()
-        executor.close()
+        if closing.ident is None:
+            executor.close()
+        else:
+            closing.join()
 
 
 @main.command("test", context_settings=HELP)

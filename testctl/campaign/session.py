@@ -77,11 +77,12 @@ def resume_hint(out_dir: Path) -> str:
 
 def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial_once: TrialOnce,
                  course_folder: Path, failures: tuple[type[Exception], ...] = (), validate: int = 0,
-                 write_patch: PatchWriter | None = None) -> None:
+                 write_patch: PatchWriter | None = None, benches_done: Callable[[], None] | None = None) -> None:
     """Run the campaign `p` on `executor`, write the report (and, with `write_patch`, best.patch: the best
     values in the program's own files), validate the best set on `validate` fresh noise draws, draw the
-    best set, and print the summary. Every way it can stop short is a one-line error with a non-zero exit
-    and the command that continues it."""
+    best set, and print the summary. `benches_done` is called once `executor` has run its last test (the
+    best set is drawn and filmed on the local bench of `trial_once`). Every way it can stop short is a
+    one-line error with a non-zero exit and the command that continues it."""
     from testctl.campaign.patch import BEST_PATCH
     from testctl.campaign.report import BEST_JSON, format_summary, write_best_json, write_report
     from testctl.campaign.study import STUDY_FILE, StudyMirror, attach
@@ -117,6 +118,8 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
             write_best_json(p.out_dir / BEST_JSON, summary, validation.to_dict(),
                             patch.to_dict() if patch is not None else None)
             files.append(draw_validation(p.out_dir / VALIDATION_PNG, summary, validation))
+        if benches_done is not None:
+            benches_done()
         if summary.best is not None:
             from testctl.film import LAP_VIDEO
 
