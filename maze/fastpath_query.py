@@ -10,6 +10,7 @@ from scipy.sparse import csr_array
 from scipy.sparse.csgraph import dijkstra
 
 from .direction import ALONG, STEP
+from .fastpath_bound import TimeBound
 from .fastpath_build import B, G, StaticGraph, entered_cell
 from .model import Cell
 from .motion import straight_seconds
@@ -58,15 +59,14 @@ class QueryGraph:
     straight, `open_needed` open walls ahead of node `run_from`; for a turn, its walls (`turn_walls`, one row
     per wall crossed); for a start edge, its first wall too. `prices` holds the prices (they depend on the mouse
     only); `open` marks the edges the last query's walls leave open; `astar` has the same edges, with the
-    reduced prices for A* where open and infinity elsewhere; `reduced` is each edge's reduced price,
-    `start_bound` the bound at the start; `hint` is the last query's reduced time to the goal, where the next
-    one's limit starts (walls change a few at a time)."""
+    reduced prices for A* where open and infinity elsewhere; `bound` is A*'s bound and the reduced prices under
+    it (maze/fastpath_bound.py); `hint` is the last query's reduced time to the goal, where the next one's limit
+    starts (walls change a few at a time)."""
 
     prices: csr_array
     astar: csr_array
-    reduced: np.ndarray
+    bound: TimeBound
     open: np.ndarray
-    start_bound: float
     hint: float | None
     before_turns: int  # straights (rows of A) before the turns; the chain's (rows of C) after them
     run_from: np.ndarray
@@ -142,27 +142,10 @@ class FastestSearch:
                                start_edges.seconds])
         prices = csr_array((cost, cols, indptr), shape=(n, n))
         astar = csr_array((np.zeros(len(cols)), cols, indptr), shape=(n, n))
-        q = QueryGraph(prices, astar, cost, np.zeros(len(cols), dtype=bool), 0.0, None, before, run_from,
-                       open_needed, turns.walls[turn_order].T.copy(), start_edges)
-        bound = self._time_bound(q)
-        with np.errstate(invalid="ignore"):  # an edge between nodes that never reach the goal: inf - inf
-            reduced = np.maximum(cost + bound[cols] - bound[rows], 0.0)
-        reduced[~np.isfinite(reduced)] = np.inf  # such an edge is never on a route
-        q.reduced, q.start_bound = reduced, float(bound[g.start_node])
-        return q
-
-    def _time_bound(self, q: QueryGraph) -> np.ndarray:
-        """Per node, the time left to the goal in the maze with only its outer walls (infinite where even that
-        never reaches it). Each query's open edges are some of these, at the same prices, so no route is faster
-        than the bound: the reduced prices price + bound(v) - bound(u) are never negative (up to rounding,
-        which is clamped) and A* stays exact."""
-        layer = self.graph.layer_size
-        outer_only = np.zeros(self.graph.walls, dtype=np.uint8)  # _open_edges closes the outer walls itself
-        prices = np.where(self._open_edges(q, outer_only), q.prices.data, np.inf)
-        back = csr_array((prices, q.prices.indices, q.prices.indptr), shape=q.prices.shape).T
-        indices = q.prices.indices
-        goal_layer = indices[(indices >= G * layer) & (indices < (G + 1) * layer)]
-        return dijkstra(csr_array(back), directed=True, indices=np.unique(goal_layer), min_only=True)
+        goal_layer = cols[(cols >= G * g.layer_size) & (cols < (G + 1) * g.layer_size)]
+        return QueryGraph(prices, astar, TimeBound(prices, rows, np.unique(goal_layer)),
+                          np.zeros(len(cols), dtype=bool), None, before, run_from, open_needed,
+                          turns.walls[turn_order].T.copy(), start_edges)
 
     def _start_edges(self, start: Cell, goals: tuple[Cell, ...]) -> StartEdges:
         """Straights from a standing start in the start cell's centre, along each of its four headings, of every
@@ -200,10 +183,10 @@ class FastestSearch:
                           np.array(open_needed, dtype=np.int64), np.array(first_wall, dtype=np.int64),
                           np.array(cost))
 
-    def _open_edges(self, q: QueryGraph, blocked: bytes | bytearray | np.ndarray) -> np.ndarray:
+    def _open_edges(self, q: QueryGraph, blocked: np.ndarray) -> np.ndarray:
         """Per edge (in row order), whether the walls not blocked let the mouse make it. The outer walls are
-        closed whatever `blocked` says: no move leaves the maze (and the bound relies on it)."""
-        open_ext = np.concatenate([np.frombuffer(bytes(blocked), dtype=np.uint8) == 0, [True, False]])
+        closed whatever `blocked` says: no move leaves the maze."""
+        open_ext = np.concatenate([blocked == 0, [True, False]])
         open_ext[self.graph.outer_walls] = False
         run = self._runs(open_ext)
         straights = run[q.run_from] >= q.open_needed
@@ -214,9 +197,14 @@ class FastestSearch:
         return np.concatenate([straights[:q.before_turns], turns, straights[q.before_turns:], starts])
 
     def price(self, q: QueryGraph, blocked: bytes | bytearray) -> None:
-        """Which edges the walls leave open, and the reduced prices for A* (infinite where a wall is blocked)."""
-        q.open = self._open_edges(q, blocked)
-        q.astar.data = np.where(q.open, q.reduced, np.inf)
+        """Which edges the walls leave open, and the reduced prices for A* (infinite where a wall is blocked),
+        under a bound found again for these walls where the one kept is stale."""
+        walls = np.frombuffer(bytes(blocked), dtype=np.uint8)
+        q.open = self._open_edges(q, walls)
+        if q.bound.stale(walls):
+            q.bound.find(q.open, walls)
+            q.hint = None  # the last answer was under another bound
+        q.astar.data = np.where(q.open, q.bound.reduced, np.inf)
 
     def search(self, q: QueryGraph) -> tuple[list[int], list[float]] | None:
         """The nodes of a fastest route and the time at each; None if the goal cannot be reached. A* on the
@@ -244,7 +232,7 @@ class FastestSearch:
         local[nodes] = np.arange(len(nodes), dtype=np.int32)
         sub = csr_array((q.prices.data[edge], local[col], indptr), shape=(len(nodes), len(nodes)))
         dist = dijkstra(sub, directed=True, indices=len(nodes) - 1,  # the start node is the last node
-                        limit=_with_slack(fastest + q.start_bound))
+                        limit=_with_slack(fastest + q.bound.at_start))
         in_goal = np.flatnonzero((nodes >= G * layer) & (nodes < (G + 1) * layer))
         at = [int(in_goal[np.argmin(dist[in_goal])])]  # the lowest-numbered of equals, as _goal_node
         back = csr_array(sub.T)
@@ -264,6 +252,7 @@ class FastestSearch:
         limit = max((q.hint or 0.0) * HINT_MARGIN, mouse.cell / mouse.run.top_speed)
         for limit in [limit * LIMIT_GROWTH ** k for k in range(LIMIT_TRIES)] + [np.inf]:
             dist = dijkstra(q.astar, directed=True, indices=self.graph.start_node, limit=limit)
+            q.bound.spent += int(np.isfinite(dist).sum())
             best = self._goal_node(dist)
             if np.isfinite(dist[best]):
                 q.hint = float(dist[best])
