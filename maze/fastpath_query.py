@@ -22,18 +22,22 @@ HINT_MARGIN = 1.25  # the first limit over the last answer: a search's walls onl
 LIMIT_TRIES = 16  # then no limit: a route that slow is unlikely, and without one the goal may be out of reach
 
 
-def _predecessor(back: csr_array, dist: np.ndarray, node: int) -> int:
-    """The node a route reaches `node` from: of the in-neighbours (rows of `back`, the transposed graph) whose
-    time plus the edge's price is exactly the node's, the one reached first; of equals, the highest-numbered.
-    That is the predecessor scipy's Dijkstra returned on this graph (it keeps the first node that reaches
-    another, and on every tie of 3517 queries checked it had settled the highest-numbered of the equally
-    timed ones first), and it depends only on the times, not on which nodes a search happened to settle: so
-    A*'s bound may change from query to query without changing a route."""
-    lo, hi = back.indptr[node], back.indptr[node + 1]
-    sources = back.indices[lo:hi]
-    reaching = sources[dist[sources] + back.data[lo:hi] == dist[node]]
-    first = dist[reaching]
-    return int(reaching[first == first.min()].max())
+def _predecessors(row: np.ndarray, col: np.ndarray, price: np.ndarray, dist: np.ndarray) -> np.ndarray:
+    """Per node of a graph of edges row -> col, the node a route reaches it from (-1 for none): of the edges
+    whose source's time plus price is exactly the node's time, the one from the node reached first; of equals,
+    the highest-numbered. That is the predecessor scipy's Dijkstra returned on the graph (it keeps the first
+    node that reaches another, and on every tie of 3517 queries checked it had settled the highest-numbered of
+    the equally timed ones first), and it depends only on the times, not on which nodes a search happened to
+    settle: so A*'s bound may change from query to query without changing a route."""
+    tight = dist[row] + price == dist[col]
+    row, col = row[tight], col[tight]
+    order = np.lexsort((-row, dist[row], col))  # by node, then the earliest source, then the highest-numbered
+    row, col = row[order], col[order]
+    first = np.ones(len(col), dtype=bool)
+    first[1:] = col[1:] != col[:-1]
+    pred = np.full(len(dist), -1)
+    pred[col[first]] = row[first]
+    return pred
 
 
 def _with_slack(seconds: float) -> float:
@@ -211,7 +215,7 @@ class FastestSearch:
         reduced prices finds how fast the goal can be reached and which nodes could lie on so fast a route;
         a search on their prices, limited to that time, then finds the exact time of each (the sums of a
         search of the whole graph, bit for bit), and the route is walked back from the goal by those times
-        alone (`_predecessor`), so that among equally fast routes it picks the same one whatever A*'s bound
+        alone (`_predecessors`), so that among equally fast routes it picks the same one whatever A*'s bound
         and limit were. That search runs on the graph of those nodes alone."""
         reduced = self._reduced_search(q)
         if reduced is None:
@@ -230,14 +234,15 @@ class FastestSearch:
         indptr = np.concatenate([[0], np.cumsum(np.bincount(row, minlength=len(nodes)))])
         local = self._local  # node -> its number in `nodes`; read only where kept
         local[nodes] = np.arange(len(nodes), dtype=np.int32)
-        sub = csr_array((q.prices.data[edge], local[col], indptr), shape=(len(nodes), len(nodes)))
+        price, col = q.prices.data[edge], local[col]
+        sub = csr_array((price, col, indptr), shape=(len(nodes), len(nodes)))
         dist = dijkstra(sub, directed=True, indices=len(nodes) - 1,  # the start node is the last node
                         limit=_with_slack(fastest + q.bound.at_start))
         in_goal = np.flatnonzero((nodes >= G * layer) & (nodes < (G + 1) * layer))
         at = [int(in_goal[np.argmin(dist[in_goal])])]  # the lowest-numbered of equals, as _goal_node
-        back = csr_array(sub.T)
+        pred = _predecessors(row, col, price, dist).tolist()
         while at[-1] != len(nodes) - 1:
-            at.append(_predecessor(back, dist, at[-1]))
+            at.append(pred[at[-1]])
         at.reverse()
         return nodes[at].tolist(), dist[at].tolist()
 
