@@ -12,6 +12,7 @@ from scipy.sparse.csgraph import dijkstra
 from .direction import ALONG, STEP
 from .fastpath_bound import TimeBound
 from .fastpath_build import B, G, StaticGraph, entered_cell
+from .fastpath_walls import wall_edges
 from .model import Cell
 from .motion import straight_seconds
 
@@ -65,7 +66,8 @@ class QueryGraph:
     only); `open` marks the edges the last query's walls leave open; `astar` has the same edges, with the
     reduced prices for A* where open and infinity elsewhere; `bound` is A*'s bound and the reduced prices under
     it (maze/fastpath_bound.py); `hint` is the last query's reduced time to the goal, where the next one's limit
-    starts (walls change a few at a time)."""
+    starts (walls change a few at a time). `walls` are the walls `open` was worked out for (None before the
+    first query), and `wall_edges` the edges through each wall (maze/fastpath_walls.py)."""
 
     prices: csr_array
     astar: csr_array
@@ -77,6 +79,8 @@ class QueryGraph:
     open_needed: np.ndarray
     turn_walls: np.ndarray
     start: StartEdges
+    walls: np.ndarray | None = None
+    wall_edges: tuple[np.ndarray, np.ndarray] | None = None  # built by the first query that can use it
 
 
 class FastestSearch:
@@ -204,11 +208,33 @@ class FastestSearch:
         """Which edges the walls leave open, and the reduced prices for A* (infinite where a wall is blocked),
         under a bound found again for these walls where the one kept is stale."""
         walls = np.frombuffer(bytes(blocked), dtype=np.uint8)
-        q.open = self._open_edges(q, walls)
+        closed = self._closed_edges(q, walls)
+        if closed is None:
+            q.open = self._open_edges(q, walls)
+        else:
+            q.open[closed] = False
+        q.walls = walls
         if q.bound.stale(walls):
             q.bound.find(q.open, walls)
             q.hint = None  # the last answer was under another bound
+        elif closed is not None:
+            q.astar.data[closed] = np.inf
+            return
         q.astar.data = np.where(q.open, q.bound.reduced, np.inf)
+
+    def _closed_edges(self, q: QueryGraph, walls: np.ndarray) -> np.ndarray | None:
+        """The edges through the walls this query closes and the last one left open; None where it opens one
+        (or is the first): then every edge is worked out again."""
+        if q.walls is None:
+            return None
+        changed = np.flatnonzero(walls != q.walls)
+        if not walls[changed].all():
+            return None
+        if q.wall_edges is None:
+            q.wall_edges = wall_edges(self.graph, q.run_from, q.open_needed, q.before_turns, q.turn_walls,
+                                      q.start.first_wall, q.start.run_from, q.start.open_needed)
+        indptr, edges = q.wall_edges
+        return np.concatenate([edges[indptr[w]:indptr[w + 1]] for w in changed.tolist()] + [edges[:0]])
 
     def search(self, q: QueryGraph) -> tuple[list[int], list[float]] | None:
         """The nodes of a fastest route and the time at each; None if the goal cannot be reached. A* on the
