@@ -230,6 +230,8 @@ class FastestSearch:
         changed = np.flatnonzero(walls != q.walls)
         if not walls[changed].all():
             return None
+        if not len(changed):
+            return changed  # no edge to close: the same walls again (`mazelog path`, a benchmark)
         if q.wall_edges is None:
             q.wall_edges = wall_edges(self.graph, q.run_from, q.open_needed, q.before_turns, q.turn_walls,
                                       q.start.first_wall, q.start.run_from, q.start.open_needed)
