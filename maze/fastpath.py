@@ -7,11 +7,11 @@ The graph of a maze size is built once; each query marks which edges its walls l
 A*: Dijkstra on reduced prices (each edge's price plus the drop in a lower bound of the time to the goal),
 with a distance limit so that scipy settles only the nodes that could lie on a route no slower than the
 fastest; the limit starts from the last query's answer and grows until the goal is reached. The bound is the
-time to the goal with only the outer walls, found once per start and goal set by a search back from the goal:
-it is exact where the query's walls are open, so the unknown walls a search assumes open cost A* next to
-nothing, and a wall it meets costs only the detour. The route itself comes from a second search, on the real
-prices, of the small graph of the nodes A* found could lie on a fastest route (a few thousand of the 135 000
-nodes of a 32x32 diagonal graph), so that it does not depend on the limit A* ran under.
+exact time to the goal under the walls of an earlier query (maze/fastpath_bound.py): walls only close while a
+mouse searches, so it stays a bound, and A* settles little more than the fastest routes' nodes. The route
+itself comes from a second search, on the real prices, of the small graph of the nodes A* found could lie on a
+fastest route, and is walked back from the goal by those exact times alone, so that it depends neither on the
+bound nor on the limit A* ran under.
 
 The parts: fastpath_build.py builds the graph of a maze size, diagonal flag and mouse; fastpath_query.py answers
 a query on it (pricing, A*, the second search); fastpath_route.py decodes the nodes found into moves.

@@ -10,7 +10,9 @@ from scipy.sparse import csr_array
 from scipy.sparse.csgraph import dijkstra
 
 from .direction import ALONG, STEP
+from .fastpath_bound import TimeBound
 from .fastpath_build import B, G, StaticGraph, entered_cell
+from .fastpath_walls import wall_edges
 from .model import Cell
 from .motion import straight_seconds
 
@@ -19,6 +21,24 @@ TIME_SLACK = 1e-9  # rounding in reduced prices must not leave out a node of an 
 LIMIT_GROWTH = 2.0  # how much the search limit grows when the goal lies beyond it
 HINT_MARGIN = 1.25  # the first limit over the last answer: a search's walls only ever make its run slower
 LIMIT_TRIES = 16  # then no limit: a route that slow is unlikely, and without one the goal may be out of reach
+
+
+def _predecessors(row: np.ndarray, col: np.ndarray, price: np.ndarray, dist: np.ndarray) -> np.ndarray:
+    """Per node of a graph of edges row -> col, the node a route reaches it from (-1 for none): of the edges
+    whose source's time plus price is exactly the node's time, the one from the node reached first; of equals,
+    the highest-numbered. That is the predecessor scipy's Dijkstra returned on the graph (it keeps the first
+    node that reaches another, and on every tie of 3517 queries checked it had settled the highest-numbered of
+    the equally timed ones first), and it depends only on the times, not on which nodes a search happened to
+    settle: so A*'s bound may change from query to query without changing a route."""
+    tight = dist[row] + price == dist[col]
+    row, col = row[tight], col[tight]
+    order = np.lexsort((-row, dist[row], col))  # by node, then the earliest source, then the highest-numbered
+    row, col = row[order], col[order]
+    first = np.ones(len(col), dtype=bool)
+    first[1:] = col[1:] != col[:-1]
+    pred = np.full(len(dist), -1)
+    pred[col[first]] = row[first]
+    return pred
 
 
 def _with_slack(seconds: float) -> float:
@@ -44,21 +64,23 @@ class QueryGraph:
     straight, `open_needed` open walls ahead of node `run_from`; for a turn, its walls (`turn_walls`, one row
     per wall crossed); for a start edge, its first wall too. `prices` holds the prices (they depend on the mouse
     only); `open` marks the edges the last query's walls leave open; `astar` has the same edges, with the
-    reduced prices for A* where open and infinity elsewhere; `reduced` is each edge's reduced price,
-    `start_bound` the bound at the start; `hint` is the last query's reduced time to the goal, where the next
-    one's limit starts (walls change a few at a time)."""
+    reduced prices for A* where open and infinity elsewhere; `bound` is A*'s bound and the reduced prices under
+    it (maze/fastpath_bound.py); `hint` is the last query's reduced time to the goal, where the next one's limit
+    starts (walls change a few at a time). `walls` are the walls `open` was worked out for (None before the
+    first query), and `wall_edges` the edges through each wall (maze/fastpath_walls.py)."""
 
     prices: csr_array
     astar: csr_array
-    reduced: np.ndarray
+    bound: TimeBound
     open: np.ndarray
-    start_bound: float
     hint: float | None
     before_turns: int  # straights (rows of A) before the turns; the chain's (rows of C) after them
     run_from: np.ndarray
     open_needed: np.ndarray
     turn_walls: np.ndarray
     start: StartEdges
+    walls: np.ndarray | None = None
+    wall_edges: tuple[np.ndarray, np.ndarray] | None = None  # built by the first query that can use it
 
 
 class FastestSearch:
@@ -128,27 +150,10 @@ class FastestSearch:
                                start_edges.seconds])
         prices = csr_array((cost, cols, indptr), shape=(n, n))
         astar = csr_array((np.zeros(len(cols)), cols, indptr), shape=(n, n))
-        q = QueryGraph(prices, astar, cost, np.zeros(len(cols), dtype=bool), 0.0, None, before, run_from,
-                       open_needed, turns.walls[turn_order].T.copy(), start_edges)
-        bound = self._time_bound(q)
-        with np.errstate(invalid="ignore"):  # an edge between nodes that never reach the goal: inf - inf
-            reduced = np.maximum(cost + bound[cols] - bound[rows], 0.0)
-        reduced[~np.isfinite(reduced)] = np.inf  # such an edge is never on a route
-        q.reduced, q.start_bound = reduced, float(bound[g.start_node])
-        return q
-
-    def _time_bound(self, q: QueryGraph) -> np.ndarray:
-        """Per node, the time left to the goal in the maze with only its outer walls (infinite where even that
-        never reaches it). Each query's open edges are some of these, at the same prices, so no route is faster
-        than the bound: the reduced prices price + bound(v) - bound(u) are never negative (up to rounding,
-        which is clamped) and A* stays exact."""
-        layer = self.graph.layer_size
-        outer_only = np.zeros(self.graph.walls, dtype=np.uint8)  # _open_edges closes the outer walls itself
-        prices = np.where(self._open_edges(q, outer_only), q.prices.data, np.inf)
-        back = csr_array((prices, q.prices.indices, q.prices.indptr), shape=q.prices.shape).T
-        indices = q.prices.indices
-        goal_layer = indices[(indices >= G * layer) & (indices < (G + 1) * layer)]
-        return dijkstra(csr_array(back), directed=True, indices=np.unique(goal_layer), min_only=True)
+        goal_layer = cols[(cols >= G * g.layer_size) & (cols < (G + 1) * g.layer_size)]
+        return QueryGraph(prices, astar, TimeBound(prices, rows, np.unique(goal_layer)),
+                          np.zeros(len(cols), dtype=bool), None, before, run_from, open_needed,
+                          turns.walls[turn_order].T.copy(), start_edges)
 
     def _start_edges(self, start: Cell, goals: tuple[Cell, ...]) -> StartEdges:
         """Straights from a standing start in the start cell's centre, along each of its four headings, of every
@@ -186,10 +191,10 @@ class FastestSearch:
                           np.array(open_needed, dtype=np.int64), np.array(first_wall, dtype=np.int64),
                           np.array(cost))
 
-    def _open_edges(self, q: QueryGraph, blocked: bytes | bytearray | np.ndarray) -> np.ndarray:
+    def _open_edges(self, q: QueryGraph, blocked: np.ndarray) -> np.ndarray:
         """Per edge (in row order), whether the walls not blocked let the mouse make it. The outer walls are
-        closed whatever `blocked` says: no move leaves the maze (and the bound relies on it)."""
-        open_ext = np.concatenate([np.frombuffer(bytes(blocked), dtype=np.uint8) == 0, [True, False]])
+        closed whatever `blocked` says: no move leaves the maze."""
+        open_ext = np.concatenate([blocked == 0, [True, False]])
         open_ext[self.graph.outer_walls] = False
         run = self._runs(open_ext)
         straights = run[q.run_from] >= q.open_needed
@@ -200,16 +205,46 @@ class FastestSearch:
         return np.concatenate([straights[:q.before_turns], turns, straights[q.before_turns:], starts])
 
     def price(self, q: QueryGraph, blocked: bytes | bytearray) -> None:
-        """Which edges the walls leave open, and the reduced prices for A* (infinite where a wall is blocked)."""
-        q.open = self._open_edges(q, blocked)
-        q.astar.data = np.where(q.open, q.reduced, np.inf)
+        """Which edges the walls leave open, and the reduced prices for A* (infinite where a wall is blocked),
+        under a bound found again for these walls where the one kept is stale."""
+        walls = np.frombuffer(bytes(blocked), dtype=np.uint8)
+        closed = self._closed_edges(q, walls)
+        if closed is None:
+            q.open = self._open_edges(q, walls)
+        else:
+            q.open[closed] = False
+        q.walls = walls
+        if q.bound.stale(walls):
+            q.bound.find(q.open, walls)
+            q.hint = None  # the last answer was under another bound
+        elif closed is not None:
+            q.astar.data[closed] = np.inf
+            return
+        q.astar.data = np.where(q.open, q.bound.reduced, np.inf)
+
+    def _closed_edges(self, q: QueryGraph, walls: np.ndarray) -> np.ndarray | None:
+        """The edges through the walls this query closes and the last one left open; None where it opens one
+        (or is the first): then every edge is worked out again."""
+        if q.walls is None:
+            return None
+        changed = np.flatnonzero(walls != q.walls)
+        if not walls[changed].all():
+            return None
+        if not len(changed):
+            return changed  # no edge to close: the same walls again (`mazelog path`, a benchmark)
+        if q.wall_edges is None:
+            q.wall_edges = wall_edges(self.graph, q.run_from, q.open_needed, q.before_turns, q.turn_walls,
+                                      q.start.first_wall, q.start.run_from, q.start.open_needed)
+        indptr, edges = q.wall_edges
+        return np.concatenate([edges[indptr[w]:indptr[w + 1]] for w in changed.tolist()] + [edges[:0]])
 
     def search(self, q: QueryGraph) -> tuple[list[int], list[float]] | None:
         """The nodes of a fastest route and the time at each; None if the goal cannot be reached. A* on the
         reduced prices finds how fast the goal can be reached and which nodes could lie on so fast a route;
-        a search on their prices, limited to that time, then settles them in the order a search of the whole
-        graph would (so that among equally fast routes it picks the same one, whatever A*'s limit was). That
-        search runs on the graph of those nodes alone, each row's edges in their order."""
+        a search on their prices, limited to that time, then finds the exact time of each (the sums of a
+        search of the whole graph, bit for bit), and the route is walked back from the goal by those times
+        alone (`_predecessors`), so that among equally fast routes it picks the same one whatever A*'s bound
+        and limit were. That search runs on the graph of those nodes alone."""
         reduced = self._reduced_search(q)
         if reduced is None:
             return None
@@ -227,13 +262,15 @@ class FastestSearch:
         indptr = np.concatenate([[0], np.cumsum(np.bincount(row, minlength=len(nodes)))])
         local = self._local  # node -> its number in `nodes`; read only where kept
         local[nodes] = np.arange(len(nodes), dtype=np.int32)
-        sub = csr_array((q.prices.data[edge], local[col], indptr), shape=(len(nodes), len(nodes)))
-        dist, pred = dijkstra(sub, directed=True, indices=len(nodes) - 1, return_predecessors=True,
-                              limit=_with_slack(fastest + q.start_bound))  # the start node is the last node
+        price, col = q.prices.data[edge], local[col]
+        sub = csr_array((price, col, indptr), shape=(len(nodes), len(nodes)))
+        dist = dijkstra(sub, directed=True, indices=len(nodes) - 1,  # the start node is the last node
+                        limit=_with_slack(fastest + q.bound.at_start))
         in_goal = np.flatnonzero((nodes >= G * layer) & (nodes < (G + 1) * layer))
         at = [int(in_goal[np.argmin(dist[in_goal])])]  # the lowest-numbered of equals, as _goal_node
+        pred = _predecessors(row, col, price, dist).tolist()
         while at[-1] != len(nodes) - 1:
-            at.append(int(pred[at[-1]]))
+            at.append(pred[at[-1]])
         at.reverse()
         return nodes[at].tolist(), dist[at].tolist()
 
@@ -248,6 +285,7 @@ class FastestSearch:
         limit = max((q.hint or 0.0) * HINT_MARGIN, mouse.cell / mouse.run.top_speed)
         for limit in [limit * LIMIT_GROWTH ** k for k in range(LIMIT_TRIES)] + [np.inf]:
             dist = dijkstra(q.astar, directed=True, indices=self.graph.start_node, limit=limit)
+            q.bound.spent += int(np.isfinite(dist).sum())
             best = self._goal_node(dist)
             if np.isfinite(dist[best]):
                 q.hint = float(dist[best])

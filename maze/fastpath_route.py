@@ -58,44 +58,47 @@ class RouteDecoder:
         order = np.argsort(keys)
         return keys[order], turns.shape[order]
 
-    def _turn_shape_of(self, u: int, v: int) -> int:
-        """The shape's index of the turn edge u->v."""
-        keys, shapes = self._turn_keys
-        return int(shapes[np.searchsorted(keys, u * (self.graph.start_node + 1) + v)])
-
-    def _edge(self, u: int, v: int, start: Cell) -> tuple[list[tuple[int, int]], str, float]:
-        """The walls a start or turn edge u->v crosses (as points), its token and its length in cells."""
-        g = self.graph
-        (vx, vy), h = g.point(v)
-        if u == g.start_node:
-            cx, cy = 2 * start[0] + 1, 2 * start[1] + 1
-            dx, dy = STEP[h]
-            n = (abs(vx - cx) + abs(vy - cy) + 1) // 2
-            return [(cx + (2 * k - 1) * dx, cy + (2 * k - 1) * dy) for k in range(1, n + 1)], f"S{n - 0.5:g}", n - 0.5
-        (ux, uy), _ = g.point(u)
-        shape = g.shapes[self._turn_shape_of(u, v)]
-        return [(ux + ox, uy + oy) for ox, oy in shape.offsets], shape.token, TURNS[shape.name].cells
+    def _turn_shapes(self, keys: list[int]) -> list[int]:
+        """The shapes' indices of turn edges u->v, keyed u * node count + v: one look-up for a whole route."""
+        sorted_keys, shapes = self._turn_keys
+        return shapes[np.searchsorted(sorted_keys, keys)].tolist()
 
     def route(self, nodes: list[int], times: list[float], start: Cell) -> Route:
         """The moves of a route: a straight is its pieces (A to B or G directly, or through the chain in C)
-        joined, its walls counted from where it began."""
+        joined, its walls counted from where it began. Nodes are decoded all at once and the turns looked up
+        together: a route has a hundred-odd nodes, and a query with known walls is mostly this."""
         g = self.graph
-        points = [(2 * start[0] + 1, 2 * start[1] + 1)]
+        count = g.start_node + 1
+        layer_of, within = np.divmod(np.array(nodes), g.layer_size)
+        point, heading = np.divmod(within, 8)
+        layers, headings = layer_of.tolist(), heading.tolist()
+        xs, ys = (point % g.side).tolist(), (point // g.side).tolist()
+        turning = [i for i in range(len(nodes) - 1) if layers[i] == B]
+        shape_of = dict(zip(turning, self._turn_shapes([nodes[i] * count + nodes[i + 1] for i in turning])))
+        cx, cy = 2 * start[0] + 1, 2 * start[1] + 1
+        points = [(cx, cy)]
         moves: list[Move] = []
         begin, length = 0, 0.0  # the step the straight being joined began at, and its cells so far
-        for i, (u, v) in enumerate(zip(nodes, nodes[1:])):
-            if u == g.start_node or u // g.layer_size == B:
-                crossed, token, cells = self._edge(u, v, start)
-                points += crossed
-                moves.append(Move(token, cells, times[i + 1] - times[i]))
+        for i in range(len(nodes) - 1):
+            vx, vy = xs[i + 1], ys[i + 1]
+            if nodes[i] == g.start_node:
+                dx, dy = STEP[headings[i + 1]]
+                n = (abs(vx - cx) + abs(vy - cy) + 1) // 2
+                points += [(cx + (2 * k - 1) * dx, cy + (2 * k - 1) * dy) for k in range(1, n + 1)]
+                moves.append(Move(f"S{n - 0.5:g}", n - 0.5, times[i + 1] - times[i]))
                 begin, length = i + 1, 0.0
                 continue
-            (ux, uy), h = g.point(u)
-            (vx, vy), _ = g.point(v)
+            ux, uy, h = xs[i], ys[i], headings[i]
+            if layers[i] == B:
+                shape = g.shapes[shape_of[i]]
+                points += [(ux + ox, uy + oy) for ox, oy in shape.offsets]
+                moves.append(Move(shape.token, TURNS[shape.name].cells, times[i + 1] - times[i]))
+                begin, length = i + 1, 0.0
+                continue
             sx, sy = g.stride(h)
             length += max(abs(vx - ux) // max(abs(sx), 1), abs(vy - uy) // max(abs(sy), 1)) * g.unit(h)
-            if v // g.layer_size in (B, G):  # the straight ends here
-                (bx, by), _ = g.point(nodes[begin])
+            if layers[i + 1] in (B, G):  # the straight ends here
+                bx, by = xs[begin], ys[begin]
                 steps = max(abs(vx - bx) // max(abs(sx), 1), abs(vy - by) // max(abs(sy), 1))
                 points += [(bx + k * sx, by + k * sy) for k in range(1, steps + 1)]
                 if steps:
