@@ -122,7 +122,7 @@ class World:
         mujoco.mj_forward(self.model, d)
 
     def step(self, n: int) -> None:
-        mujoco.mj_step(self.model, self.data, nstep=n)
+        mujoco.mj_step(self.model, self.data, n)
 
     # -- actuators -----------------------------------------------------------------------------------
     def set_motor_power(self, left: int, right: int, gains: tuple[float, float] | None = None) -> None:
@@ -162,8 +162,8 @@ class World:
     def state(self) -> tuple[float, ...]:
         """The robot's free joint (position, orientation quaternion) and wheel angles [rad]: what a replay
         needs to show the robot as it was."""
-        q = self.data.qpos
-        return (*(float(v) for v in q[:7]), *(float(q[a]) for a in self._wheel_qpos))
+        q = self._qpos
+        return (*q[:7].tolist(), *q[self._wheel_qpos].tolist())
 
     def touching_wall(self) -> bool:
         return self._sensordata[self._wall_contact] > 0
