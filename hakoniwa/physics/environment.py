@@ -62,10 +62,18 @@ class Environment:
         self.scheduler.reset()
 
     def advance_to(self, target_us: int) -> bool:
-        """Step the world to `target_us` and run what is due there; True once the test has an event."""
-        self.world.step((target_us - self.now_us) // PHYSICS_STEP_US)
-        self.now_us = target_us
-        self.scheduler.advance_to(target_us)
+        """Step the world to `target_us`, stopping at every tick where something is due on the way (event
+        checks, trajectory samples) to run it, and at the first tick that raises an event; True once the
+        test has one. MuJoCo steps each stretch between two such ticks in one call, and a whole control
+        period is one call from the sync loop: the Python work per physics step is what the test needs."""
+        sched, step = self.scheduler, self.world.step
+        while self.now_us < target_us and self.event == Event.NONE:
+            tick = sched.next_tick()
+            if tick > target_us:
+                tick = target_us
+            step((tick - self.now_us) // PHYSICS_STEP_US)
+            self.now_us = tick
+            sched.advance_to(tick)
         return self.event != Event.NONE
 
     def end(self, event: Event) -> None:

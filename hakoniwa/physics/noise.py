@@ -66,6 +66,30 @@ class StartOffset:
     dy_m: float
     dyaw_deg: float
 
+class _Normals:
+    """One stream's standard normals, drawn from its generator in blocks and handed out in order.
+
+    A generator draws a block of n normals one after another, exactly as n draws of one would come, so
+    `take(3)` gives the values `standard_normal(3)` would have, in the same order; a block costs one numpy
+    call where a draw per snapshot cost one each, several microseconds at every handshake. What a test leaves
+    undrawn of its last block is never used: every test makes its generators afresh from its seed.
+    """
+
+    BLOCK = 384
+
+    def __init__(self, rng: np.random.Generator) -> None:
+        self._rng = rng
+        self._values: list[float] = []
+        self._next = 0
+
+    def take(self, n: int) -> list[float]:
+        if self._next + n > len(self._values):
+            self._values = self._values[self._next:] + self._rng.standard_normal(self.BLOCK).tolist()
+            self._next = 0
+        start = self._next
+        self._next += n
+        return self._values[start:self._next]
+
 
 class NoiseDraw:
     """One test's noise, drawn from its seed.
@@ -83,8 +107,8 @@ class NoiseDraw:
         self.seed = seed
         self.scale = scale
         lv = self.levels = levels.scaled(scale)
-        per_test, self._readings, self._motors = (np.random.default_rng(s)
-                                                  for s in np.random.SeedSequence(seed).spawn(3))
+        per_test, readings, motors = (np.random.default_rng(s) for s in np.random.SeedSequence(seed).spawn(3))
+        self._readings, self._motors = _Normals(readings), _Normals(motors)
         z = per_test.standard_normal(7).tolist()
         self.reflect_offset = lv.reflect_offset_sd * z[0]
         self.gyro_bias_dps = lv.gyro_bias_sd_dps * z[1]
@@ -101,7 +125,7 @@ class NoiseDraw:
         bias. An ultrasonic "no echo" stays exactly that: noise does not invent an obstacle.
         """
         lv = self.levels
-        z_reflect, z_rate, z_sonar = self._readings.standard_normal(3).tolist()
+        z_reflect, z_rate, z_sonar = self._readings.take(3)
         lo, hi = REFLECT_RANGE
         noisy_reflect = min(max(reflect + self.reflect_offset + lv.reflect_sd * z_reflect, lo), hi)
         noisy_rate = rate_dps + self.gyro_bias_dps + lv.gyro_rate_sd_dps * z_rate
@@ -119,7 +143,7 @@ class NoiseDraw:
     def motor_factors(self) -> tuple[float, float]:
         """(left, right) multipliers of the commanded wheel speeds for one motor command: the test's gain
         of each wheel times this command's jitter."""
-        jl, jr = self._motors.standard_normal(2).tolist()
+        jl, jr = self._motors.take(2)
         sd = self.levels.motor_jitter_sd
         return (max(0.0, self.motor_gain[0] * (1.0 + sd * jl)), max(0.0, self.motor_gain[1] * (1.0 + sd * jr)))
 
@@ -130,3 +154,4 @@ class NoiseDraw:
                 f"gyro bias {self.gyro_bias_dps:+.3f} deg/s, motor gain {self.motor_gain[0]:.4f}/"
                 f"{self.motor_gain[1]:.4f}, start {s.dx_m * 1000:+.1f} mm, {s.dy_m * 1000:+.1f} mm, "
                 f"{s.dyaw_deg:+.2f} deg")
+

@@ -36,6 +36,7 @@ from hakoniwa.wire.waiting import futex_wake
 
 ACTUATORS_END = Tx.GYRO_RESET + 4  # TX body bytes a test starts with cleared
 COMMAND_WORDS = (Tx.MOTOR_POWER, (ACTUATORS_END - Tx.MOTOR_POWER) // 4)  # TX words of powers, brakes, resets
+_RESET_WORD, _GYRO_WORD = ((offset - Tx.MOTOR_POWER) // 4 for offset in (Tx.MOTOR_RESET_ANGLE, Tx.GYRO_RESET))
 OUR_EXT = (Rx.TEST_SEQ, Rx.CRASH_DETAIL + 4)  # RX bytes of our extension the physics side writes
 # EV3RT reads the battery from RX (uart_dri_get_data_battery); Unity leaves those slots 0, which no program
 # expects of a running brick, so the physics side writes a charged EV3 pack idling there.
@@ -111,10 +112,10 @@ class Slots:
         """The sensor snapshot, then the unity time (last: a reader that sees the new time sees the values
         it belongs to), and a wake-up for a lockstep Athrill sleeping on it."""
         u = self.unity
-        u.write_i32s(Rx.COLOR0_AMBIENT, [s.ambient, int(s.color), s.reflect, *s.rgb])
-        u.write_i32s(Rx.GYRO_ANGLE, [s.gyro_angle_deg, s.gyro_rate_dps])
+        # BUTTONS, COLOR0_AMBIENT .. COLOR0_RGB and GYRO_ANGLE, GYRO_RATE are one run of words: one write.
+        u.write_i32s(Rx.BUTTONS, [s.buttons, s.ambient, int(s.color), s.reflect, *s.rgb, s.gyro_angle_deg,
+                                  s.gyro_rate_dps])
         u.write_i32(Rx.ULTRASONIC_MM, s.ultrasonic_mm)
-        u.write_i32(Rx.BUTTONS, s.buttons)
         u.write_i32(Rx.TOUCH0, s.touch[0])
         u.write_i32(Rx.TOUCH1, s.touch[1])
         for port, angle in s.motor_angles_deg.items():
@@ -132,13 +133,14 @@ class Slots:
     def take_commands(self) -> Commands:
         """Motor powers, and the reset requests, which are cleared once taken (EV3RT never clears them)."""
         a = self.athrill
-        resets = [port for port in range(MOTOR_PORTS) if a.read_i32(Tx.MOTOR_RESET_ANGLE + 4 * port)]
+        words = a.read_i32s(*COMMAND_WORDS)  # one read of the lot: this runs at every answer
+        resets = [port for port in range(MOTOR_PORTS) if words[_RESET_WORD + port]]
         for port in resets:
             a.write_i32(Tx.MOTOR_RESET_ANGLE + 4 * port, 0)
-        gyro = bool(a.read_i32(Tx.GYRO_RESET))
+        gyro = bool(words[_GYRO_WORD])
         if gyro:
             a.write_i32(Tx.GYRO_RESET, 0)
-        return Commands(a.read_i32s(Tx.MOTOR_POWER, MOTOR_PORTS), resets, gyro, a.read_i32(Tx.COMPLETED) == 1)
+        return Commands(words[:MOTOR_PORTS], resets, gyro, a.read_i32(Tx.COMPLETED) == 1)
 
     def report(self, r: Report) -> None:
         u = self.unity

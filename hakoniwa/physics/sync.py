@@ -74,7 +74,8 @@ class SyncServer(Protocol):
         ...
 
     def advance_to(self, target_us: int) -> bool:
-        """Step the test to `target_us`; True once it has an event."""
+        """Step the test to `target_us` through every tick due on the way; True once it has an event (it
+        stops at the tick that raised it)."""
         ...
 
     def check_ceiling(self) -> None:
@@ -165,10 +166,12 @@ def silent_crash(silent_s: float, use: CpuUse | None, cpu_at: float, stopped: bo
 def run_lockstep(server: SyncServer, proc: subprocess.Popen) -> None:
     slots = server.slots
     answer = slots.answer_seq
+    # One watchdog for the test, not one per answer (each reads /proc): it runs only in waits that last, and
+    # the answers that came since its last run are the progress it sees.
+    check = watchdog(server, proc, answer, lambda: slots.athrill_pid() == proc.pid)
 
     def await_answer(last: int) -> int:
         """Wait for Athrill's answer to the snapshot at `server.now_us`; apply it and return its wake time."""
-        check = watchdog(server, proc, answer, lambda: slots.athrill_pid() == proc.pid)
         wait_word(slots.answer_address, answer, lambda: answer() != last, check)
         now = server.now_us
         next_wake = slots.next_wake_us()
@@ -181,17 +184,12 @@ def run_lockstep(server: SyncServer, proc: subprocess.Popen) -> None:
         server.apply_actuators()
         return next_wake
 
-    sched = server.scheduler
     next_wake = await_answer(server.answer_before_start)
-    while True:
-        target = min(sched.next_tick(), next_wake)
-        if server.advance_to(target):
-            return
-        if target == next_wake:
-            server.check_ceiling()  # a program that answers, ever more slowly, is never silent
-            last = answer()
-            server.publish_sensors()
-            next_wake = await_answer(last)
+    while not server.advance_to(next_wake):
+        server.check_ceiling()  # a program that answers, ever more slowly, is never silent
+        last = answer()
+        server.publish_sensors()
+        next_wake = await_answer(last)
 
 
 def run_hakoniwa(server: SyncServer, proc: subprocess.Popen) -> None:

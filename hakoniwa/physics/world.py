@@ -96,6 +96,13 @@ class World:
                             for n in ("wheel_left", "wheel_right")]
         self._wall_contact = m.sensor_adr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SENSOR, "wall_contact")]
         self._accel = m.sensor_adr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SENSOR, "imu_accel")] if imu else None
+        # Views of MjData's arrays, made once: each attribute access makes a new numpy view, and the lockstep
+        # reads and writes these at every tick and snapshot. MjData is never reallocated, so they stay valid.
+        d = self.data
+        self._qpos, self._ctrl, self._sensordata = d.qpos, d.ctrl, d.sensordata
+        self._color_xpos, self._sonar_xpos = d.site_xpos[self._color_site], d.site_xpos[self._sonar_site]
+        self._ray_direction = np.zeros(3)  # mj_ray's arguments, filled in place at each reading
+        self._ray_geom = np.zeros(1, dtype=np.int32)
         mujoco.mj_forward(m, self.data)
         if imu:  # settled on its wheels before the test starts: at t = 0 an IMU reads a robot at rest, not one
             self.step(SETTLE_STEPS)  # put down in free fall (for an EV3 robot nothing reads it; left as it was)
@@ -115,18 +122,17 @@ class World:
         mujoco.mj_forward(self.model, d)
 
     def step(self, n: int) -> None:
-        mujoco.mj_step(self.model, self.data, nstep=n)
+        mujoco.mj_step(self.model, self.data, n)
 
     # -- actuators -----------------------------------------------------------------------------------
     def set_motor_power(self, left: int, right: int, gains: tuple[float, float] | None = None) -> None:
         """Motor power in percent, -100..100, as EV3RT takes it; `gains` (noise) multiply the wheel speeds
         the powers command."""
         scale = self.body.max_wheel_speed / 100.0
-        self.data.ctrl[0] = max(-100, min(100, left)) * scale
-        self.data.ctrl[1] = max(-100, min(100, right)) * scale
+        left_speed, right_speed = max(-100, min(100, left)) * scale, max(-100, min(100, right)) * scale
         if gains is not None:
-            self.data.ctrl[0] *= gains[0]
-            self.data.ctrl[1] *= gains[1]
+            left_speed, right_speed = left_speed * gains[0], right_speed * gains[1]
+        self._ctrl[:2] = left_speed, right_speed
 
     def put_down(self, offset: StartOffset) -> None:
         """Back to the saved start state, with the robot put down `offset` away from the start pose (a
@@ -144,35 +150,32 @@ class World:
     # -- geometry ------------------------------------------------------------------------------------
     def position(self) -> tuple[float, float]:
         """Axle centre (x, y): all the lap checks need, ten times a simulated second."""
-        q = self.data.qpos
-        return float(q[0]), float(q[1])
+        x, y = self._qpos[:2].tolist()
+        return x, y
 
     def pose(self) -> tuple[float, float, float]:
         """Axle centre (x, y) and heading [rad], counter-clockwise from +x."""
-        q = self.data.qpos
-        w, z = q[3], q[6]
-        x_, y_ = q[4], q[5]
+        x, y, _, w, x_, y_, z = self._qpos[:7].tolist()
         yaw = math.atan2(2 * (w * z + x_ * y_), 1 - 2 * (y_ * y_ + z * z))
-        return float(q[0]), float(q[1]), yaw
+        return x, y, yaw
 
     def state(self) -> tuple[float, ...]:
         """The robot's free joint (position, orientation quaternion) and wheel angles [rad]: what a replay
         needs to show the robot as it was."""
-        q = self.data.qpos
-        return (*(float(v) for v in q[:7]), *(float(q[a]) for a in self._wheel_qpos))
+        q = self._qpos
+        return (*q[:7].tolist(), *q[self._wheel_qpos].tolist())
 
     def touching_wall(self) -> bool:
-        return self.data.sensordata[self._wall_contact] > 0
+        return self._sensordata[self._wall_contact] > 0
 
     # -- sensors -------------------------------------------------------------------------------------
     def measure(self) -> Measurement:
-        d = self.data
-        sx, sy = (float(v) for v in d.site_xpos[self._color_site][:2])
+        sx, sy = self._color_xpos[:2].tolist()
         _, _, yaw = self.pose()
         return Measurement(
             reflect=self.course.reflect_at(sx, sy),
             sensor_xy=(sx, sy),
-            rate_dps=-math.degrees(float(d.qvel[5])),
+            rate_dps=-math.degrees(float(self.data.qvel[5])),
             ultrasonic_mm=self._ultrasonic_mm(yaw),
             gyro_angle_deg=self.gyro_angle_deg(yaw),
             touch=self.touching_wall(),
@@ -189,7 +192,8 @@ class World:
         return Inertial((wx, wy, wz), (ax, ay, az))
 
     def wheel_angles_deg(self) -> tuple[float, float]:
-        left, right = (math.degrees(self.data.qpos[a]) for a in self._wheel_qpos)
+        q = self._qpos
+        left, right = (math.degrees(q[a]) for a in self._wheel_qpos)
         return left, right
 
     def gyro_angle_deg(self, yaw: float | None = None) -> float:
@@ -198,11 +202,10 @@ class World:
         return -math.degrees(self.pose()[2] if yaw is None else yaw)
 
     def _ultrasonic_mm(self, yaw: float) -> int:
-        d = self.data
-        origin = d.site_xpos[self._sonar_site].astype(np.float64)
-        direction = np.array([math.cos(yaw), math.sin(yaw), 0.0])
-        geomid = np.zeros(1, dtype=np.int32)
-        dist = mujoco.mj_ray(self.model, d, origin, direction, None, 1, self._robot_body, geomid)
+        direction = self._ray_direction
+        direction[:2] = math.cos(yaw), math.sin(yaw)
+        dist = mujoco.mj_ray(self.model, self.data, self._sonar_xpos, direction, None, 1, self._robot_body,
+                             self._ray_geom)
         if dist < 0:
             return robot.ULTRASONIC_MAX_MM
         return min(robot.ULTRASONIC_MAX_MM, round(dist * 1000))

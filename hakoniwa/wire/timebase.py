@@ -35,21 +35,33 @@ class Stream:
 
 @dataclass
 class Scheduler:
-    """Runs periodic streams on a fixed tick. `next_tick()` tells the caller how far it may batch work."""
+    """Runs periodic streams on a fixed tick. `next_tick()` tells the caller how far it may batch work.
+
+    The first tick any stream is due at is kept (`_due_us`) and recomputed only when a stream fires, is
+    added or reset: the physics loop asks for it at every tick it stops at, and a tick where nothing is due
+    then costs a comparison."""
 
     tick_us: int
     now_us: int = 0
     streams: list[Stream] = field(default_factory=list)
+    _due_us: int = field(default=0, init=False, repr=False)
 
     def __post_init__(self) -> None:
         if self.tick_us <= 0:
             raise ValueError("tick must be positive")
+        self._find_due()
+
+    def _find_due(self) -> None:
+        tick = self.tick_us  # quantize(due_us()) of each stream, written out: this runs at every firing
+        self._due_us = min([-((-s.start_us - s.period_us * s.count) // tick) * tick for s in self.streams],
+                           default=self.now_us + tick)
 
     def add(self, name: str, period_us: int, callback: Callable[[int], None]) -> Stream:
         if period_us <= 0:
             raise ValueError(f"stream {name!r}: period must be positive")
         stream = Stream(name, period_us, callback, start_us=self.now_us)
         self.streams.append(stream)
+        self._find_due()
         return stream
 
     def quantize(self, time_us: int) -> int:
@@ -58,21 +70,24 @@ class Scheduler:
 
     def next_tick(self) -> int:
         """The next tick at which any stream fires (at least one tick ahead)."""
-        due = min((self.quantize(s.due_us()) for s in self.streams), default=self.now_us + self.tick_us)
-        return max(due, self.now_us + self.tick_us)
+        return max(self._due_us, self.now_us + self.tick_us)
 
     def advance_to(self, time_us: int) -> None:
         """Move to tick `time_us` and fire every stream that is due there, in the order they were added."""
         if time_us % self.tick_us:
             raise ValueError(f"{time_us} us is not on the {self.tick_us} us tick")
         self.now_us = time_us
+        if time_us < self._due_us:  # on the tick, so before every stream's quantized due time: none is due
+            return
         for stream in self.streams:
-            if self.now_us >= stream.due_us():  # at most once a tick, like rcssserver's timer
-                stream.count += 1
-                stream.callback(self.now_us)
+            if time_us >= stream.start_us + stream.period_us * stream.count:  # due_us(); at most once a tick,
+                stream.count += 1  # like rcssserver's timer
+                stream.callback(time_us)
+        self._find_due()
 
     def reset(self) -> None:
         self.now_us = 0
         for stream in self.streams:
             stream.start_us = 0
             stream.count = 1
+        self._find_due()
