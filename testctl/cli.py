@@ -5,6 +5,7 @@ several benches is `hako run`."""
 from __future__ import annotations
 
 import json
+import threading
 from pathlib import Path
 
 import click
@@ -64,10 +65,12 @@ def campaign(run_dir: Path, course: str, time_limit: float, **options) -> None:
                                    "where they go, which this one was started without: run the campaign with "
                                    "hako run")
     runner = TrialRunner(run_dir)
+    one_at_a_time = threading.Lock()  # the study mirror draws improving sets on this bench from a thread of its own
 
     def run_test(spec: TestSpec):
-        return runner.run_test(spec.params, noise_seed=spec.noise_seed, noise_scale=spec.noise_scale,
-                               slot_types=spec.slot_types)
+        with one_at_a_time:
+            return runner.run_test(spec.params, noise_seed=spec.noise_seed, noise_scale=spec.noise_scale,
+                                   slot_types=spec.slot_types)
 
     try:
         run_campaign(p, SerialExecutor(run_test, name=str(run_dir)), bench_info={},
