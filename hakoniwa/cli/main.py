@@ -176,24 +176,25 @@ def _trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: floa
                                    f"of the parameters: run it again")
 
 
-benches_options = option_group([
-    click.option("--benches", type=click.IntRange(min=1), default=None,
-                 help="Benches run in parallel (Dask workers of a local cluster) [half the CPU cores, at least 1]."),
-    click.option("--scheduler", default=None, metavar="tcp://HOST:PORT",
-                 help="Run on the workers of this Dask cluster instead (each needs only hakoniwa-py installed)."),
-])
+def benches_options(default: str):
+    return option_group([
+        click.option("--benches", type=click.IntRange(min=1), default=None,
+                     help=f"Benches run in parallel (Dask workers of a local cluster) [{default}]."),
+        click.option("--scheduler", default=None, metavar="tcp://HOST:PORT",
+                     help="Run on the workers of this Dask cluster instead (each needs only hakoniwa-py installed)."),
+    ])
 
 
-def how_many_benches(benches: int | None, scheduler: str | None) -> int:
+def how_many_benches(benches: int | None, scheduler: str | None, default: int) -> int:
     if benches is not None and scheduler is not None:
         raise click.UsageError("--benches starts a local cluster; with --scheduler the cluster's workers are the "
                                "benches")
-    return benches or default_benches()
+    return benches or default
 
 
 @main.command(context_settings=HELP, help=RUN_HELP)
 @bench_options
-@benches_options
+@benches_options("one more than the CPU cores this process may use")
 @campaign_options
 @click.option("--validate", type=click.IntRange(min=0), default=None, callback=lambda ctx, param, n: _draws(n),
               help=f"Test the best set on this many fresh noise draws (at most {MAX_DRAWS}): its success rate "
@@ -217,7 +218,7 @@ def _draws(n: int | None) -> int | None:
 
 
 def _run(benches: int | None, scheduler: str | None, validate: int | None, options: dict) -> None:
-    n = how_many_benches(benches, scheduler)
+    how_many_benches(benches, scheduler, 1)  # a usage error before anything starts
     given = pop_bench(options)
     if options["repeats"] is None and options["noise"] == 0 and options["resume"] is None and repeatable_bench(given):
         options["repeats"] = 1  # every repetition of a set would be the very same test
@@ -226,6 +227,7 @@ def _run(benches: int | None, scheduler: str | None, validate: int | None, optio
         validate = (p.validate if p.validate is not None else 1 if p.config.noise == 0
                     else SMOKE_DRAWS if options["smoke"] else DEFAULT_DRAWS)
     bench = dataclasses.replace(_campaign_bench(p.bench, given), bindings=p.config.space.bindings())
+    n = how_many_benches(benches, scheduler, campaign_benches(bench))
     program = check_bench(bench, benches=None if scheduler else n)
     files = recorded_files(p.bench, bench)
     run_dir = p.out_dir / "run"
@@ -267,7 +269,7 @@ def _run(benches: int | None, scheduler: str | None, validate: int | None, optio
 @main.command("test", context_settings=HELP)
 @click.argument("test_file", type=click.Path(dir_okay=False, path_type=Path), default=DEFAULT_FILE, required=False)
 @bench_options
-@benches_options
+@benches_options("half the CPU cores this process may use, at least 1")
 @click.option("--out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Output folder: each case's lap distribution, a failing case's trajectory and run folder, "
                    "the bench's run folder [runs/test-TIME].")
@@ -297,7 +299,7 @@ def _test(test_file: Path, benches: int | None, scheduler: str | None, out: Path
     from testctl.suite.cases import load_suite
     from testctl.suite.session import RunBroken, run_suite
 
-    n = how_many_benches(benches, scheduler)
+    n = how_many_benches(benches, scheduler, max(1, usable_cores() // 2))
     try:
         cases = load_suite(test_file, dataclasses.replace(base, course=_absolute(base.course), app=_absolute(base.app)))
         out_dir = out or Path("runs") / f"test-{dt.datetime.now():%Y%m%d-%H%M%S}"
@@ -445,8 +447,27 @@ def repeatable_bench(bench: BenchOptions) -> bool:
     return recipe.sync == SyncMode.REPEATABLE
 
 
-def default_benches() -> int:
-    return max(1, (os.cpu_count() or 2) // 2)
+def campaign_benches(bench: BenchOptions) -> int:
+    """`hako run`'s default bench count (`usable_cores` says why); one where a device config fixes athrill2's
+    UDP ports, which benches cannot share."""
+    from athrill_sim.programs import udp_link
+
+    link = udp_link(bench.transport, bench.device_config)
+    return 1 if link is not None and link.fixed else usable_cores() + 1
+
+
+def usable_cores() -> int:
+    """The cores this process may run on: `taskset` and a container's cpuset say fewer than os.cpu_count().
+
+    The benches' default derives from it. `hako run` takes one bench more than the cores: it proposes one
+    set at a time (batch 1), and each set's first three repetitions wait for free benches, so on two cores
+    two benches ran them two then one, with a core idle meanwhile; a third bench keeps both busy (measured on
+    1, 2 and 4 cores: docs/BENCHMARKS.md, issue 29). `hako test` keeps half the cores: a second bench did not
+    pay for its start on the example suite (issue 23)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not Linux
+        return os.cpu_count() or 1
 
 
 # What the journal records of the bench: what decides results (not where athrill2 lives).
