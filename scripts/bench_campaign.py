@@ -53,16 +53,43 @@ COMPARE_APP = "line_trace_c"  # the Python tracer's laps to the microsecond (DES
 
 
 def campaign(out: Path, *args: str) -> float | None:
-    """Run (or resume) one `hako run`; return the wall seconds it took, or None if it had finished before."""
+    """Run (or resume) one `hako run`; return the wall seconds it took, or None if it had finished before.
+    A fresh one's phases are printed from its journal (`phases`)."""
     if (out / "best.json").exists():
         return None
-    start = time.monotonic()
+    fresh = not (out / JOURNAL_FILE).exists()
+    start, launched = time.monotonic(), time.time()
     cmd = [sys.executable, "-m", "hakoniwa.cli", "run"]
-    cmd += ["--resume", str(out)] if (out / JOURNAL_FILE).exists() else [*args, "--out", str(out)]
+    cmd += [*args, "--out", str(out)] if fresh else ["--resume", str(out)]
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         raise click.ClickException(f"{' '.join(cmd)} failed: {r.stderr.strip().splitlines()[-1:]}")
-    return time.monotonic() - start
+    wall = time.monotonic() - start
+    if fresh:
+        print(phases(out, launched, wall))
+    return wall
+
+
+def phases(out: Path, launched: float, wall: float) -> str:
+    """Where a campaign's wall time went, from its journal's test times (each test's end, less its wall time,
+    is its start): the start-up before the first test, the sets' tests (and within them the moments no test
+    ran: a set's verdict, the next proposal and its tests' start), the validation, and what followed (the
+    best set's picture and film, the report, the cluster's close)."""
+    from datetime import datetime
+
+    rows = [json.loads(line) for line in (out / JOURNAL_FILE).read_text().splitlines()[1:]]
+    spans = sorted((datetime.fromisoformat(r["time"]).timestamp() - r["wall_s"],
+                    datetime.fromisoformat(r["time"]).timestamp(), r["phase"] == "validation") for r in rows)
+    sets = [(a, b) for a, b, v in spans if not v]
+    checks = [(a, b) for a, b, v in spans if v]
+    idle, reach = 0.0, sets[0][0]
+    for a, b in sets:
+        idle += max(0.0, a - reach)
+        reach = max(reach, b)
+    last = max(b for _, b, _ in spans)
+    tested = (f"validation {max(b for _, b in checks) - min(a for a, _ in checks):.1f} s, " if checks else "")
+    return (f"phases: start-up {sets[0][0] - launched:.1f} s, sets' tests {reach - sets[0][0]:.1f} s (no test "
+            f"running {idle:.1f} s of it), {tested}after the last test {launched + wall - last:.1f} s")
 
 
 def pinned_scaling(cores: list[int], benches: list[int], trials: int, first_cpu: int) -> None:
