@@ -75,7 +75,7 @@ class Slots:
         self.unity.write_u32(Rx.PHYSICS_PID, os.getpid())
         self._unity_time_address = self.unity.address(Header.UNITY_TIME)
         self.answer_address = self.athrill.address(HEADER_SIZE + Tx.ANSWER_SEQ)  # a lockstep Athrill rings here
-        self.clock_address = self.athrill.address(Header.ATHRILL_TIME)  # a patched Athrill rings here when it stops
+        self.stopped_address = self.athrill.address(HEADER_SIZE + Tx.STOPPED_AT)  # a patched Athrill rings here
 
     def repair(self) -> list[str]:
         """Repair the files if anyone damaged them; what was wrong with each (a path names the file)."""
@@ -92,6 +92,7 @@ class Slots:
         a.clear(0, ACTUATORS_END)
         a.clear(*ETROBOC_EXT)
         a.athrill_time_us = 0  # a real Athrill's clock starts at 0; a stale one would let physics run ahead
+        a.write("q", Tx.STOPPED_AT, 0)  # where a patched Athrill stopped: likewise
         self.unity.clear(*OUR_EXT)
         self.unity.write_u32(Rx.PHYSICS_PID, os.getpid())
         self.unity.write_u32(Rx.SYNC_MODE, int(sync))
@@ -107,9 +108,9 @@ class Slots:
     def announce(self, seq: int) -> None:
         self.unity.write_u32(Rx.TEST_SEQ, seq)  # last: a waiting Athrill starts when it sees its number
 
-    def publish(self, s: Sensors, unity_time_us: int) -> None:
-        """The sensor snapshot, then the unity time (last: a reader that sees the new time sees the values
-        it belongs to), and a wake-up for a lockstep Athrill sleeping on it."""
+    def publish(self, s: Sensors, unity_time_us: int, snapshot_end_us: int) -> None:
+        """The sensor snapshot, then the instant it holds until and the unity time (last: a reader that sees
+        the new times sees the values they belong to), and a wake-up for an Athrill sleeping on the latter."""
         u = self.unity
         u.write_i32s(Rx.COLOR0_AMBIENT, [s.ambient, int(s.color), s.reflect, *s.rgb])
         u.write_i32s(Rx.GYRO_ANGLE, [s.gyro_angle_deg, s.gyro_rate_dps])
@@ -126,6 +127,7 @@ class Slots:
                 u.write_f32(offset, value)
         if s.hsv is not None:
             u.write_i32s(Rx.SPIKE_HSV_H, list(s.hsv))
+        u.snapshot_end_us = snapshot_end_us
         u.unity_time_us = unity_time_us
         futex_wake(self._unity_time_address)
 
@@ -163,9 +165,13 @@ class Slots:
     def athrill_time_us(self) -> int:
         return self.athrill.athrill_time_us
 
-    def clock_word(self) -> int:
-        """The word at `clock_address` (the clock's low half): what a waiter on the patched Athrill compares."""
-        return self.athrill.athrill_time_us & 0xFFFFFFFF
+    def stopped_at_us(self) -> int:
+        """The clock at which the patched Athrill last stopped to wait for physics (repeatable)."""
+        return int(self.athrill.read("q", Tx.STOPPED_AT))
+
+    def stopped_word(self) -> int:
+        """The word at `stopped_address` (its low half): what a waiter on the patched Athrill compares."""
+        return self.stopped_at_us() & 0xFFFFFFFF
 
     def answer_seq(self) -> int:
         """Athrill's answer counter (lockstep): bumped last whenever it has published its outputs."""
