@@ -116,6 +116,7 @@ class Slots:
         u.write_i32s(Rx.GYRO_ANGLE, [s.gyro_angle_deg, s.gyro_rate_dps])
         u.write_i32(Rx.ULTRASONIC_MM, s.ultrasonic_mm)
         u.write_i32(Rx.BUTTONS, s.buttons)
+        u.write("q", Rx.BUTTONS_UNTIL, s.buttons_until_us)
         u.write_i32(Rx.TOUCH0, s.touch[0])
         u.write_i32(Rx.TOUCH1, s.touch[1])
         for port, angle in s.motor_angles_deg.items():

@@ -99,6 +99,8 @@ class Rx:
     SPIKE_HSV_S = 300  # i32, 0..100 [%]
     SPIKE_HSV_V = 304  # i32, 0..100 [%]
     # Our extension (unused by the real layout): lockstep and test reports.
+    BUTTONS_UNTIL = 416  # u64 [us]: the buttons hold their value until then (the scenario's next press or release;
+    # NEVER_WAKES: none); a patched athrill2 reads them before then without stopping (scripts/athrill-patches/01-*)
     BENCH_CAUSE = 424  # u32, BenchCause of a CRASH of kind BENCH: what spoiled the test (0 otherwise)
     OBJECTIVE = 428  # u32, Objective of the bench: what ends and scores its tests
     COMPLETED_TIME_HI = 432  # u32: when ETRoboc_notifyCompletedToSimulator() came [us], upper 32 bits (0: never)
