@@ -18,7 +18,7 @@ import time
 from pathlib import Path
 
 from athrill_sim.programs import SyncMode, athrill_argv, athrill_config
-from hakoniwa.wire.protocol import EXT_OFF, MappedFile, open_athrill, open_unity
+from hakoniwa.wire.protocol import EXT_OFF, MappedFile, Tx, open_athrill, open_unity
 from hakoniwa.wire.timebase import US_PER_S
 from hakoniwa.wire.wallclock import WallCeiling
 
@@ -29,6 +29,7 @@ CLOCK_STILL_S = 10.0  # an emulated clock that has not moved this long is not go
 POLL_S = 0.01
 UNTOUCHED = -0x5A5A5A5B  # 0xA5A5A5A5, the TX body's fill: no LED bits, power or flag an EV3RT driver writes
 TX_WORDS = EXT_OFF // 4  # the TX body before our extension area
+STOP_WORDS = range(Tx.STOPPED_AT // 4, Tx.STOPPED_AT // 4 + 2)  # where the patched athrill2 stops: not the program's
 OUTPUT_LINES = 3
 DWARF_ASSERTION = "elf_dwarf_"  # athrill2's DWARF reader asserts on C++ debug information
 DWARF_HINT = (" (athrill2 cannot read a C++ image's debug information: strip it with v850-elf-strip --strip-debug, "
@@ -43,7 +44,7 @@ def check(exe: str, image: Path, sync: SyncMode) -> str | None:
             (run_dir / name).write_text(text)
         with open_unity(run_dir, create=True) as unity, open_athrill(run_dir, create=True) as athrill:
             athrill.write_i32s(0, [UNTOUCHED] * TX_WORDS)
-            unity.unity_time_us = CHECK_SIM_US
+            unity.snapshot_end_us = unity.unity_time_us = CHECK_SIM_US  # the files as they stand are the inputs
             log = run_dir / "athrill.log"
             try:
                 with open(log, "w") as out:
@@ -68,7 +69,7 @@ def check(exe: str, image: Path, sync: SyncMode) -> str | None:
 
 
 def _untouched(athrill: MappedFile) -> bool:
-    return set(athrill.read_i32s(0, TX_WORDS)) == {UNTOUCHED}
+    return all(word == UNTOUCHED for i, word in enumerate(athrill.read_i32s(0, TX_WORDS)) if i not in STOP_WORDS)
 
 
 def _watch(proc: subprocess.Popen, athrill: MappedFile) -> tuple[int | None, str | None]:

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from hakoniwa.wire.errors import HakoError
+from hakoniwa.wire.protocol import NEVER_WAKES
 from hakoniwa.wire.rundir import SERIAL_PORTS
 from hakoniwa.wire.timebase import US_PER_S
 
@@ -59,6 +60,12 @@ class Scenario:
     def buttons(self, now_us: int) -> int:
         """The RX buttons bitmask at `now_us`."""
         return sum(1 << p.button for p in self.presses if p.button is not None and p.active(now_us)) & 0x3F
+
+    def buttons_until(self, now_us: int) -> int:
+        """The first instant after `now_us` at which a press or release may change the buttons (NEVER_WAKES if
+        none does): a patched athrill2 needs no new snapshot to read them before then."""
+        return min((edge for p in self.presses if p.button is not None for edge in (p.at_us, p.at_us + p.for_us)
+                    if edge > now_us), default=NEVER_WAKES)
 
     def check_within(self, time_limit_us: int) -> None:
         """Refuse a stimulus at or after the time limit: the test ends there (TIME_OVER) before it could

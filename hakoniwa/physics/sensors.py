@@ -51,6 +51,7 @@ class Sensors:
     touch: tuple[int, int]  # touch slots 0 and 1 (the bumper touching a wall, or the scenario pressing): 0,
     # TOUCH_PRESSED for an EV3 touch sensor, FORCE_PRESSED_N for a SPIKE force sensor
     buttons: int  # the EV3 buttons the scenario holds down, as RX BUTTONS' bitmask
+    buttons_until_us: int  # when the scenario next presses or releases a button (`Scenario.buttons_until`)
     motor_angles_deg: dict[int, int]  # the wheel ports' encoders, from their last reset
     hsv: tuple[int, int, int] | None = None  # a SPIKE colour sensor's h 0..359, s and v 0..100
     imu: Inertial | None = None  # a SPIKE hub's IMU
@@ -90,6 +91,7 @@ class SensorModel:
             gyro_rate_dps=round(rate_dps),
             touch=self._touch(truth.touch, now_us),
             buttons=self.scenario.buttons(now_us),
+            buttons_until_us=self.scenario.buttons_until(now_us),
             motor_angles_deg={port: round(forward * (angle - self._angle_zero[port]))
                               for port, forward, angle in wheels},
             hsv=hsv_of(rgb) if spike and self.robot.has("color") else None,

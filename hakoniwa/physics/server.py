@@ -41,7 +41,7 @@ from hakoniwa.physics.replay import REPLAY_FILE, write_replay
 from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
 from hakoniwa.physics.scenario import Scenario
 from hakoniwa.physics.slots import Report, Slots
-from hakoniwa.physics.sync import SYNC_LOOPS, AthrillCrash, unity_time_us
+from hakoniwa.physics.sync import SYNC_LOOPS, AthrillCrash, snapshot_end_us, unity_time_us
 from hakoniwa.wire.protocol import BenchCause, CrashKind, Event, Objective
 from hakoniwa.wire.rundir import PHYSICS_LOG, PROGRAM_OUTPUT_FILE, SERIAL_INPUT, TRAJECTORY_FILE
 from hakoniwa.wire.timebase import Scheduler
@@ -115,7 +115,8 @@ class PhysicsServer:
         self._max_diff_us = max(self._max_diff_us, abs(diff_us))
 
     def publish_sensors(self) -> None:
-        self.slots.publish(self.env.read_sensors(), unity_time_us(self.program.sync, self.env.now_us))
+        now = self.env.now_us
+        self.slots.publish(self.env.read_sensors(), unity_time_us(self.program.sync, now), snapshot_end_us(now))
         self.transport.published()
 
     def apply_actuators(self) -> None:

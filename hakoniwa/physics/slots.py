@@ -76,7 +76,7 @@ class Slots:
         self.unity.write_u32(Rx.PHYSICS_PID, os.getpid())
         self._unity_time_address = self.unity.address(Header.UNITY_TIME)
         self.answer_address = self.athrill.address(HEADER_SIZE + Tx.ANSWER_SEQ)  # a lockstep Athrill rings here
-        self.clock_address = self.athrill.address(Header.ATHRILL_TIME)  # a patched Athrill rings here when it stops
+        self.stopped_address = self.athrill.address(HEADER_SIZE + Tx.STOPPED_AT)  # a patched Athrill rings here
 
     def repair(self) -> list[str]:
         """Repair the files if anyone damaged them; what was wrong with each (a path names the file)."""
@@ -93,6 +93,7 @@ class Slots:
         a.clear(0, ACTUATORS_END)
         a.clear(*ETROBOC_EXT)
         a.athrill_time_us = 0  # a real Athrill's clock starts at 0; a stale one would let physics run ahead
+        a.write("q", Tx.STOPPED_AT, 0)  # where a patched Athrill stopped: likewise
         self.unity.clear(*OUR_EXT)
         self.unity.write_u32(Rx.PHYSICS_PID, os.getpid())
         self.unity.write_u32(Rx.SYNC_MODE, int(sync))
@@ -108,14 +109,15 @@ class Slots:
     def announce(self, seq: int) -> None:
         self.unity.write_u32(Rx.TEST_SEQ, seq)  # last: a waiting Athrill starts when it sees its number
 
-    def publish(self, s: Sensors, unity_time_us: int) -> None:
-        """The sensor snapshot, then the unity time (last: a reader that sees the new time sees the values
-        it belongs to), and a wake-up for a lockstep Athrill sleeping on it."""
+    def publish(self, s: Sensors, unity_time_us: int, snapshot_end_us: int) -> None:
+        """The sensor snapshot, then the instant it holds until and the unity time (last: a reader that sees
+        the new times sees the values they belong to), and a wake-up for an Athrill sleeping on the latter."""
         u = self.unity
         # BUTTONS, COLOR0_AMBIENT .. COLOR0_RGB and GYRO_ANGLE, GYRO_RATE are one run of words: one write.
         u.write_i32s(Rx.BUTTONS, [s.buttons, s.ambient, int(s.color), s.reflect, *s.rgb, s.gyro_angle_deg,
                                   s.gyro_rate_dps])
         u.write_i32(Rx.ULTRASONIC_MM, s.ultrasonic_mm)
+        u.write("q", Rx.BUTTONS_UNTIL, s.buttons_until_us)
         u.write_i32(Rx.TOUCH0, s.touch[0])
         u.write_i32(Rx.TOUCH1, s.touch[1])
         for port, angle in s.motor_angles_deg.items():
@@ -127,6 +129,7 @@ class Slots:
                 u.write_f32(offset, value)
         if s.hsv is not None:
             u.write_i32s(Rx.SPIKE_HSV_H, list(s.hsv))
+        u.snapshot_end_us = snapshot_end_us
         u.unity_time_us = unity_time_us
         futex_wake(self._unity_time_address)
 
@@ -165,9 +168,13 @@ class Slots:
     def athrill_time_us(self) -> int:
         return self.athrill.athrill_time_us
 
-    def clock_word(self) -> int:
-        """The word at `clock_address` (the clock's low half): what a waiter on the patched Athrill compares."""
-        return self.athrill.athrill_time_us & 0xFFFFFFFF
+    def stopped_at_us(self) -> int:
+        """The clock at which the patched Athrill last stopped to wait for physics (repeatable)."""
+        return int(self.athrill.read("q", Tx.STOPPED_AT))
+
+    def stopped_word(self) -> int:
+        """The word at `stopped_address` (its low half): what a waiter on the patched Athrill compares."""
+        return self.stopped_at_us() & 0xFFFFFFFF
 
     def answer_seq(self) -> int:
         """Athrill's answer counter (lockstep): bumped last whenever it has published its outputs."""

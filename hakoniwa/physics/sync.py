@@ -16,14 +16,20 @@ transport (`hakoniwa.physics.relay`) brings Athrill's packets into the TX file w
 sends each published snapshot as a packet.
 
 `repeatable` (the real TOPPERS Athrill built with scripts/athrill-patches, its wait turned on by the device
-config): at every device clock that reaches the unity time, Athrill publishes its clock and sleeps until the
-unity time passes it. Physics publishes each snapshot with a unity time one step ahead (the horizon), waits
-until Athrill's clock reaches it, applies the actuators Athrill wrote before that instant if they changed
-(so that a command draws its motor noise once, as a lockstep answer does, not once a step), steps to the
-horizon and publishes the next snapshot. Athrill's clock is a count of emulated cycles and it stops at the
-first cycle at or past the horizon, so which cycle reads which snapshot depends on nothing but the image and its
-inputs: the same image, parameters and noise draw give the same result to the microsecond under any load. The time
-difference is at most one step plus the cycles of one instruction.
+config): Athrill stops only where the program could observe physics, at a load or store of the mapped files at a
+clock at or past the end of the published snapshot (`snapshot_end_us`, one step after it), or at a clock that
+reaches the unity time (the horizon, `REPEATABLE_HORIZON_US` ahead: a program that never touches the files
+still lets the test's time run). Two loads never stop, as what they read cannot depend on where physics is: the
+buttons before the scenario's next press or release (`Rx.BUTTONS_UNTIL`), and TX bytes that hold 0 (physics
+writes nothing there but the zeros that take a reset request). Stopped, Athrill publishes its clock
+(`Tx.STOPPED_AT`) and sleeps until the bound passes it. Physics waits for that stop, applies the actuators
+Athrill wrote if they changed (so that a command draws its motor noise once, as a lockstep answer does, not once
+a step), steps to the 1 ms step Athrill's clock is in and publishes that step's snapshot. A program's accesses in
+[t, t + 1 ms) read the snapshot of t and its commands drive the step from t, exactly as when Athrill stopped at
+every step, while the steps it cannot observe cost no round trip. Athrill's clock is a count of emulated cycles,
+so where it stops and which cycle reads which snapshot depend on nothing but the image and its inputs: the same
+image, parameters and noise draw give the same result to the microsecond under any load. The time difference
+noted is how old the snapshot is that Athrill reads: under one step.
 
 All three leave the test when the physics server raises an event, and raise `AthrillCrash` when Athrill
 dies, goes silent or breaks the protocol. What they need of the server is `SyncServer`, and all they read of
@@ -48,6 +54,8 @@ if TYPE_CHECKING:
     from hakoniwa.physics.slots import Slots
 
 HAKONIWA_START_US = 1  # the real Unity's clock starts at 1 us: a unity time of 0 lets Athrill run unchecked
+REPEATABLE_HORIZON_US = 1_000_000  # how far a patched Athrill may run without touching the files: one stop a
+# simulated second lets a program that never does so have its test's time pass
 SPINNING_CPU_SHARE = 0.1  # a silent Athrill that had this share of a core or more was running: the program spins
 
 
@@ -215,20 +223,23 @@ def run_hakoniwa(server: SyncServer, proc: subprocess.Popen) -> None:
 
 
 def run_repeatable(server: SyncServer, proc: subprocess.Popen) -> None:
-    slots = server.slots
-    clock = slots.athrill_time_us
-    check = watchdog(server, proc, clock, lambda: clock() > 0, emulator=True)
+    slots, sched = server.slots, server.scheduler
+    stopped = slots.stopped_at_us
+    check = watchdog(server, proc, slots.athrill_time_us, lambda: slots.athrill_time_us() > 0, emulator=True)
     applied = None  # the TX commands last applied: a command is applied (and draws its noise) once, when new
     while True:
-        horizon = unity_time_us(SyncMode.REPEATABLE, server.now_us)  # published with the last snapshot
-        # B023: the horizon is waited on in this turn only
-        wait_word(slots.clock_address, slots.clock_word, lambda: clock() >= horizon, check)  # noqa: B023
-        server.note_time_diff(clock() - server.now_us)
+        end = snapshot_end_us(server.now_us)  # published with the last snapshot
+        # B023: the end is waited on in this turn only
+        wait_word(slots.stopped_address, slots.stopped_word, lambda: stopped() >= end, check)  # noqa: B023
+        at = stopped()
         if slots.command_words() != applied:
             server.apply_actuators()
             applied = slots.command_words()  # after the reset requests it took were cleared
-        if server.advance_to(horizon):
-            return
+        reached = at - at % PHYSICS_STEP_US  # the step Athrill's clock is in: the snapshot it must read
+        while server.now_us < reached:
+            if server.advance_to(min(sched.next_tick(), reached)):
+                return
+        server.note_time_diff(at - server.now_us)  # how old the snapshot it reads is
         server.check_ceiling()
         server.publish_sensors()
 
@@ -236,10 +247,16 @@ def run_repeatable(server: SyncServer, proc: subprocess.Popen) -> None:
 def unity_time_us(sync: SyncMode, now_us: int) -> int:
     """The unity time published with the snapshot for `now_us`: how far Athrill may run on it. The real
     Unity's clock starts at 1 us (a unity time of 0 lets an unpatched Athrill run unchecked); the repeatable
-    mode lets Athrill run one step on the snapshot, to the next instant physics steps to."""
+    mode lets a patched Athrill run up to its horizon as long as it does not touch the files."""
     if sync == SyncMode.REPEATABLE:
-        return now_us + PHYSICS_STEP_US
+        return now_us + REPEATABLE_HORIZON_US
     return max(now_us, HAKONIWA_START_US) if sync == SyncMode.HAKONIWA else now_us
+
+
+def snapshot_end_us(now_us: int) -> int:
+    """The instant up to which the snapshot for `now_us` holds: the next one physics steps to. A patched Athrill
+    that loads or stores at or past it waits for the next snapshot (the repeatable mode)."""
+    return now_us + PHYSICS_STEP_US
 
 
 SYNC_LOOPS: dict[SyncMode, Callable[[SyncServer, subprocess.Popen], None]] = {

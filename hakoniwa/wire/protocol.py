@@ -50,7 +50,10 @@ class Header:
 
     MAGIC = 0  # 4 bytes, ETRX / ETTX
     VERSION = 4  # u32 = 1
-    ATHRILL_TIME = 8  # u64 [us], TX only: Athrill's ("micon") simulation time; reserved in RX
+    ATHRILL_TIME = 8  # u64 [us], TX only: Athrill's ("micon") simulation time
+    SNAPSHOT_END = 8  # u64 [us], RX only (reserved in the real layout): the instant up to which the snapshot
+    # holds, physics' time + one step; a patched athrill2 in the repeatable mode stops at a load or store of the
+    # files at or past it (scripts/athrill-patches/01-*)
     UNITY_TIME = 16  # u64 [us]: the physics side's simulation time (in TX: Athrill's echo of it)
     EXT_OFF = 24  # u32 = 512
     EXT_SIZE = 28  # u32 = 512
@@ -96,6 +99,8 @@ class Rx:
     SPIKE_HSV_S = 300  # i32, 0..100 [%]
     SPIKE_HSV_V = 304  # i32, 0..100 [%]
     # Our extension (unused by the real layout): lockstep and test reports.
+    BUTTONS_UNTIL = 416  # u64 [us]: the buttons hold their value until then (the scenario's next press or release;
+    # NEVER_WAKES: none); a patched athrill2 reads them before then without stopping (scripts/athrill-patches/01-*)
     BENCH_CAUSE = 424  # u32, BenchCause of a CRASH of kind BENCH: what spoiled the test (0 otherwise)
     OBJECTIVE = 428  # u32, Objective of the bench: what ends and scores its tests
     COMPLETED_TIME_HI = 432  # u32: when ETRoboc_notifyCompletedToSimulator() came [us], upper 32 bits (0: never)
@@ -139,6 +144,8 @@ class Tx:
     NEXT_WAKE = 448  # i64: the simulation time [us] the robot program sleeps until (NEVER_WAKES: it ended)
     ANSWER_SEQ = 456  # u32: bumped last whenever Athrill publishes its outputs
     ATHRILL_PID = 460  # u32: the mock's pid (the real Athrill does not write it)
+    # Our extension: the repeatable mode.
+    STOPPED_AT = 464  # u64: the clock [us] at which the patched athrill2 last stopped to wait for physics
     # ET Robocon's simulator extension.
     COMPLETED = 480  # i32: ETRoboc_notifyCompletedToSimulator() writes 1, which ends the test (COMPLETED)
     # The paper's test automation (Table 2), in the ext area.
@@ -315,6 +322,14 @@ class LayoutFile:
     @unity_time_us.setter
     def unity_time_us(self, value: int) -> None:
         self._pack("<Q", Header.UNITY_TIME, value)
+
+    @property
+    def snapshot_end_us(self) -> int:
+        return self._unpack("<Q", Header.SNAPSHOT_END)[0]
+
+    @snapshot_end_us.setter
+    def snapshot_end_us(self, value: int) -> None:
+        self._pack("<Q", Header.SNAPSHOT_END, value)
 
     @property
     def athrill_time_us(self) -> int:

@@ -8,7 +8,8 @@ from hypothesis import strategies as st
 
 from hakoniwa.physics.robot import DEFAULT_WIRING
 from hakoniwa.physics.robots import BUILT_IN, RobotError, load_robot, parse_robot
-from hakoniwa.physics.scenario import ScenarioError, parse_scenario
+from hakoniwa.physics.scenario import Press, Scenario, ScenarioError, parse_scenario
+from hakoniwa.wire.protocol import NEVER_WAKES
 
 
 def test_a_touch_press_and_a_button_press_hold_for_their_time():
@@ -18,6 +19,18 @@ def test_a_touch_press_and_a_button_press_hold_for_their_time():
     assert s.sensor_presses(1_500_000) == []
     assert s.buttons(0) == 1 << 4 and s.buttons(100_000) == 0  # for_s defaults to 0.1 s
     assert s.serial_lines() == "2000000 bt 31\n"
+
+
+@given(st.lists(st.tuples(st.integers(0, 5), st.integers(0, 50), st.integers(1, 20)), max_size=4),
+       st.integers(0, 80))
+def test_the_buttons_hold_until_the_instant_the_scenario_says(presses, now_ms):
+    """A patched athrill2 reads the buttons without a new snapshot before `buttons_until`: they must not change."""
+    s = Scenario(tuple(Press(f"press {i}", None, None, button, at * 1000, held * 1000)
+                       for i, (button, at, held) in enumerate(presses)))
+    until = s.buttons_until(now_ms * 1000)
+    assert until > now_ms * 1000
+    assert all(s.buttons(t) == s.buttons(now_ms * 1000) for t in range(now_ms * 1000, min(until, 100_000), 500))
+    assert until == NEVER_WAKES or any(until in (p.at_us, p.at_us + p.for_us) for p in s.presses)
 
 
 @pytest.mark.parametrize("text, words", [

@@ -166,7 +166,7 @@ def test_only_a_spike_robot_gets_the_spike_slots_written(tmp_path):
         run_dir = tmp_path / name
         run_dir.mkdir()
         slots, env = Slots(run_dir), env_for(name)
-        slots.publish(env.read_sensors(), 0)
+        slots.publish(env.read_sensors(), 0, 0)
         body = (run_dir / UNITY_FILE).read_bytes()[32:]
         accel_z = struct.unpack_from("<f", body, 280)[0]
         if name == "default":
