@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.sparse import csr_array
-from scipy.sparse.csgraph import dijkstra
+from scipy.sparse.csgraph import breadth_first_order, dijkstra
 
 from .direction import ALONG, STEP
 from .fastpath_bound import TimeBound
@@ -20,6 +20,7 @@ MAX_QUERY_GRAPHS = 4  # (start, goals) pairs kept per move graph: a search has o
 TIME_SLACK = 1e-9  # rounding in reduced prices must not leave out a node of an equally fast route
 LIMIT_GROWTH = 2.0  # how much the search limit grows when the goal lies beyond it
 HINT_MARGIN = 1.25  # the first limit over the last answer: a search's walls only ever make its run slower
+NARROW_FROM = 1000  # kept nodes: narrowing them costs about 0.1 ms, the exact search 0.3 us a node it spares
 LIMIT_TRIES = 16  # then no limit: a route that slow is unlikely, and without one the goal may be out of reach
 
 
@@ -39,6 +40,26 @@ def _predecessors(row: np.ndarray, col: np.ndarray, price: np.ndarray, dist: np.
     pred = np.full(len(dist), -1)
     pred[col[first]] = row[first]
     return pred
+
+
+def _on_fastest_routes(row: np.ndarray, col: np.ndarray, price: np.ndarray, reduced: np.ndarray, nodes: np.ndarray,
+                       goal: slice, fastest: float) -> np.ndarray:
+    """Which of the nodes A* kept (`nodes`, local edges row -> col at reduced `price`, A*'s `reduced` times) lie
+    on a route to the goal no slower than the fastest: those the goal is reached from by edges that A* found
+    tight (the source's time plus the price is the destination's, up to rounding). A stale bound leaves
+    A* keeping every node it could not rule out (up to 12 000 of them on japan2017hef), while the fastest
+    routes pass a few hundred; every node of every equally fast route, and every edge that ties on one, is
+    kept, so the exact search of them (`FastestSearch.search`) finds the same times and the same route."""
+    slack = _with_slack(fastest) - fastest
+    tight = reduced[row] + price <= reduced[col] + slack
+    goals = np.flatnonzero((nodes >= goal.start) & (nodes < goal.stop))
+    n = len(nodes)
+    back = csr_array((np.ones(np.count_nonzero(tight) + len(goals)),
+                      (np.concatenate([col[tight], np.full(len(goals), n)]), np.concatenate([row[tight], goals]))),
+                     shape=(n + 1, n + 1))
+    on = np.zeros(n + 1, dtype=bool)
+    on[breadth_first_order(back, n, directed=True, return_predecessors=False)] = True
+    return on[:n]
 
 
 def _with_slack(seconds: float) -> float:
@@ -67,7 +88,13 @@ class QueryGraph:
     reduced prices for A* where open and infinity elsewhere; `bound` is A*'s bound and the reduced prices under
     it (maze/fastpath_bound.py); `hint` is the last query's reduced time to the goal, where the next one's limit
     starts (walls change a few at a time). `walls` are the walls `open` was worked out for (None before the
-    first query), and `wall_edges` the edges through each wall (maze/fastpath_walls.py)."""
+    first query), and `wall_edges` the edges through each wall (maze/fastpath_walls.py).
+
+    Its nodes are only those of the move graph with an edge: `nodes` holds their numbers there, ascending (so
+    ties between nodes break as they would on the whole graph), the standing start last, and `goal` the range
+    of them in the goal layer. Most nodes of the move graph have none (96 700 of a 32x32 diagonal graph's
+    135 000: headings no move crosses a wall with, and the like), and every search, pricing and scan of the
+    times would otherwise pay for them."""
 
     prices: csr_array
     astar: csr_array
@@ -79,6 +106,8 @@ class QueryGraph:
     open_needed: np.ndarray
     turn_walls: np.ndarray
     start: StartEdges
+    nodes: np.ndarray
+    goal: slice
     walls: np.ndarray | None = None
     wall_edges: tuple[np.ndarray, np.ndarray] | None = None  # built by the first query that can use it
 
@@ -142,18 +171,23 @@ class FastestSearch:
         before = int(np.searchsorted(src, B * g.layer_size))  # rows of A; those of C follow the turns
         rows = np.concatenate([src[:before], turns.src[turn_order], src[before:],
                                np.full(len(start_edges.dst), g.start_node)])
-        cols = np.concatenate([ahead_dst[:before], turns.dst[turn_order], ahead_dst[before:],
-                               start_edges.dst]).astype(np.int32)
-        n = g.start_node + 1
+        cols = np.concatenate([ahead_dst[:before], turns.dst[turn_order], ahead_dst[before:], start_edges.dst])
+        used = np.zeros(g.start_node + 1, dtype=bool)
+        used[rows], used[cols] = True, True
+        nodes = np.flatnonzero(used)  # the start node has edges, and the highest number: it stays last
+        number = (np.cumsum(used) - 1).astype(np.int32)
+        rows, cols = number[rows], number[cols]
+        n = len(nodes)
         indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=n))]).astype(np.int32)
         cost = np.concatenate([ahead_cost[:before], turns.seconds[turn_order], ahead_cost[before:],
                                start_edges.seconds])
         prices = csr_array((cost, cols, indptr), shape=(n, n))
         astar = csr_array((np.zeros(len(cols)), cols, indptr), shape=(n, n))
-        goal_layer = cols[(cols >= G * g.layer_size) & (cols < (G + 1) * g.layer_size)]
+        goal = slice(*np.searchsorted(nodes, [G * g.layer_size, (G + 1) * g.layer_size]).tolist())
+        goal_layer = cols[(cols >= goal.start) & (cols < goal.stop)]
         return QueryGraph(prices, astar, TimeBound(prices, rows, np.unique(goal_layer)),
                           np.zeros(len(cols), dtype=bool), None, before, run_from, open_needed,
-                          turns.walls[turn_order].T.copy(), start_edges)
+                          turns.walls[turn_order].T.copy(), start_edges, nodes, goal)
 
     def _start_edges(self, start: Cell, goals: tuple[Cell, ...]) -> StartEdges:
         """Straights from a standing start in the start cell's centre, along each of its four headings, of every
@@ -248,8 +282,7 @@ class FastestSearch:
         reduced = self._reduced_search(q)
         if reduced is None:
             return None
-        layer = self.graph.layer_size
-        fastest = float(reduced[self._goal_node(reduced)])
+        fastest = float(reduced[self._goal_node(q, reduced)])
         kept = reduced <= _with_slack(fastest)
         nodes = np.flatnonzero(kept)  # ascending: local numbers keep the global order
         first = q.prices.indptr[nodes]
@@ -259,20 +292,26 @@ class FastestSearch:
         col = q.prices.indices[edge]
         use = q.open[edge] & kept[col]
         row, edge, col = row[use], edge[use], col[use]
-        indptr = np.concatenate([[0], np.cumsum(np.bincount(row, minlength=len(nodes)))])
         local = self._local  # node -> its number in `nodes`; read only where kept
         local[nodes] = np.arange(len(nodes), dtype=np.int32)
-        price, col = q.prices.data[edge], local[col]
+        col = local[col]
+        if len(nodes) > NARROW_FROM:
+            on = _on_fastest_routes(row, col, q.astar.data[edge], reduced[nodes], nodes, q.goal, fastest)
+            renumber = np.cumsum(on) - 1
+            use = on[row] & on[col]
+            row, col, edge, nodes = renumber[row[use]], renumber[col[use]], edge[use], nodes[on]
+        indptr = np.concatenate([[0], np.cumsum(np.bincount(row, minlength=len(nodes)))])
+        price = q.prices.data[edge]
         sub = csr_array((price, col, indptr), shape=(len(nodes), len(nodes)))
         dist = dijkstra(sub, directed=True, indices=len(nodes) - 1,  # the start node is the last node
                         limit=_with_slack(fastest + q.bound.at_start))
-        in_goal = np.flatnonzero((nodes >= G * layer) & (nodes < (G + 1) * layer))
+        in_goal = np.flatnonzero((nodes >= q.goal.start) & (nodes < q.goal.stop))
         at = [int(in_goal[np.argmin(dist[in_goal])])]  # the lowest-numbered of equals, as _goal_node
         pred = _predecessors(row, col, price, dist).tolist()
         while at[-1] != len(nodes) - 1:
             at.append(pred[at[-1]])
         at.reverse()
-        return nodes[at].tolist(), dist[at].tolist()
+        return q.nodes[nodes[at]].tolist(), dist[at].tolist()
 
     def _reduced_search(self, q: QueryGraph) -> np.ndarray | None:
         """A* up to the goal: the reduced times; None if the goal cannot be reached. The limit
@@ -284,15 +323,15 @@ class FastestSearch:
         mouse = self.graph.mouse
         limit = max((q.hint or 0.0) * HINT_MARGIN, mouse.cell / mouse.run.top_speed)
         for limit in [limit * LIMIT_GROWTH ** k for k in range(LIMIT_TRIES)] + [np.inf]:
-            dist = dijkstra(q.astar, directed=True, indices=self.graph.start_node, limit=limit)
-            q.bound.spent += int(np.isfinite(dist).sum())
-            best = self._goal_node(dist)
+            dist = dijkstra(q.astar, directed=True, indices=len(q.nodes) - 1, limit=limit)
+            q.bound.spent += np.count_nonzero(dist < np.inf)
+            best = self._goal_node(q, dist)
             if np.isfinite(dist[best]):
                 q.hint = float(dist[best])
                 return dist
         return None
 
-    def _goal_node(self, dist: np.ndarray) -> int:
+    @staticmethod
+    def _goal_node(q: QueryGraph, dist: np.ndarray) -> int:
         """The node of the goal layer reached first (the lowest-numbered of equals)."""
-        layer = self.graph.layer_size
-        return int(np.argmin(dist[G * layer: (G + 1) * layer])) + G * layer
+        return int(np.argmin(dist[q.goal])) + q.goal.start

@@ -9,7 +9,7 @@ from functools import cached_property
 import numpy as np
 
 from .direction import ALONG, STEP
-from .fastpath_build import B, G, StaticGraph, entered_cell
+from .fastpath_build import B, G, StaticGraph
 from .model import Cell
 from .motion import TURNS
 
@@ -45,8 +45,15 @@ class RouteDecoder:
         self.graph = graph
 
     @cached_property
-    def _wall_ids(self) -> list[int]:
-        return self.graph.wall_at.tolist()
+    def _steps(self) -> list[tuple[int, int, int, int, float]]:
+        """Per heading, the stride between the walls a straight crosses (x, y), what a coordinate difference
+        is divided by to count them (x, y), and the cells a stride covers: looked up once per node."""
+        g = self.graph
+        out = []
+        for h in range(8):
+            sx, sy = g.stride(h)
+            out.append((sx, sy, max(abs(sx), 1), max(abs(sy), 1), g.unit(h)))
+        return out
 
     @cached_property
     def _turn_keys(self) -> tuple[np.ndarray, np.ndarray]:
@@ -79,6 +86,7 @@ class RouteDecoder:
         points = [(cx, cy)]
         moves: list[Move] = []
         begin, length = 0, 0.0  # the step the straight being joined began at, and its cells so far
+        per_heading = self._steps
         for i in range(len(nodes) - 1):
             vx, vy = xs[i + 1], ys[i + 1]
             if nodes[i] == g.start_node:
@@ -95,15 +103,27 @@ class RouteDecoder:
                 moves.append(Move(shape.token, TURNS[shape.name].cells, times[i + 1] - times[i]))
                 begin, length = i + 1, 0.0
                 continue
-            sx, sy = g.stride(h)
-            length += max(abs(vx - ux) // max(abs(sx), 1), abs(vy - uy) // max(abs(sy), 1)) * g.unit(h)
+            sx, sy, ax, ay, unit = per_heading[h]
+            length += max(abs(vx - ux) // ax, abs(vy - uy) // ay) * unit
             if layers[i + 1] in (B, G):  # the straight ends here
                 bx, by = xs[begin], ys[begin]
-                steps = max(abs(vx - bx) // max(abs(sx), 1), abs(vy - by) // max(abs(sy), 1))
+                steps = max(abs(vx - bx) // ax, abs(vy - by) // ay)
                 points += [(bx + k * sx, by + k * sy) for k in range(1, steps + 1)]
                 if steps:
                     moves.append(Move(f"{'S' if h in ALONG else 'D'}{steps}", length, times[i + 1] - times[begin]))
-        cells = [start] + [entered_cell(p, q) for q, p in zip(points, points[1:])]
-        wall_ids = self._wall_ids
-        walls = [wall_ids[y * g.side + x] for x, y in points[1:]]
-        return Route(moves, times[-1], points, walls, cells)
+        cells, walls = self._crossed(points)
+        return Route(moves, times[-1], points, walls, [start] + cells)
+
+    def _crossed(self, points: list[tuple[int, int]]) -> tuple[list[Cell], list[int]]:
+        """The cells entered and the walls crossed at `points[1:]`, all at once: the cell beyond a horizontal
+        wall (X odd) lies above it when coming from below, the one beyond a vertical wall right of it when
+        coming from its left (`entered_cell`, one call a point, was a third of a known-walls query)."""
+        g = self.graph
+        at = np.array(points)
+        x, y = at[1:, 0], at[1:, 1]
+        came_x, came_y = at[:-1, 0], at[:-1, 1]
+        horizontal = x % 2 == 1
+        cell_x = x // 2 - (~horizontal & (came_x > x))
+        cell_y = y // 2 - (horizontal & (came_y > y))
+        cells = list(zip(cell_x.tolist(), cell_y.tolist()))
+        return cells, g.wall_at[y * g.side + x].tolist()

@@ -23,14 +23,15 @@ def plain_fastest(graph: MoveGraph, maze: Maze) -> float:
     q = graph.search.query_graph(maze.start, maze.goals)
     indptr, indices = q.prices.indptr, q.prices.indices
     prices = [price if ok else math.inf for price, ok in zip(q.prices.data, q.open)]
-    dist = {graph.static.start_node: 0.0}
-    heap = [(0.0, graph.static.start_node)]
+    start = len(q.nodes) - 1  # the query graph's number of the standing start
+    dist = {start: 0.0}
+    heap = [(0.0, start)]
     done = set()
     while heap:
         d, u = heapq.heappop(heap)
         if u in done:
             continue
-        if u // graph.static.layer_size == G:
+        if q.nodes[u] // graph.static.layer_size == G:
             return d
         done.add(u)
         for j in range(indptr[u], indptr[u + 1]):
