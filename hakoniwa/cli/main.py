@@ -194,7 +194,7 @@ def how_many_benches(benches: int | None, scheduler: str | None, default: int) -
 
 @main.command(context_settings=HELP, help=RUN_HELP)
 @bench_options
-@benches_options("one more than the CPU cores this process may use")
+@benches_options("the CPU cores this process may use")
 @campaign_options
 @click.option("--validate", type=click.IntRange(min=0), default=None, callback=lambda ctx, param, n: _draws(n),
               help=f"Test the best set on this many fresh noise draws (at most {MAX_DRAWS}): its success rate "
@@ -453,17 +453,16 @@ def campaign_benches(bench: BenchOptions) -> int:
     from athrill_sim.programs import udp_link
 
     link = udp_link(bench.transport, bench.device_config)
-    return 1 if link is not None and link.fixed else usable_cores() + 1
+    return 1 if link is not None and link.fixed else usable_cores()
 
 
 def usable_cores() -> int:
     """The cores this process may run on: `taskset` and a container's cpuset say fewer than os.cpu_count().
 
-    The benches' default derives from it. `hako run` takes one bench more than the cores: it proposes one
-    set at a time (batch 1), and each set's first three repetitions wait for free benches, so on two cores
-    two benches ran them two then one, with a core idle meanwhile; a third bench keeps both busy (measured on
-    1, 2 and 4 cores: docs/BENCHMARKS.md, issue 29). `hako test` keeps half the cores: a second bench did not
-    pay for its start on the example suite (issue 23)."""
+    The benches' default derives from it. `hako run` takes one bench per core: measured with batch 1 (the
+    default), a third bench on two cores ran its sets' three repetitions at once and gained 3 % (within the
+    noise), a fourth lost, and a second bench on one core lost 27 % (docs/BENCHMARKS.md, issue 29). `hako test`
+    keeps half the cores: a second bench did not pay for its start on the example suite (issue 23)."""
     try:
         return len(os.sched_getaffinity(0))
     except AttributeError:  # not Linux
