@@ -25,12 +25,13 @@ import subprocess
 import sys
 from pathlib import Path
 
+from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.processes import die_with_parent
 
 MAX_MESSAGE = 65536  # one request or answer: a command line, well under a page or two
 
 
-class ZygoteGone(OSError):
+class ZygoteGone(HakoError, OSError):
     """The zygote cannot serve: it died, or this system lacks what it needs (pidfds)."""
 
 
