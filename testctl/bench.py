@@ -27,8 +27,12 @@ class Bench:
     def start(self) -> TrialRunner:
         if self._runner is None:
             self.run_dir.mkdir(parents=True, exist_ok=True)
+            # A session of its own: a Ctrl-C meant for the campaign must not reach a physics process that the
+            # campaign's own bench is starting for a picture (it would die in its imports with a traceback);
+            # the bench's owner stops it, and it dies with its parent.
             self._proc = subprocess.Popen(self.options.physics_command(self.run_dir, []), stdout=self.log,
-                                          stderr=self.log, stdin=subprocess.DEVNULL, preexec_fn=die_with_parent)
+                                          stderr=self.log, stdin=subprocess.DEVNULL, start_new_session=True,
+                                          preexec_fn=die_with_parent)
             try:
                 self._runner = TrialRunner.attach(self.run_dir, self._proc)
             except Exception:
