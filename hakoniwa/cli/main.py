@@ -185,11 +185,10 @@ def benches_options(default: str):
     ])
 
 
-def how_many_benches(benches: int | None, scheduler: str | None, default: int) -> int:
+def refuse_benches_with_scheduler(benches: int | None, scheduler: str | None) -> None:
     if benches is not None and scheduler is not None:
         raise click.UsageError("--benches starts a local cluster; with --scheduler the cluster's workers are the "
                                "benches")
-    return benches or default
 
 
 @main.command(context_settings=HELP, help=RUN_HELP)
@@ -218,7 +217,7 @@ def _draws(n: int | None) -> int | None:
 
 
 def _run(benches: int | None, scheduler: str | None, validate: int | None, options: dict) -> None:
-    how_many_benches(benches, scheduler, 1)  # a usage error before anything starts
+    refuse_benches_with_scheduler(benches, scheduler)  # before anything starts
     given = pop_bench(options)
     if options["repeats"] is None and options["noise"] == 0 and options["resume"] is None and repeatable_bench(given):
         options["repeats"] = 1  # every repetition of a set would be the very same test
@@ -227,7 +226,7 @@ def _run(benches: int | None, scheduler: str | None, validate: int | None, optio
         validate = (p.validate if p.validate is not None else 1 if p.config.noise == 0
                     else SMOKE_DRAWS if options["smoke"] else DEFAULT_DRAWS)
     bench = dataclasses.replace(_campaign_bench(p.bench, given), bindings=p.config.space.bindings())
-    n = how_many_benches(benches, scheduler, campaign_benches(bench))
+    n = benches or campaign_benches(bench)
     program = check_bench(bench, benches=None if scheduler else n)
     files = recorded_files(p.bench, bench)
     run_dir = p.out_dir / "run"
@@ -299,7 +298,8 @@ def _test(test_file: Path, benches: int | None, scheduler: str | None, out: Path
     from testctl.suite.cases import load_suite
     from testctl.suite.session import RunBroken, run_suite
 
-    n = how_many_benches(benches, scheduler, max(1, usable_cores() // 2))
+    refuse_benches_with_scheduler(benches, scheduler)
+    n = benches or max(1, usable_cores() // 2)
     try:
         cases = load_suite(test_file, dataclasses.replace(base, course=_absolute(base.course), app=_absolute(base.app)))
         out_dir = out or Path("runs") / f"test-{dt.datetime.now():%Y%m%d-%H%M%S}"
