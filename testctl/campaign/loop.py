@@ -135,8 +135,13 @@ class _OpenSet:
     records: dict[int, TestRecord] = field(default_factory=dict)
     out: set[int] = field(default_factory=set)
 
-    def ordered(self) -> list[TestResult]:
-        return [self.results[r] for r in sorted(self.results)]
+    def prefix(self) -> list[TestResult]:
+        """The results of repetitions 1, 2, ... up to the first missing one: what an uninterrupted run judges.
+        A gap is left by a kill while later repetitions of the set had already finished."""
+        done: list[TestResult] = []
+        while len(done) + 1 in self.results:
+            done.append(self.results[len(done) + 1])
+        return done
 
 
 class Campaign:
@@ -260,8 +265,9 @@ class Campaign:
             self._report(len(journal.records), record)
 
     def _close(self, s: _OpenSet) -> None:
-        verdict = self.config.rule.judge(s.ordered())
-        tests = tuple(s.records[r] for r in sorted(s.records))
+        judged = s.prefix()
+        verdict = self.config.rule.judge(judged)
+        tests = tuple(s.records[r] for r in range(1, len(judged) + 1))
         self._add(SetResult(s.index, self.config.phase(s.index), s.x, verdict, tests))
 
     def _add(self, *decided: SetResult) -> None:
@@ -270,11 +276,14 @@ class Campaign:
             self.on_sets(tuple(self._done))
 
     def _launch(self, s: _OpenSet) -> None:
-        """Submit as many further repetitions of `s` as the rule says every continuation needs."""
-        needed = self.config.rule.still_needed(s.ordered())
+        """Submit as many further repetitions of `s` as the rule says every continuation needs, counting from
+        the first missing one (those after it that finished before an interruption are not run again)."""
+        done = s.prefix()
+        needed = self.config.rule.still_needed(done)
         params = self._space.to_offsets(s.x)
-        first = max(s.results, default=0) + 1
-        for rep in range(first, first + needed):
+        for rep in range(len(done) + 1, len(done) + 1 + needed):
+            if rep in s.results:
+                continue
             s.out.add(rep)
             self.executor.submit(TestSpec(s.index, rep, params, noise_seed(self.config.seed, s.index, rep),
                                           self.config.noise, self._space.slot_types))
@@ -324,7 +333,10 @@ class Campaign:
         return by_set
 
     def _decided(self, records: list[TestRecord]) -> SetResult | None:
-        counted = [r for r in records if not r.result.bench_fault]
+        counted: list[TestRecord] = []
+        for r in records:  # sorted by repetition: the prefix without a gap, as in `_OpenSet.prefix`
+            if not r.result.bench_fault and r.rep == len(counted) + 1:
+                counted.append(r)
         if not counted:
             return None
         verdict = self.config.rule.judge([r.result for r in counted])

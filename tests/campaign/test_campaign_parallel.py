@@ -150,3 +150,25 @@ def test_a_longer_batch_round_extends_exactly(tmp_path):
     extended = Campaign(long, tmp_path / "a", SyntheticBench(), resume=True).run()
     fresh = Campaign(long, tmp_path / "b", SyntheticBench()).run()
     assert [s.x for s in extended.sets] == [s.x for s in fresh.sets]
+
+
+@pytest.mark.parametrize("k", [1, 2, 3, 5, 8, 13])
+def test_resume_after_a_kill_with_repetitions_out_of_order(tmp_path, serial, k):
+    """Killed while a set's repetitions ran side by side and a later one had finished first: the resumed
+    campaign runs the missing repetitions, not new ones after the last, so its journal is the uninterrupted
+    one (with noise, a repetition's number is its noise)."""
+
+    class KillAfter(NoisyBench):
+        def __call__(self, spec: TestSpec) -> TestResult:
+            if len(self.calls) == k:
+                raise Killed
+            return super().__call__(spec)
+
+    with pytest.raises(Killed):
+        Campaign(CONFIG, tmp_path, ShuffledExecutor(KillAfter(), 4, k)).run()
+    _, before = read_journal(tmp_path / JOURNAL_FILE)
+    assert len(before) == k
+    bench = NoisyBench()
+    Campaign(CONFIG, tmp_path, ShuffledExecutor(bench, 4, 100 + k), resume=True).run()
+    assert essence(tmp_path) == essence(serial[0])
+    assert len(bench.calls) == len(essence(serial[0])) - k  # nothing repeated, nothing skipped
