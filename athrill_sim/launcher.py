@@ -30,11 +30,14 @@ class AthrillLauncher:
         self._outputs: dict[int, CappedOutput] = {}  # by pid, while the process or its output lasts
         self._zygote: Zygote | None = None  # started by the first test of a program it can fork
         self._forks = True  # until the zygote fails once
+        self._taken: int | None = None  # the pid of the process running the current test
         program.prepare(run_dir)
 
     def _spawn(self, seq: int, program: Program) -> subprocess.Popen:
         proc = (program.forkable and self._fork(seq, program)) or program.spawn(self.run_dir, seq, subprocess.PIPE)
-        self._outputs = {pid: out for pid, out in self._outputs.items() if out.running}
+        # Kept: outputs still being copied (`close` waits for them), and the test's own process, which may
+        # have crashed, and so ended its output, before the spare for the next test is started here.
+        self._outputs = {pid: out for pid, out in self._outputs.items() if out.running or pid == self._taken}
         assert proc.stdout is not None  # spawned with stdout=PIPE
         self._outputs[proc.pid] = CappedOutput(proc.stdout, self._log, self._write_lock, f"the Athrill of test {seq}")
         return proc
@@ -75,6 +78,7 @@ class AthrillLauncher:
             else:
                 kill(spare)
         proc = proc or self._spawn(seq, program)
+        self._taken = proc.pid
         if program.prelaunch:
             try:
                 self._spare = (seq + 1, program, self._spawn(seq + 1, program))

@@ -14,8 +14,9 @@ import pytest
 
 from athrill_sim import launcher as launcher_module
 from athrill_sim.launcher import AthrillLauncher, kill
-from athrill_sim.programs import python_program
+from athrill_sim.programs import Program, python_program
 from athrill_sim.zygote import ForkedProcess, Zygote, ZygoteGone
+from hakoniwa.wire.protocol import SyncMode
 
 # Loaded by `athrill-sim --check`, which imports the program and exits: its module-level code is the test.
 PROGRAM = """
@@ -125,3 +126,29 @@ def test_the_launcher_forks_the_mock_and_falls_back_to_processes_without_a_zygot
     finally:
         launcher.close()
     assert os.path.exists(tmp_path / "athrill.log")
+
+
+def test_a_process_that_ends_while_the_next_is_started_keeps_its_last_lines(tmp_path: Path) -> None:
+    """The prelaunched process starts its test as soon as the physics side announces it, so it can crash before
+    `take` has started the spare for the test after: its last lines (the program's own error) stay readable."""
+    program = Program("prints, then waits for its go file", SyncMode.LOCKSTEP, True,
+                      ("sh", "-c", "echo last words {test}; while [ ! -e {run_dir}/go{test} ]; do sleep 0.01; done"))
+    launcher = AthrillLauncher(tmp_path, program)
+    spawn = launcher._spawn
+
+    def spawn_after_the_test_ended(seq: int, prog: Program) -> subprocess.Popen:
+        if seq == 3:  # the spare for test 3 is started once test 2's process has ended, output and all
+            (tmp_path / "go2").touch()
+            ended = launcher._outputs[launcher._taken]
+            ended.join()
+            assert not ended.running
+        return spawn(seq, prog)
+
+    launcher._spawn = spawn_after_the_test_ended  # type: ignore[method-assign]
+    try:
+        kill(launcher.take(1))
+        proc = launcher.take(2)
+        proc.wait(10)
+        assert launcher.last_lines(proc, 5) == ["last words 2"]
+    finally:
+        launcher.close()
