@@ -39,6 +39,7 @@ from testctl.options import (
 from testctl.suite.cases import DEFAULT_FILE
 
 if TYPE_CHECKING:
+    from hakoniwa.wire.protocol import SyncMode
     from testctl.executor import TestSpec
     from testctl.result import TestResult
 
@@ -193,7 +194,7 @@ def refuse_benches_with_scheduler(benches: int | None, scheduler: str | None) ->
 
 @main.command(context_settings=HELP, help=RUN_HELP)
 @bench_options
-@benches_options("the CPU cores this process may use")
+@benches_options("the CPU cores this process may use; on two or more, at least the tests of a set that run at once")
 @campaign_options
 @click.option("--validate", type=click.IntRange(min=0), default=None, callback=lambda ctx, param, n: _draws(n),
               help=f"Test the best set on this many fresh noise draws (at most {MAX_DRAWS}): its success rate "
@@ -226,7 +227,7 @@ def _run(benches: int | None, scheduler: str | None, validate: int | None, optio
         validate = (p.validate if p.validate is not None else 1 if p.config.noise == 0
                     else SMOKE_DRAWS if options["smoke"] else DEFAULT_DRAWS)
     bench = dataclasses.replace(_campaign_bench(p.bench, given), bindings=p.config.space.bindings())
-    n = benches or campaign_benches(bench)
+    n = benches or campaign_benches(bench, p.config.rule.still_needed([]))
     program = check_bench(bench, benches=None if scheduler else n)
     files = recorded_files(p.bench, bench)
     run_dir = p.out_dir / "run"
@@ -431,38 +432,53 @@ def check_bench(bench: BenchOptions, benches: int | None = 1):
     return program
 
 
-def repeatable_bench(bench: BenchOptions) -> bool:
-    """Whether the bench runs the real emulator in the repeatable mode, where a set's tests without noise
-    all give the same result.
+def bench_sync(bench: BenchOptions) -> SyncMode:
+    """How the bench's program keeps time with physics, from what --app names (not built yet: a tuned program
+    builds only with its parameters' values).
 
     Raises:
         ProgramError: --app names nothing that can run.
     """
     from athrill_sim.programs import program_recipe
+
+    return program_recipe(bench.app, athrill2=bench.athrill2, emulator=bench.emulator, sync=bench.sync,
+                          transport=bench.transport, device_config=bench.device_config).sync
+
+
+def repeatable_bench(bench: BenchOptions) -> bool:
+    """Whether the bench runs the real emulator in the repeatable mode, where a set's tests without noise
+    all give the same result."""
     from hakoniwa.wire.protocol import SyncMode
 
-    # what --app names, not built yet: a tuned program builds only with its parameters' values
-    recipe = program_recipe(bench.app, athrill2=bench.athrill2, emulator=bench.emulator, sync=bench.sync,
-                            transport=bench.transport, device_config=bench.device_config)
-    return recipe.sync == SyncMode.REPEATABLE
+    return bench_sync(bench) == SyncMode.REPEATABLE
 
 
-def campaign_benches(bench: BenchOptions) -> int:
-    """`hako run`'s default bench count (`usable_cores` says why); one where a device config fixes athrill2's
-    UDP ports, which benches cannot share."""
+def campaign_benches(bench: BenchOptions, wave: int) -> int:
+    """`hako run`'s default bench count: one per usable core, and on two cores or more at least `wave`, the
+    tests of a set that run at once (3 for 3 of 5), where results do not depend on timing. With one set
+    proposed at a time, a set's three tests on two benches ran two, then one beside an idle core: a third
+    bench runs them at once, 95 s against 100 s for the README's campaign on two cores (docs/BENCHMARKS.md).
+    On one core a second bench lost 27 %. TOPPERS' unsynchronised protocol keeps one bench per core, as
+    its results depend on the CPU each emulator gets; and one bench where a device config fixes athrill2's
+    UDP ports, which benches cannot share.
+
+    Raises:
+        ProgramError: --app names nothing that can run.
+    """
     from athrill_sim.programs import udp_link
+    from hakoniwa.wire.protocol import SyncMode
 
     link = udp_link(bench.transport, bench.device_config)
-    return 1 if link is not None and link.fixed else usable_cores()
+    if link is not None and link.fixed:
+        return 1
+    cores = usable_cores()
+    return max(cores, wave) if cores >= 2 and bench_sync(bench) != SyncMode.HAKONIWA else cores
 
 
 def usable_cores() -> int:
     """The cores this process may run on: `taskset` and a container's cpuset say fewer than os.cpu_count().
-
-    The benches' default derives from it. `hako run` takes one bench per core: measured with batch 1 (the
-    default), a third bench on two cores ran its sets' three repetitions at once and gained 3 % (within the
-    noise), a fourth lost, and a second bench on one core lost 27 % (docs/BENCHMARKS.md, issue 29). `hako test`
-    keeps half the cores: a second bench did not pay for its start on the example suite (issue 23)."""
+    `hako test` keeps half of them: a second bench did not pay for its start on the example suite (issue 23);
+    `hako run` takes them all (`campaign_benches`)."""
     try:
         return len(os.sched_getaffinity(0))
     except AttributeError:  # not Linux
