@@ -9,8 +9,9 @@ idle core and not on a busy one. CPU time also moves much less with the machine'
     python scripts/bench_test_cpu.py --before /tmp/before  # the same, interleaved with another tree's code
 
 Each round runs one bench in a process of its own (so each tree's modules are its own), a warm-up test first
-(the bench's start), then the tests measured; the bench's processes' CPU is read from their rusage once the
-bench has closed.
+(the bench's start), then the tests measured. The bench's processes' CPU is read from /proc before and after
+the tests, so the bench's own start (the physics process importing MuJoCo, 1-1.5 s) is not in it: an
+earlier version read rusage after the bench closed, which spread that start over the round's tests.
 """
 
 from __future__ import annotations
@@ -24,24 +25,37 @@ from pathlib import Path
 import click
 
 ROUND = """
-import resource, sys, tempfile, time
+import os, sys, tempfile, time
 from pathlib import Path
 from hakoniwa.physics.options import BenchOptions
 from testctl.bench import Bench
 from testctl.executor import TestSpec
+
+TICK = os.sysconf("SC_CLK_TCK")
+
+
+def tree_cpu(pid):
+    # CPU of `pid` and of its children that it reaped, with the same of each child still running (the
+    # zygote, which reaps the forked mocks): seconds, read from /proc.
+    total = 0.0
+    for child in open(f"/proc/{pid}/task/{pid}/children").read().split():
+        total += tree_cpu(int(child))
+    fields = open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()
+    return total + sum(int(f) for f in fields[11:15]) / TICK
+
 
 n, app = int(sys.argv[1]), sys.argv[2]
 gains = {540: 3.364, 544: 0.0, 548: 0.0, 552: 15.0}
 with tempfile.TemporaryDirectory() as tmp:
     bench = Bench(BenchOptions(app=app), Path(tmp) / "run")
     bench.run(TestSpec(0, 1, gains, 1, 1.0))
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    physics = bench._proc.pid
+    before = tree_cpu(physics)
     start = time.perf_counter()
     events = [bench.run(TestSpec(0, rep, gains, rep, 1.0)).event.name for rep in range(2, n + 2)]
     wall = time.perf_counter() - start
+    cpu = tree_cpu(physics) - before
     bench.close()
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-cpu = after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
 print(cpu / n, wall / n, ",".join(sorted(set(events))))
 """
 
