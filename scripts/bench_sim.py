@@ -7,7 +7,8 @@
     (`line_trace_c`), in the same run. The physics process's own start is excluded (once per campaign); the
     Athrill's start is included (once per test, overlapped with the previous test by the pre-launch).
 (c) the start of one Athrill process: spawn to its first answer on a test that has already begun (what a test
-    would wait for without the pre-launch): Python mock, native C tracer, and the real TOPPERS athrill2 running
+    would wait for without the pre-launch): Python mock (started, and forked from the zygote as the bench
+    does, `athrill_sim.zygote`), native C tracer, and the real TOPPERS athrill2 running
     the EV3RT sample image (spawn to its clock first moving; it is started with its test, never ahead).
 (d) the real emulator's trials (hakoniwa sync) on the sample image, which drives until TIME_OVER.
 Rows that need something absent (no C compiler, no athrill2, no ../shared) print why instead of a number.
@@ -27,7 +28,8 @@ from pathlib import Path
 import click
 import mujoco
 
-from athrill_sim.programs import Program, ProgramError, resolve_program
+from athrill_sim.programs import MOCK_ARGV, Program, ProgramError, resolve_program
+from athrill_sim.zygote import Zygote
 from hakoniwa.physics.course import load_course
 from hakoniwa.physics.options import DEFAULT_COURSE, BenchOptions
 from hakoniwa.physics.sync import HAKONIWA_START_US
@@ -94,10 +96,12 @@ def sign_of_life(program: Program, unity: MappedFile, athrill: MappedFile) -> Ca
     return lambda: athrill.read_u32(Tx.ANSWER_SEQ) != answers
 
 
-def start_costs(program: Program, samples: int) -> list[float]:
-    """Wall seconds from spawning `program` for a test that has already begun to its first sign of life."""
+def start_costs(program: Program, samples: int, forked: bool = False) -> list[float]:
+    """Wall seconds from spawning `program` for a test that has already begun to its first sign of life;
+    `forked`: forked from a zygote that has imported the mock, as the bench starts a Python program."""
     with tempfile.TemporaryDirectory(prefix="hako-start-") as tmp, open(os.devnull, "wb") as log:
         run_dir = Path(tmp)
+        zygote = Zygote() if forked else None
         unity, athrill = open_unity(run_dir, create=True), open_athrill(run_dir, create=True)
         unity.write_u32(Rx.PHYSICS_PID, os.getpid())
         program.prepare(run_dir)
@@ -106,7 +110,11 @@ def start_costs(program: Program, samples: int) -> list[float]:
             unity.write_u32(Rx.TEST_SEQ, seq)
             alive = sign_of_life(program, unity, athrill)
             start = time.perf_counter()
-            proc = program.spawn(run_dir, seq, log)
+            if zygote is None:
+                proc = program.spawn(run_dir, seq, log)
+            else:
+                proc = zygote.spawn(program.args(run_dir, seq)[len(MOCK_ARGV):],
+                                    run_dir if program.in_run_dir else None)
             try:
                 while not alive():
                     if proc.poll() is not None or time.perf_counter() - start > START_TIMEOUT_S:
@@ -116,6 +124,10 @@ def start_costs(program: Program, samples: int) -> list[float]:
             finally:
                 proc.kill()
                 proc.wait()
+                if zygote is not None and proc.stdout is not None:
+                    proc.stdout.close()
+        if zygote is not None:
+            zygote.close()
         unity.close()
         athrill.close()
     return costs
@@ -171,6 +183,9 @@ def main(sim_seconds: float, tests: int, starts: int, real_tests: int, athrill2:
         value = program if isinstance(program, str) else ms(start_costs(program, starts))
         rows.append((f"(c) start per test, {label}" + ("" if isinstance(program, str) else f", {starts} starts"),
                      value))
+        if not isinstance(program, str) and program.forkable:  # how the bench starts it (athrill_sim.zygote)
+            rows.append((f"(c) start per test, {label}, forked from the zygote, {starts} starts",
+                         ms(start_costs(program, starts, forked=True))))
 
     real = list(kinds)[2]
     if isinstance(programs[real], str):
