@@ -127,21 +127,21 @@ def load_config(out_dir: Path) -> CampaignConfig:
 
 @dataclass
 class _OpenSet:
-    """A set being tested: its results so far by repetition, and the repetitions still out on benches."""
+    """A set being tested: its tests so far by repetition, and the repetitions still out on benches."""
 
     index: int
     x: tuple[float, ...]
-    results: dict[int, TestResult] = field(default_factory=dict)
     records: dict[int, TestRecord] = field(default_factory=dict)
     out: set[int] = field(default_factory=set)
 
-    def prefix(self) -> list[TestResult]:
-        """The results of repetitions 1, 2, ... up to the first missing one: what an uninterrupted run judges.
-        A gap is left by a kill while later repetitions of the set had already finished."""
-        done: list[TestResult] = []
-        while len(done) + 1 in self.results:
-            done.append(self.results[len(done) + 1])
-        return done
+
+def gap_free(by_rep: Mapping[int, TestRecord]) -> list[TestRecord]:
+    """The tests of repetitions 1, 2, ... up to the first missing one: what an uninterrupted run judges. A gap
+    is left by a kill while later repetitions of the set had already finished."""
+    done: list[TestRecord] = []
+    while len(done) + 1 in by_rep:
+        done.append(by_rep[len(done) + 1])
+    return done
 
 
 class Campaign:
@@ -234,7 +234,7 @@ class Campaign:
         for s in open_sets:
             for r in by_set.get(s.index, []):
                 if not r.result.bench_fault:
-                    s.results[r.rep], s.records[r.rep] = r.result, r
+                    s.records[r.rep] = r
             self._launch(s)
             if s.out:
                 live[s.index] = s
@@ -256,7 +256,7 @@ class Campaign:
                 continue
             self._faults_in_a_row = 0
             s.out.discard(spec.rep)
-            s.results[spec.rep], s.records[spec.rep] = result, record
+            s.records[spec.rep] = record
             if not s.out:
                 self._launch(s)
                 if not s.out:
@@ -265,9 +265,8 @@ class Campaign:
             self._report(len(journal.records), record)
 
     def _close(self, s: _OpenSet) -> None:
-        judged = s.prefix()
-        verdict = self.config.rule.judge(judged)
-        tests = tuple(s.records[r] for r in range(1, len(judged) + 1))
+        tests = tuple(gap_free(s.records))
+        verdict = self.config.rule.judge([r.result for r in tests])
         self._add(SetResult(s.index, self.config.phase(s.index), s.x, verdict, tests))
 
     def _add(self, *decided: SetResult) -> None:
@@ -278,11 +277,11 @@ class Campaign:
     def _launch(self, s: _OpenSet) -> None:
         """Submit as many further repetitions of `s` as the rule says every continuation needs, counting from
         the first missing one (those after it that finished before an interruption are not run again)."""
-        done = s.prefix()
-        needed = self.config.rule.still_needed(done)
+        done = gap_free(s.records)
+        needed = self.config.rule.still_needed([r.result for r in done])
         params = self._space.to_offsets(s.x)
         for rep in range(len(done) + 1, len(done) + 1 + needed):
-            if rep in s.results:
+            if rep in s.records:
                 continue
             s.out.add(rep)
             self.executor.submit(TestSpec(s.index, rep, params, noise_seed(self.config.seed, s.index, rep),
@@ -333,10 +332,7 @@ class Campaign:
         return by_set
 
     def _decided(self, records: list[TestRecord]) -> SetResult | None:
-        counted: list[TestRecord] = []
-        for r in records:  # sorted by repetition: the prefix without a gap, as in `_OpenSet.prefix`
-            if not r.result.bench_fault and r.rep == len(counted) + 1:
-                counted.append(r)
+        counted = gap_free({r.rep: r for r in records if not r.result.bench_fault})
         if not counted:
             return None
         verdict = self.config.rule.judge([r.result for r in counted])
