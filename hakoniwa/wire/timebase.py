@@ -52,9 +52,7 @@ class Scheduler:
         self._find_due()
 
     def _find_due(self) -> None:
-        tick = self.tick_us  # quantize(due_us()) of each stream, written out: this runs at every firing
-        self._due_us = min([-((-s.start_us - s.period_us * s.count) // tick) * tick for s in self.streams],
-                           default=self.now_us + tick)
+        self._due_us = min((self.quantize(s.due_us()) for s in self.streams), default=self.now_us + self.tick_us)
 
     def add(self, name: str, period_us: int, callback: Callable[[int], None]) -> Stream:
         if period_us <= 0:
@@ -80,8 +78,8 @@ class Scheduler:
         if time_us < self._due_us:  # on the tick, so before every stream's quantized due time: none is due
             return
         for stream in self.streams:
-            if time_us >= stream.start_us + stream.period_us * stream.count:  # due_us(); at most once a tick,
-                stream.count += 1  # like rcssserver's timer
+            if time_us >= stream.due_us():  # at most once a tick, like rcssserver's timer
+                stream.count += 1
                 stream.callback(time_us)
         self._find_due()
 
