@@ -223,7 +223,7 @@ def run_hakoniwa(server: SyncServer, proc: subprocess.Popen) -> None:
 
 
 def run_repeatable(server: SyncServer, proc: subprocess.Popen) -> None:
-    slots, sched = server.slots, server.scheduler
+    slots = server.slots
     stopped = slots.stopped_at_us
     check = watchdog(server, proc, slots.athrill_time_us, lambda: slots.athrill_time_us() > 0, emulator=True)
     applied = None  # the TX commands last applied: a command is applied (and draws its noise) once, when new
@@ -236,9 +236,8 @@ def run_repeatable(server: SyncServer, proc: subprocess.Popen) -> None:
             server.apply_actuators()
             applied = slots.command_words()  # after the reset requests it took were cleared
         reached = at - at % PHYSICS_STEP_US  # the step Athrill's clock is in: the snapshot it must read
-        while server.now_us < reached:
-            if server.advance_to(min(sched.next_tick(), reached)):
-                return
+        if server.advance_to(reached):  # through the ticks due on the way, as every step in between
+            return
         server.note_time_diff(at - server.now_us)  # how old the snapshot it reads is
         server.check_ceiling()
         server.publish_sensors()
