@@ -66,6 +66,7 @@ class StartOffset:
     dy_m: float
     dyaw_deg: float
 
+
 class _Normals:
     """One stream's standard normals, drawn from its generator in blocks and handed out in order.
 
@@ -154,4 +155,3 @@ class NoiseDraw:
                 f"gyro bias {self.gyro_bias_dps:+.3f} deg/s, motor gain {self.motor_gain[0]:.4f}/"
                 f"{self.motor_gain[1]:.4f}, start {s.dx_m * 1000:+.1f} mm, {s.dy_m * 1000:+.1f} mm, "
                 f"{s.dyaw_deg:+.2f} deg")
-
