@@ -12,7 +12,7 @@ The kind decides how time is kept (`SyncMode`): our own programs run in the dete
 emulator runs in the repeatable mode (athrill2 built with scripts/athrill-patches waits at each sync point)
 unless `--sync hakoniwa` asks for the unmodified protocol. The real emulator's packets travel over the mapped
 files (athrill2's MMAP transport) or, with `--transport udp`, over UDP as in ET Robocon's simulator (its
-`vdev_udp` device; `athrill_sim.vdev_udp`), which has the hakoniwa mode only. Everything here is checked before
+`vdev_udp` device; `hakoniwa.wire.vdev_udp`), which has the hakoniwa mode only. Everything here is checked before
 the first test, so a bad `--app` is one clear error instead of a campaign of crashed tests.
 """
 
@@ -31,9 +31,10 @@ from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.processes import die_with_parent
 from hakoniwa.wire.protocol import ATHRILL_FILE, UNITY_FILE, SyncMode
 from hakoniwa.wire.rundir import SDCARD_DIR
+from hakoniwa.wire.vdev_udp import UDP_DEVICE_CONFIG
 
 if TYPE_CHECKING:
-    from athrill_sim.vdev_udp import UdpLink
+    from hakoniwa.wire.vdev_udp import UdpLink
 
 PROJECT = Path(__file__).resolve().parents[1]
 NATIVE_DIR = Path(__file__).resolve().parent / "native"  # the bench's runtime and libraries, not the user's program
@@ -75,10 +76,9 @@ ATHRILL_DEVICE = [
 ]
 # Over UDP: the same configuration without the two mapped files (athrill2 then keeps its VDEV window in its
 # own memory and exchanges it as packets), under the names of ET Robocon's; the physics side writes the device
-# config once it holds its port (`athrill_sim.vdev_udp.UdpLink.device_config`).
+# config once it holds its port (`hakoniwa.wire.vdev_udp.UdpLink.device_config`).
 MMAP_ONLY_KEYS = ("DEBUG_FUNC_VDEV_MMAP_TX", "DEBUG_FUNC_VDEV_MMAP_RX", "DEBUG_FUNC_VDEV_SIMSYNC_TYPE")
 UDP_MEMORY_CONFIG = "memory.txt"
-UDP_DEVICE_CONFIG = "device_config.txt"
 
 
 class ProgramError(HakoError, ValueError):
@@ -209,7 +209,7 @@ def athrill_argv(exe: str, image: Path, udp: bool = False) -> tuple[str, ...]:
 def udp_link(transport: str | None, device_config: str | None) -> UdpLink | None:
     """The UDP link `--transport` and `--device-config` ask for (a device config alone means UDP), or None
     for the mapped files."""
-    from athrill_sim.vdev_udp import LinkError, bench_link, user_link
+    from hakoniwa.wire.vdev_udp import LinkError, bench_link, user_link
 
     if (transport or ("udp" if device_config else "mmap")) == "mmap":
         if device_config is not None:

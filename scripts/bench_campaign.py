@@ -38,7 +38,7 @@ from pathlib import Path
 
 import click
 
-from hakoniwa.physics.options import BenchOptions
+from testctl.bench_options import BenchOptions
 from testctl.campaign.journal import JOURNAL_FILE
 from testctl.campaign.loop import Campaign, CampaignConfig
 

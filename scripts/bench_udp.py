@@ -14,7 +14,7 @@ import click
 from bench_sim import REPO, trial_rate  # scripts/ is this script's folder
 
 from hakoniwa.conventions import HELP
-from hakoniwa.physics.options import BenchOptions
+from testctl.bench_options import BenchOptions
 
 TRACER = REPO / "athrill_sim" / "apps" / "line_trace.c"
 

@@ -25,7 +25,7 @@ from pathlib import Path
 import click
 import psutil
 
-from hakoniwa.physics.options import BenchOptions
+from testctl.bench_options import BenchOptions
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
 from testctl.campaign.loop import Campaign, load_config
 from testctl.campaign.validate import validate_best, validation_specs

@@ -113,7 +113,7 @@ def current_test_number(run_dir: Path) -> int:
 def test_a_killed_physics_process_is_named(tmp_path):
     proc = start_trial(tmp_path)
     wait_for_test(tmp_path / "run")
-    os.kill(pid_of("hakoniwa.physics.main", tmp_path / "run"), signal.SIGKILL)
+    os.kill(pid_of("testctl.physics_process", tmp_path / "run"), signal.SIGKILL)
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 128 + signal.SIGKILL
     assert "the physics process was killed by SIGKILL" in err and "Traceback" not in err
@@ -146,7 +146,7 @@ def test_ctrl_c_in_hako_trial_is_one_line_and_130(tmp_path, when):
     """Early: while the physics process is still starting (importing); mid-test: once test 1 runs."""
     proc = start_trial(tmp_path)
     if when == "early":
-        pid_of("hakoniwa.physics.main", tmp_path / "run")
+        pid_of("testctl.physics_process", tmp_path / "run")
     else:
         wait_for_test(tmp_path / "run")
     os.killpg(proc.pid, signal.SIGINT)  # what the terminal does on Ctrl-C

@@ -107,7 +107,7 @@ def test_the_papers_arrangement_gives_the_same_campaign(tmp_path):
     via_hako = tmp_path / "hako"
     assert hako("run", "--smoke", "--out", str(via_hako)).returncode == 0
     paper = tmp_path / "paper"
-    r = subprocess.run([sys.executable, "-m", "hakoniwa.physics.main", "--run-dir", str(tmp_path / "run"), "--",
+    r = subprocess.run([sys.executable, "-m", "testctl.physics_process", "--run-dir", str(tmp_path / "run"), "--",
                         sys.executable, "-m", "testctl.cli", "campaign", "--smoke", "--out", str(paper)],
                        capture_output=True, text=True, timeout=600)
     assert r.returncode == 0, r.stderr

@@ -143,7 +143,7 @@ def descendants(pid: int) -> list[int]:
 
 def is_physics(pid: int) -> bool:
     try:
-        return b"hakoniwa.physics.main" in Path(f"/proc/{pid}/cmdline").read_bytes()
+        return b"testctl.physics_process" in Path(f"/proc/{pid}/cmdline").read_bytes()
     except OSError:
         return False
 
@@ -164,7 +164,7 @@ def test_a_bench_killed_mid_campaign_is_rebuilt_and_its_test_rerun(tmp_path, loc
     assert essence(out) == essence(local_reference)
     # Every bench the campaign started, the rebuilt one too, ended with it (found by the environment tag:
     # once `hako run` is reaped its orphans would no longer be its descendants).
-    wait_until(lambda: tagged_processes(tag, b"hakoniwa.physics.main") == [], 30, 0.2, what="every bench to end")
+    wait_until(lambda: tagged_processes(tag, b"testctl.physics_process") == [], 30, 0.2, what="every bench to end")
 
 
 def journaled(out: Path, tests: int) -> bool:

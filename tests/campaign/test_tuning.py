@@ -306,5 +306,5 @@ def test_a_bench_that_was_not_told_the_bindings_refuses_them(tmp_path: Path) -> 
 
     controller = [sys.executable, "-m", "testctl.cli", "campaign", "--space", str(PROGRAMS / "define.toml"), "--smoke",
                   "--out", str(tmp_path / "out")]
-    r = run_module("hakoniwa.physics.main", "--run-dir", str(tmp_path / "run"), "--", *controller, timeout=300)
+    r = run_module("testctl.physics_process", "--run-dir", str(tmp_path / "run"), "--", *controller, timeout=300)
     assert r.returncode != 0 and "run the campaign with hako run" in r.stderr, r.stderr

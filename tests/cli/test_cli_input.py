@@ -34,7 +34,7 @@ def test_hako_trial_refuses_bad_values_before_running(args, words):
     (["--time-limit", "0"], ["--time-limit"]),
 ])
 def test_hakoniwa_physics_validates_at_start(tmp_path, args, words):
-    one_line_error(run("hakoniwa.physics.main", "--run-dir", str(tmp_path), *args), *words)
+    one_line_error(run("testctl.physics_process", "--run-dir", str(tmp_path), *args), *words)
     assert not (tmp_path / "unity_mmap.bin").exists()
 
 
@@ -50,7 +50,7 @@ def test_testctl_trial_refuses_non_finite_gains(tmp_path):
 
 
 @pytest.mark.parametrize("module, args", [
-    ("hakoniwa.cli", []), ("hakoniwa.cli", ["trial"]), ("hakoniwa.cli", ["run"]), ("hakoniwa.physics.main", []),
+    ("hakoniwa.cli", []), ("hakoniwa.cli", ["trial"]), ("hakoniwa.cli", ["run"]), ("testctl.physics_process", []),
     ("testctl.cli", []), ("testctl.cli", ["trial"]), ("testctl.cli", ["campaign"]), ("athrill_sim.main", []),
 ])
 def test_dash_h_is_help_everywhere(module, args):

@@ -11,12 +11,11 @@ from pathlib import Path
 
 import pytest
 
-from hakoniwa.physics.bench import load_bench
 from hakoniwa.physics.course import COURSES_DIR, CourseError, load_course
 from hakoniwa.physics.course_check import check_course
-from hakoniwa.physics.options import BenchOptions
 from hakoniwa.physics.robot import EV3_BODY, HACKSPI_BODY
 from hakoniwa.physics.scenario import ScenarioError
+from testctl.bench_options import BenchOptions, load_bench
 from tests.helpers.commands import one_line_error
 
 START = "[start]                        # the robot's axle centre; its color sensor sits on the line's outer edge\n" \

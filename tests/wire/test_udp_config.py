@@ -10,7 +10,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from athrill_sim.programs import ProgramError, resolve_program
-from athrill_sim.vdev_udp import (
+from hakoniwa.wire.vdev_udp import (
     PORT_RANGE,
     Endpoint,
     Hex,
