@@ -45,7 +45,7 @@ def main(draws: int, benches: int, time_limit: float, every: int) -> None:
     """Print the controller's RSS over a validation of --draws draws."""
     with tempfile.TemporaryDirectory(prefix="hako-valmem-") as tmp:
         out = Path(tmp) / "c"
-        subprocess.run([sys.executable, "-m", "hakoniwa.cli", "run", "--smoke", "--validate", "0", "--benches", "1",
+        subprocess.run([sys.executable, "-m", "testctl.hako", "run", "--smoke", "--validate", "0", "--benches", "1",
                         "--out", str(out)], check=True, stdout=subprocess.DEVNULL)
         header, _ = read_journal(out / JOURNAL_FILE)
         bench = dataclasses.replace(BenchOptions(**{k: v for k, v in header["bench"].items()

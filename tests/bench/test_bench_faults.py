@@ -133,7 +133,7 @@ def test_a_physics_process_killed_mid_campaign_is_counted_in_the_summary(tmp_pat
     """`hako run` on a Dask worker's bench: the kill is journaled as a bench fault, the test runs again on a
     fresh bench, and the summary line says so."""
     out, tag = tmp_path / "c", f"killed-physics-{os.getpid()}"
-    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--trials", "3", "--init-points", "2",
+    proc = subprocess.Popen([sys.executable, "-m", "testctl.hako", "run", "--trials", "3", "--init-points", "2",
                              "--repeats", "1", "--benches", "1", "--noise", "0", "--out", str(out)],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=tagged_env(tag))
     wait_until(lambda: (out / JOURNAL_FILE).exists() and len(read_journal(out / JOURNAL_FILE)[1]) >= 1, 300, 0.1,

@@ -75,7 +75,7 @@ def start_trial(tmp_path: Path, *extra: str) -> subprocess.Popen:
     apps.mkdir(exist_ok=True)
     (apps / "idle_app.py").write_text(IDLE_APP)
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(apps), os.environ.get("PYTHONPATH", "")]))
-    return subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "trial", "--app", "idle_app:main_task",
+    return subprocess.Popen([sys.executable, "-m", "testctl.hako", "trial", "--app", "idle_app:main_task",
                              "--time-limit", "3000", "--run-dir", str(tmp_path / "run"), *extra],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
                             start_new_session=True, preexec_fn=interruptible)
@@ -160,7 +160,7 @@ def test_ctrl_c_in_hako_trial_is_one_line_and_130(tmp_path, when):
                                                   (signal.SIGTERM, 143, "terminated")])
 def test_ctrl_c_or_sigterm_ends_a_campaign_with_the_resume_command(tmp_path, signum, status, word):
     out = tmp_path / "c"
-    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--trials", "20", "--repeats", "1",
+    proc = subprocess.Popen([sys.executable, "-m", "testctl.hako", "run", "--trials", "20", "--repeats", "1",
                              "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True, preexec_fn=interruptible)
     wait_until(lambda: (out / JOURNAL_FILE).exists() and len(read_journal(out / JOURNAL_FILE)[1]) >= 2, 300, 0.1,
@@ -182,7 +182,7 @@ def test_a_sigkilled_campaign_leaves_no_leaked_semaphore_warning(tmp_path):
     """The local workers' queues hold semaphores; multiprocessing's resource tracker, which outlives a
     SIGKILLed `hako run`, unlinks them, and says nothing about it."""
     out = tmp_path / "c"
-    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--trials", "20", "--repeats", "1",
+    proc = subprocess.Popen([sys.executable, "-m", "testctl.hako", "run", "--trials", "20", "--repeats", "1",
                              "--benches", "2", "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             text=True, start_new_session=True)
     deadline = time.monotonic() + 300

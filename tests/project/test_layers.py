@@ -19,7 +19,7 @@ OURS = ("hakoniwa", "athrill_sim", "testctl", "maze")
 # The packages of the bench, bottom to top, each with the packages below it that it may import. A module
 # belongs to the longest of these names it starts with.
 WIRE, CONVENTIONS, PHYSICS, ATHRILL, CONTROLLER, CLI = (
-    "hakoniwa.wire", "hakoniwa.conventions", "hakoniwa.physics", "athrill_sim", "testctl", "hakoniwa.cli")
+    "hakoniwa.wire", "hakoniwa.conventions", "hakoniwa.physics", "athrill_sim", "testctl", "testctl.hako")
 PACKAGES: dict[str, tuple[str, ...]] = {
     WIRE: (),  # the contract every process shares: stdlib only
     CONVENTIONS: (WIRE,),  # what every command line shares
@@ -135,7 +135,7 @@ def test_the_package_roots_import_nothing() -> None:
     """Importing a package must not drag in its layers (hakoniwa/__init__ would otherwise pull MuJoCo into
     a process that needs only the wire contract). One exception: `hakoniwa` pins the floating-point kernels
     (stdlib only), which must happen before anything imports numpy."""
-    for name in ("hakoniwa", "hakoniwa.physics", "hakoniwa.wire", "hakoniwa.cli", "testctl", "testctl.suite",
+    for name in ("hakoniwa", "hakoniwa.physics", "hakoniwa.wire", "testctl.hako", "testctl", "testctl.suite",
                  "testctl.search", "testctl.campaign", "athrill_sim"):
         path = modules()[name]
         allowed = ROOT_MAY_IMPORT.get(name)
@@ -152,23 +152,29 @@ def test_the_design_notes_draw_these_packages() -> None:
     assert drawn == list(PACKAGES)
 
 
-@pytest.mark.parametrize("source, expected", [
-    ("from hakoniwa.cli.main import main\n", ["hakoniwa.physics may not import hakoniwa.cli, a package above it"]),
-    ("import testctl.campaign.loop\n", ["hakoniwa.physics may not import testctl, a package above it"]),
-    ("from maze import model\n", ["maze stands apart"]),
-    ("from hakoniwa.wire.protocol import Rx\nfrom athrill_sim import programs\n",
+@pytest.mark.parametrize("module, source, expected", [
+    ("hakoniwa.physics.bad", "from testctl.hako.main import main\n",
+     ["hakoniwa.physics may not import testctl.hako, a package above it"]),
+    ("hakoniwa.physics.bad", "import testctl.campaign.loop\n",
+     ["hakoniwa.physics may not import testctl, a package above it"]),
+    ("hakoniwa.physics.bad", "from maze import model\n", ["maze stands apart"]),
+    ("hakoniwa.physics.bad", "from hakoniwa.wire.protocol import Rx\nfrom athrill_sim import programs\n",
      ["hakoniwa.physics may not import athrill_sim, a peer"]),
-    ("from hakoniwa.wire.protocol import Rx\nfrom hakoniwa.physics import world\n", []),
+    ("athrill_sim.bad", "from hakoniwa.physics.world import World\n",
+     ["athrill_sim may not import hakoniwa.physics, a peer"]),
+    ("testctl.campaign.bad", "from testctl.hako.main import main\n",
+     ["testctl may not import testctl.hako, a package above it"]),
+    ("testctl.hako.bad", "from hakoniwa.wire.protocol import Rx\nfrom testctl.campaign import loop\n", []),
 ])
-def test_the_checker_catches_an_upward_import(tmp_path: Path, monkeypatch, source: str, expected: list[str]) -> None:
-    """The checker itself: a physics module that imports upwards or its peer is reported (so the test above
-    can fail)."""
-    fake = tmp_path / "hakoniwa" / "physics" / "bad.py"
+def test_the_checker_catches_an_upward_import(tmp_path: Path, monkeypatch, module: str, source: str,
+                                              expected: list[str]) -> None:
+    """The checker itself: a module that imports upwards or its peer is reported (so the test above can fail)."""
+    fake = tmp_path.joinpath(*module.split(".")).with_suffix(".py")
     fake.parent.mkdir(parents=True)
     fake.write_text(source)
     real = modules()
-    monkeypatch.setattr(sys.modules[__name__], "modules", lambda: {**real, "hakoniwa.physics.bad": fake})
-    found = [v for v in violations() if v.startswith("hakoniwa.physics.bad:")]
+    monkeypatch.setattr(sys.modules[__name__], "modules", lambda: {**real, module: fake})
+    found = [v for v in violations() if v.startswith(f"{module}:")]
     assert len(found) == len(expected)
     for v, words in zip(found, expected):
         assert words in v

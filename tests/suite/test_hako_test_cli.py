@@ -105,7 +105,7 @@ def test_a_bench_killed_mid_run_is_exit_2_not_a_failed_case(tmp_path, benches):
     out = tmp_path / "out"
     tag = f"hako-test-kill-{benches}-{os.getpid()}-{time.monotonic_ns()}"
     env = tagged_env(tag, dict(os.environ, PYTHONPATH=os.pathsep.join([str(apps), os.environ.get("PYTHONPATH", "")])))
-    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "test", str(path), "--benches", benches, "--out",
+    proc = subprocess.Popen([sys.executable, "-m", "testctl.hako", "test", str(path), "--benches", benches, "--out",
                              str(out), "--junit", str(tmp_path / "out.xml")], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, env=env, start_new_session=True)
     try:
@@ -131,7 +131,7 @@ def test_sigterm_ends_hako_test_with_one_line_and_143(tmp_path):
                            'expect = ["not HIT_WALL"]\n')
     tag = f"hako-test-term-{os.getpid()}-{time.monotonic_ns()}"
     env = tagged_env(tag, dict(os.environ, PYTHONPATH=os.pathsep.join([str(apps), os.environ.get("PYTHONPATH", "")])))
-    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "test", str(path), "--benches", "1", "--out",
+    proc = subprocess.Popen([sys.executable, "-m", "testctl.hako", "test", str(path), "--benches", "1", "--out",
                              str(tmp_path / "out")], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             env=env, start_new_session=True)
     try:
