@@ -22,11 +22,13 @@ import struct
 from dataclasses import asdict, dataclass
 from fractions import Fraction
 
+from athrill_sim.kinds.kind import DATA_FILE, IMAGE, REBUILD
 from hakoniwa.conventions import FLOAT32_MAX
 from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.params import FLOAT_TYPES, INT_TYPES
 
 KINDS = ("define", "symbol", "file", "source")  # besides `offset`, which needs nothing of the physics side
+NEEDS = {"define": REBUILD, "symbol": IMAGE, "file": DATA_FILE, "source": REBUILD}  # of the program's kind
 SPACE_TYPES = ("float", "int", *FLOAT_TYPES, *INT_TYPES)  # what a space's `type` may say
 
 

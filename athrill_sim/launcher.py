@@ -16,7 +16,7 @@ import threading
 from pathlib import Path
 
 from athrill_sim.bindings import BindingError
-from athrill_sim.programs import MOCK_ARGV, Program
+from athrill_sim.program import MOCK_ARGV, Program
 from athrill_sim.zygote import ForkedProcess, Zygote
 from hakoniwa.wire.launch import ProgramRefused
 from hakoniwa.wire.output import CappedOutput

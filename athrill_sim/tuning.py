@@ -24,19 +24,23 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from athrill_sim.bindings import Binding, BindingError, fill_template, template_fields, typed_value, value_text
+from athrill_sim.bindings import (
+    NEEDS,
+    Binding,
+    BindingError,
+    fill_template,
+    template_fields,
+    typed_value,
+    value_text,
+)
 from athrill_sim.build_cache import CacheKey, cache_root, cached_build, cached_folder
 from athrill_sim.elf_symbols import Global, find_global, loaded_bytes, patched_copy
-from athrill_sim.programs import Program, ProgramError, Recipe
+from athrill_sim.kinds.kind import Recipe
+from athrill_sim.program import Program, ProgramError
 from hakoniwa.wire.params import CARRIER, FLOAT_TYPES, SLOT_FORMATS, int_range
 from hakoniwa.wire.protocol import MappedFile
 from hakoniwa.wire.rundir import SDCARD_DIR
 
-# A native build whose globals are set keeps what finding them needs: the debug information (types), the
-# link-time relocations (what reads them) and zero initial values in .data (which a file can hold; .bss is
-# zero-filled at start). None of the three changes the code the compiler makes.
-NATIVE_SYMBOL_FLAGS = ("-g", "-Wl,--emit-relocs", "-fno-zero-initialized-in-bss")
-IMAGE_SYMBOL_FLAGS = ("-fno-zero-initialized-in-bss",)  # EV3RT builds with -g already
 TEXT_SUFFIXES = (".c", ".h", ".cpp", ".hpp", ".cc", ".hh", ".cxx", ".inc", ".cfg")
 TUNED_IMAGE = "tuned-{key}.elf"  # a v850 image with a test's initial values, in the run directory
 _SUFFIX = {"float": re.compile(r"[0-9.]([fFlL])$"), "int": re.compile(r"[0-9]([uUlL]+)$")}
@@ -89,7 +93,7 @@ class Tuning:
         assert built.image is not None
         found = self._symbols(built.image)
         patch = {found[b.target].file_offset: _encode(found[b.target].storage, values[b.name]) for b in symbols}
-        if self.recipe.kind != "native":  # an image in the run directory, which keeps only the latest
+        if self.recipe.kind.image_in_run_dir:  # an image in the run directory, which keeps only the latest
             return built.with_image(self._patched(built, patch, run_dir))
         key = (built.image, tuple(sorted(patch.items())))
         if key not in self._variants:
@@ -137,13 +141,9 @@ class Tuning:
     # -- checks, before any test --------------------------------------------------------------------
     def check(self) -> Program:
         """Refuse what cannot work, with one line each; the program for the bindings' first values."""
-        kinds = {b.kind for b in self.bindings}
-        if self.recipe.kind == "python":
-            raise BindingError(f"{', '.join(sorted(kinds))} parameters reach C programs; a Python program reads "
-                               "its parameters at their offsets (offset = 540, ...)")
-        if self.recipe.kind == "elf" and kinds & {"define", "source"}:
-            raise BindingError("define and source parameters rebuild the program: give its sources (--app FOLDER "
-                               "--emulator athrill2), not a built image")
+        refused = {b.kind for b in self.bindings if not self.recipe.kind.takes(NEEDS[b.kind])}
+        if refused:
+            raise BindingError(self.recipe.kind.refusal(refused))
         for b in self.bindings:
             if b.kind in ("file", "source"):
                 self._inside(b, b.target)
@@ -194,7 +194,8 @@ class Tuning:
         sources = tuple((b.name, texts[b.name]) for b in self.bindings if b.kind == "source")
         key = ("build", defines, sources)
         if key not in self._variants:
-            flags = (*defines, *(self._symbol_flags() if any(b.kind == "symbol" for b in self.bindings) else ()))
+            flags = (*defines, *(self.recipe.kind.symbol_flags if any(b.kind == "symbol" for b in self.bindings)
+                                 else ()))
             path = self._rewritten(dict(sources)) if sources else self.recipe.path
             try:
                 self._variants[key] = self.recipe.make(path, flags)
@@ -203,16 +204,13 @@ class Tuning:
                 raise BindingError(f"the program built with {shown}: {e}") from None
         return self._variants[key]
 
-    def _symbol_flags(self) -> tuple[str, ...]:
-        return {"native": NATIVE_SYMBOL_FLAGS, "image": IMAGE_SYMBOL_FLAGS}.get(self.recipe.kind, ())
-
     def _symbols(self, image: Path) -> dict[str, Global]:
         """The globals of `image` the bindings name, checked: writable, read by the program, of a type the
         parameter's values fit."""
         if image not in self._globals:
             found = {}
             for b in (x for x in self.bindings if x.kind == "symbol"):
-                g = find_global(image, b.target, need_reads=self.recipe.kind == "native")
+                g = find_global(image, b.target, need_reads=self.recipe.kind.finds_reads)
                 found[b.target] = _with_storage(g, b)
             self._globals[image] = found
         return self._globals[image]
@@ -226,7 +224,7 @@ class Tuning:
         key.add("image", str(original).encode())
         for offset, raw in sorted(patch.items()):
             key.add(str(offset), raw)
-        if self.recipe.kind == "native":
+        if not self.recipe.kind.image_in_run_dir:
             def make(scratch: Path) -> None:
                 patched_copy(original, patch, scratch / original.name)
                 shutil.copymode(original, scratch / original.name)
@@ -385,7 +383,7 @@ def tune(recipe: Recipe, bindings: tuple[Binding, ...]) -> Program:
     """The program of `recipe` with `bindings`, checked before any test."""
     path = recipe.path
     root = (path if path.is_dir() else path.parent).resolve() if path is not None else Path.cwd()
-    files = program_files(recipe.kind, path) if path is not None else ()
+    files = recipe.kind.files(path) if path is not None else ()
     extra = [root / x for b in bindings for x in (b.target if b.kind in ("file", "source") else None,
                                                   b.template_file) if x is not None]
     everything = tuple(sorted({*files, *(f.resolve() for f in extra if f.is_file())}))
@@ -394,30 +392,6 @@ def tune(recipe: Recipe, bindings: tuple[Binding, ...]) -> Program:
     tuning.check()
     base = tuning.built({})
     return replace(base, files=tuple(sorted({*base.files, *everything})), tuning=tuning)
-
-
-def program_files(kind: str, path: Path) -> tuple[Path, ...]:
-    """The files a build of the program at `path` reads (for a scratch copy, and for the journal's hash):
-    the native build's and the v850 build's, whichever applies."""
-    if kind == "native":
-        from athrill_sim.native import NativeBuildError
-        from athrill_sim.native.workspace import MAKEFILE_INC, find_app
-
-        try:
-            app = find_app(path)
-        except NativeBuildError as e:
-            raise BindingError(str(e)) from None
-        make = [app.root / MAKEFILE_INC] if (app.root / MAKEFILE_INC).is_file() else []
-        return tuple(sorted({*app.hashed, *make, *app.sources}))
-    if kind == "image":
-        from athrill_sim.v850 import ImageError
-        from athrill_sim.v850.build import app_files
-
-        try:
-            return tuple(app_files(path)[1])
-        except ImageError as e:
-            raise BindingError(str(e)) from None
-    return (path.resolve(),)
 
 
 def apply_edits(text: str, edits: Iterable[tuple[int, int, str]]) -> str:

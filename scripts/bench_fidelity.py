@@ -32,7 +32,8 @@ from pathlib import Path
 import click
 
 from athrill_sim.launcher import AthrillLauncher
-from athrill_sim.programs import Program, ProgramError, resolve_program
+from athrill_sim.program import Program, ProgramError
+from athrill_sim.programs import resolve_program
 from hakoniwa.physics.course import load_course
 from hakoniwa.physics.server import PhysicsServer
 from hakoniwa.wire.timebase import US_PER_S

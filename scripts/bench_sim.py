@@ -28,7 +28,8 @@ from pathlib import Path
 import click
 import mujoco
 
-from athrill_sim.programs import MOCK_ARGV, Program, ProgramError, resolve_program
+from athrill_sim.program import MOCK_ARGV, Program, ProgramError
+from athrill_sim.programs import resolve_program
 from athrill_sim.zygote import Zygote
 from hakoniwa.physics.course import load_course
 from hakoniwa.physics.sync import HAKONIWA_START_US

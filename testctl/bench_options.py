@@ -18,13 +18,14 @@ from typing import TYPE_CHECKING
 
 import click
 
-from athrill_sim.programs import EMULATORS, REAL_SYNCS, REPEATABLE_DIR, TRANSPORTS
+from athrill_sim.athrill2 import REAL_SYNCS, REPEATABLE_DIR, TRANSPORTS
+from athrill_sim.kinds.kind import EMULATORS
 from hakoniwa.conventions import SECONDS, option_group
 from hakoniwa.wire.protocol import Objective
 from hakoniwa.wire.vdev_udp import UDP_DEVICE_CONFIG
 
 if TYPE_CHECKING:
-    from athrill_sim.programs import Program
+    from athrill_sim.program import Program
     from hakoniwa.physics.course import Course
     from hakoniwa.physics.robots import Robot
     from hakoniwa.physics.scenario import Scenario

@@ -465,7 +465,7 @@ def campaign_benches(bench: BenchOptions, wave: int) -> int:
     Raises:
         ProgramError: --app names nothing that can run.
     """
-    from athrill_sim.programs import udp_link
+    from athrill_sim.athrill2 import udp_link
     from hakoniwa.wire.protocol import SyncMode
 
     link = udp_link(bench.transport, bench.device_config)

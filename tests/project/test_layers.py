@@ -112,6 +112,59 @@ def test_no_module_imports_a_package_above_its_own_or_a_peer() -> None:
     assert violations() == []
 
 
+def module_imports() -> dict[str, set[str]]:
+    """{module: the modules of ours it imports}: `from pkg import name` is pkg.name where that is a module."""
+    found = modules()
+
+    def module(target: str) -> str:
+        while target and target not in found:
+            target = target.rpartition(".")[0]
+        return target
+
+    return {name: {module(t) for _, t in imports(name, path) if is_ours(t)} - {name, ""}
+            for name, path in found.items()}
+
+
+def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The groups of modules that import each other, each sorted (Tarjan's strongly connected components)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    out: list[list[str]] = []
+
+    def visit(v: str) -> None:
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        for w in sorted(graph.get(v, ())):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            group = []
+            while not group or group[-1] != v:
+                group.append(stack.pop())
+            if len(group) > 1:
+                out.append(sorted(group))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return out
+
+
+def test_no_modules_import_each_other() -> None:
+    """No circle of imports, lazy ones included: a module that needs another's names and is needed by it
+    is one module, or two that share a third below them."""
+    assert cycles(module_imports()) == []
+
+
+def test_the_cycle_finder_finds_a_circle() -> None:
+    assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
+    assert cycles({"a": {"b"}, "b": set()}) == []
+
+
 def test_the_wire_package_needs_only_the_standard_library() -> None:
     bad = []
     for name, path in modules().items():
@@ -136,7 +189,7 @@ def test_the_package_roots_import_nothing() -> None:
     a process that needs only the wire contract). One exception: `hakoniwa` pins the floating-point kernels
     (stdlib only), which must happen before anything imports numpy."""
     for name in ("hakoniwa", "hakoniwa.physics", "hakoniwa.wire", "testctl.hako", "testctl", "testctl.suite",
-                 "testctl.search", "testctl.campaign", "athrill_sim"):
+                 "testctl.search", "testctl.campaign", "athrill_sim", "athrill_sim.kinds"):
         path = modules()[name]
         allowed = ROOT_MAY_IMPORT.get(name)
         found = [t for _, t in imports(name, path) if is_ours(t)]
