@@ -15,7 +15,7 @@ import subprocess
 import threading
 from pathlib import Path
 
-from athrill_sim.bindings import BindingError
+from athrill_sim.forms.form import BindingError
 from athrill_sim.program import MOCK_ARGV, Program
 from athrill_sim.zygote import ForkedProcess, Zygote
 from hakoniwa.wire.launch import ProgramRefused

@@ -33,7 +33,8 @@ def resolve_program(spec: str, *, athrill2: str | None = None, emulator: str | N
     recipe = program_recipe(spec, athrill2=athrill2, emulator=emulator, sync=sync, transport=transport,
                             device_config=device_config)
     if bindings:
-        from athrill_sim.bindings import BindingError, from_json
+        from athrill_sim.bindings import from_json
+        from athrill_sim.forms.form import BindingError
         from athrill_sim.tuning import tune
 
         try:

@@ -27,7 +27,7 @@ class ImageKind(ProgramKind):
                       real.sync)
 
     def files(self, path: Path) -> tuple[Path, ...]:
-        from athrill_sim.bindings import BindingError
+        from athrill_sim.forms.form import BindingError
         from athrill_sim.v850 import ImageError
         from athrill_sim.v850.build import app_files
 

@@ -19,7 +19,7 @@ from hakoniwa.wire.protocol import SyncMode
 from hakoniwa.wire.vdev_udp import UdpLink
 
 EMULATORS = ("native", "athrill2")  # what a C program runs on: compiled for this machine, or the real emulator
-# What a parameter form needs of a program (`athrill_sim.bindings.NEEDS`), and so of its kind:
+# What a parameter form needs of a program (`athrill_sim.forms.form.Form.needs`), and so of its kind:
 REBUILD = "rebuild"  # its value is built in: the program is rebuilt from its sources for each value
 IMAGE = "image"  # its value is set in the program's image (a global's initial value)
 DATA_FILE = "data file"  # its value is written into a data file the program reads on its SD card

@@ -30,7 +30,7 @@ class NativeKind(ProgramKind):
         return Recipe(self, app.c_source, lambda source, flags: native_program(given(source), flags))
 
     def files(self, path: Path) -> tuple[Path, ...]:
-        from athrill_sim.bindings import BindingError
+        from athrill_sim.forms.form import BindingError
         from athrill_sim.native import NativeBuildError
         from athrill_sim.native.workspace import MAKEFILE_INC, find_app
 
