@@ -40,6 +40,8 @@ from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
 from hakoniwa.physics.scenario import Scenario
 from hakoniwa.physics.slots import Report, Slots
 from hakoniwa.physics.sync import SYNC_LOOPS, AthrillCrash, snapshot_end_us, unity_time_us
+from hakoniwa.physics.task import TASKS
+from hakoniwa.physics.world import World
 from hakoniwa.wire.launch import Launcher, ProgramRefused
 from hakoniwa.wire.processes import kill
 from hakoniwa.wire.protocol import BenchCause, CrashKind, Event, Objective
@@ -70,13 +72,14 @@ class PhysicsServer:
     def __init__(self, run_dir: Path, course: Course, launcher: Launcher, *, athrill_timeout_s: float,
                  time_limit_us: int, robot: Robot = DEFAULT_ROBOT, scenario: Scenario = Scenario(),
                  objective: Objective = Objective.LAP) -> None:
-        """The server owns `launcher` from here on: it closes it when it stops serving."""
+        """The server owns `launcher` from here on: it closes it when it stops serving. `objective` picks the
+        task that scores each test (`task.TASKS`)."""
         self.run_dir = Path(run_dir)
         self.course = course
         self.launcher = launcher
         self.athrill_timeout_s = athrill_timeout_s
-        self.objective = objective
-        self.env = Environment(course, time_limit_us, robot, scenario, objective)
+        self.env = Environment(World(course, robot.body, imu=robot.spike), TASKS[objective](course, time_limit_us),
+                               robot, scenario)
         (self.run_dir / SERIAL_INPUT).write_text(scenario.serial_lines())
         self.slots = Slots(self.run_dir)
         self._log = open(self.run_dir / PHYSICS_LOG, "a")
@@ -163,7 +166,7 @@ class PhysicsServer:
         noise = self._read_noise()
         self.env.begin(noise)
         self._max_diff_us = 0
-        self.answer_before_start = self.slots.begin(self.launcher.sync, self.course.info, self.objective)
+        self.answer_before_start = self.slots.begin(self.launcher.sync, self.course.info, self.env.task.objective)
         self.publish_sensors()
         # before the announcement: a waiting Athrill reads its files after it
         crash = damaged or self._prepare_program()
@@ -203,7 +206,7 @@ class PhysicsServer:
         env = self.env
         if crash is not None:
             env.end(Event.CRASH)
-        report = Report(env.event, env.event_us, env.task.passed, env.task.distance_mm, self._max_diff_us,
+        report = Report(env.event, env.event_us, len(env.task.passed_us), env.task.distance_mm, self._max_diff_us,
                         crash.kind if crash else CrashKind.NONE, crash.detail if crash else 0, env.completed_us,
                         crash.cause if crash else BenchCause.NONE)
         outcome = TestOutcome(seq, report, time.monotonic() - wall_start)

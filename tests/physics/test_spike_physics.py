@@ -14,6 +14,8 @@ from hakoniwa.physics.robots import BUILT_IN, DEFAULT_ROBOT, RobotError, parse_r
 from hakoniwa.physics.scenario import ScenarioError, parse_scenario
 from hakoniwa.physics.sensors import hsv_of
 from hakoniwa.physics.slots import Slots
+from hakoniwa.physics.task import LapTask
+from hakoniwa.physics.world import World
 from hakoniwa.wire.protocol import UNITY_FILE
 from testctl.bench_options import BenchOptions, load_bench
 from tests.helpers.commands import hako, one_line_error
@@ -26,7 +28,8 @@ def env_for(robot_name: str, scenario: str = "") -> Environment:
     course = load_course("oval")
     if robot.wiring is not None:
         course = dataclasses.replace(course, wiring=robot.wiring)
-    env = Environment(course, course.time_limit_us, robot, parse_scenario(scenario))
+    env = Environment(World(course, robot.body, imu=robot.spike), LapTask(course, course.time_limit_us), robot,
+                      parse_scenario(scenario))
     env.begin(None)
     return env
 
