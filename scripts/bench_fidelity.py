@@ -36,10 +36,10 @@ from athrill_sim.program import Program, ProgramError
 from athrill_sim.programs import resolve_program
 from hakoniwa.physics.course import load_course
 from hakoniwa.physics.server import PhysicsServer
+from hakoniwa.wire.result import TestResult
 from hakoniwa.wire.timebase import US_PER_S
 from testctl.bench_options import BenchOptions, load_bench
 from testctl.paper import BEST_GAINS, GAIN_RANGE, line_trace_params
-from testctl.result import TestResult
 from testctl.runner import TrialRunner
 
 REPO = Path(__file__).resolve().parents[1]

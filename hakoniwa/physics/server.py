@@ -27,7 +27,6 @@ import math
 import subprocess
 import threading
 import time
-from dataclasses import dataclass
 from pathlib import Path
 
 from hakoniwa.physics.course import Course
@@ -38,13 +37,14 @@ from hakoniwa.physics.relay import open_transport
 from hakoniwa.physics.replay import REPLAY_FILE, write_replay
 from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
 from hakoniwa.physics.scenario import Scenario
-from hakoniwa.physics.slots import Report, Slots
+from hakoniwa.physics.slots import Slots
 from hakoniwa.physics.sync import SYNC_LOOPS, AthrillCrash, snapshot_end_us, unity_time_us
 from hakoniwa.physics.task import TASKS
 from hakoniwa.physics.world import World
 from hakoniwa.wire.launch import Launcher, ProgramRefused
 from hakoniwa.wire.processes import kill
 from hakoniwa.wire.protocol import BenchCause, CrashKind, Event, Objective
+from hakoniwa.wire.result import TestResult
 from hakoniwa.wire.rundir import PHYSICS_LOG, PROGRAM_OUTPUT_FILE, SERIAL_INPUT, TRAJECTORY_FILE
 from hakoniwa.wire.timebase import Scheduler
 from hakoniwa.wire.wallclock import WallCeiling
@@ -55,17 +55,6 @@ PROGRAM_OUTPUT_LINES = 6  # of a crashed program's output, for the user: a trace
 
 class ControllerGone(Exception):
     """The controller died during a test."""
-
-
-@dataclass(frozen=True)
-class TestOutcome:
-    """What the physics process reports for one test (the controller reads the same through the files)."""
-
-    __test__ = False  # not a pytest class
-
-    seq: int
-    report: Report
-    wall_s: float
 
 
 class PhysicsServer:
@@ -184,7 +173,10 @@ class PhysicsServer:
             return AthrillCrash(CrashKind.BENCH, 0, str(e), BenchCause.ATHRILL_FAILED)
         return None
 
-    def run_test(self) -> TestOutcome:
+    def run_test(self) -> TestResult:
+        """One test, from the start flag to its report; its result (the controller reads the same through the
+        files, but for `wall_s`, which it measures itself, and `program_output`, which it reads from the run
+        directory)."""
         wall_start = time.monotonic()
         seq = self.tests_run + 1
         noise, crash = self._start_test(seq)
@@ -206,27 +198,28 @@ class PhysicsServer:
         env = self.env
         if crash is not None:
             env.end(Event.CRASH)
-        report = Report(env.event, env.event_us, len(env.task.passed_us), env.task.distance_mm, self._max_diff_us,
-                        crash.kind if crash else CrashKind.NONE, crash.detail if crash else 0, env.completed_us,
-                        crash.cause if crash else BenchCause.NONE)
-        outcome = TestOutcome(seq, report, time.monotonic() - wall_start)
+        result = TestResult(env.event, env.event_us if env.event == Event.GOAL else 0, time.monotonic() - wall_start,
+                            len(env.task.passed_us), env.task.distance_mm, self._max_diff_us, self.launcher.sync,
+                            crash.kind if crash else CrashKind.NONE, crash.detail if crash else 0,
+                            completed_time_us=env.completed_us or 0, objective=env.task.objective,
+                            bench_cause=crash.cause if crash else BenchCause.NONE)
         draw_screen(self.run_dir)  # before the report: whoever sees the event sees the screen
         if crash is not None and crash.kind == CrashKind.PROGRAM and proc is not None and proc.poll() is not None:
             self._write_program_output(self.launcher.last_lines(proc, PROGRAM_OUTPUT_LINES))
         self._write_trajectory()  # before the report too: whoever sees the event reads this test's files
         write_replay(self.run_dir / REPLAY_FILE, self.env.replay())
-        self.slots.report(report)
+        self.slots.report(result)
         self.tests_run += 1
         why = f" ({crash.kind.name.lower()}: {crash})" if crash else ""
         if noise is not None:
             self._log.write(f"test {seq}: {noise.describe()}\n")
-        self._log.write(f"test {seq}: {report.event.name}{why} at {report.time_us} us, "
-                        f"{report.checkpoints} checkpoints, {report.distance_mm} mm, "
-                        f"max time diff {report.max_time_diff_us} us, wall {outcome.wall_s:.3f} s"
-                        + ("" if report.completed_us is None else f", completed at {report.completed_us} us")
+        self._log.write(f"test {seq}: {result.event.name}{why} at {env.event_us} us, "
+                        f"{result.checkpoints} checkpoints, {result.distance_mm} mm, "
+                        f"max time diff {result.max_time_diff_us} us, wall {result.wall_s:.3f} s"
+                        + ("" if env.completed_us is None else f", completed at {env.completed_us} us")
                         + "\n")
         self._log.flush()
-        return outcome
+        return result
 
     def _replace_file(self, name: str, text: str) -> None:
         """Written beside and renamed into place: whoever reads the run directory sees a whole file or none."""

@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 
 from hakoniwa.wire.protocol import ATHRILL_FILE, UNITY_FILE, BenchCause, CrashKind, Event, Tx
+from hakoniwa.wire.result import TestResult
 from hakoniwa.wire.rundir import PHYSICS_LOG
 from testctl.bench import Bench
 from testctl.bench_options import BenchOptions
@@ -21,7 +22,6 @@ from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journa
 from testctl.campaign.loop import Campaign, CampaignConfig
 from testctl.campaign.report import format_summary
 from testctl.executor import TestSpec
-from testctl.result import TestResult
 from tests.helpers.bench_fixtures import PAPER, ZERO, physics
 from tests.helpers.campaign_doubles import result
 from tests.helpers.processes import tagged_env, tagged_processes

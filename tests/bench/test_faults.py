@@ -70,15 +70,20 @@ def test_an_overwritten_magic_is_repaired_not_scored(tmp_path, victim):
     assert f"repaired {tmp_path / victim}: " in (tmp_path / PHYSICS_LOG).read_text()
 
 
-def start_trial(tmp_path: Path, *extra: str) -> subprocess.Popen:
+def start_idle(tmp_path: Path, command: tuple[str, ...], *extra: str) -> subprocess.Popen:
+    """`python -m COMMAND` running the idle program on the run directory tmp_path/run, then `extra`."""
     apps = tmp_path / "apps"
     apps.mkdir(exist_ok=True)
     (apps / "idle_app.py").write_text(IDLE_APP)
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(apps), os.environ.get("PYTHONPATH", "")]))
-    return subprocess.Popen([sys.executable, "-m", "testctl.hako", "trial", "--app", "idle_app:main_task",
-                             "--time-limit", "3000", "--run-dir", str(tmp_path / "run"), *extra],
+    return subprocess.Popen([sys.executable, "-m", *command, "--app", "idle_app:main_task", "--time-limit", "3000",
+                             "--run-dir", str(tmp_path / "run"), *extra],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
                             start_new_session=True, preexec_fn=interruptible)
+
+
+def start_trial(tmp_path: Path) -> subprocess.Popen:
+    return start_idle(tmp_path, ("testctl.hako", "trial"))
 
 
 def pid_of(module: str, run_dir: Path, timeout_s: float = 60) -> int:
@@ -120,7 +125,10 @@ def test_a_killed_physics_process_is_named(tmp_path):
 
 
 def test_a_killed_controller_is_named(tmp_path):
-    proc = start_trial(tmp_path)
+    """In the paper's arrangement, where the physics process starts the controller given after `--`."""
+    controller_args = ("--kp", "1", "--ki", "0", "--kd", "0", "--out", str(tmp_path / "run" / "result.json"))
+    proc = start_idle(tmp_path, ("testctl.physics_process",), "--", sys.executable, "-m", "testctl.cli", "trial",
+                      *controller_args)
     wait_for_test(tmp_path / "run")
     controller = pid_of("testctl.cli", tmp_path / "run")
     os.kill(controller, signal.SIGKILL)
