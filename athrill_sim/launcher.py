@@ -1,4 +1,5 @@
-"""A fresh Athrill process for every test (that is how the paper re-initializes the robot program).
+"""A fresh Athrill process for every test (that is how the paper re-initializes the robot program): the
+program side of `hakoniwa.wire.launch.Launcher`, which the physics server is given.
 
 Starting a Python process costs 0.1-0.3 s, a third of a whole test, so a program that allows it is started
 one test ahead: when test N starts, the process for N+1 is launched too, imports everything, and waits
@@ -14,10 +15,15 @@ import subprocess
 import threading
 from pathlib import Path
 
-from athrill_sim.programs import MOCK_ARGV, Program
+from athrill_sim.forms.form import BindingError
+from athrill_sim.program import MOCK_ARGV, Program
 from athrill_sim.zygote import ForkedProcess, Zygote
+from hakoniwa.wire.launch import ProgramRefused
 from hakoniwa.wire.output import CappedOutput
+from hakoniwa.wire.processes import kill
+from hakoniwa.wire.protocol import MappedFile, SyncMode
 from hakoniwa.wire.rundir import ATHRILL_LOG
+from hakoniwa.wire.vdev_udp import UdpLink
 
 
 class AthrillLauncher:
@@ -31,7 +37,31 @@ class AthrillLauncher:
         self._zygote: Zygote | None = None  # started by the first test of a program it can fork
         self._forks = True  # until the zygote fails once
         self._taken: int | None = None  # the pid of the process running the current test
+        self._prepared = program  # what the current test runs (`prepare`)
         program.prepare(run_dir)
+
+    @property
+    def sync(self) -> SyncMode:
+        return self.program.sync
+
+    @property
+    def udp(self) -> UdpLink | None:
+        return self.program.udp
+
+    def prepare(self, unity: MappedFile) -> None:
+        """The program this test's parameter values make (the program itself unless it is tuned by forms
+        other than `offset`), with its data files written. A value the program does not build with is the
+        program's failure; a file that cannot be written, the bench's."""
+        tuning = self.program.tuning
+        if tuning is None:
+            return
+        values = tuning.values(unity)
+        try:
+            self._prepared = tuning.for_test(self.run_dir, values)
+        except BindingError as e:
+            raise ProgramRefused(str(e)) from None
+        except OSError as e:
+            raise OSError(f"cannot prepare the program for {values}: {e}") from e
 
     def _spawn(self, seq: int, program: Program) -> subprocess.Popen:
         proc = (program.forkable and self._fork(seq, program)) or program.spawn(self.run_dir, seq, subprocess.PIPE)
@@ -65,10 +95,10 @@ class AthrillLauncher:
         return out.last_lines(n) if out is not None else []
 
     def take(self, seq: int, program: Program | None = None) -> subprocess.Popen:
-        """The process for test `seq` (OSError if it cannot be started), running `program` (a variant of the
-        launcher's, made for this test's parameter values: `athrill_sim.tuning`). The process launched ahead
-        runs the variant of the test before: a test with other values discards it."""
-        program = program or self.program
+        """The process for test `seq` (OSError if it cannot be started), running `program` (by default what
+        `prepare` made: a variant of the launcher's for this test's parameter values, `athrill_sim.tuning`).
+        The process launched ahead runs the variant of the test before: a test with other values discards it."""
+        program = program or self._prepared
         proc = None
         if self._spare is not None:
             spare_seq, spare_program, spare = self._spare
@@ -96,9 +126,3 @@ class AthrillLauncher:
         for out in self._outputs.values():
             out.join()
         self._log.close()
-
-
-def kill(proc: subprocess.Popen) -> None:
-    if proc.poll() is None:
-        proc.kill()
-    proc.wait()

@@ -1,5 +1,6 @@
 """A bench as a controller sees it: one physics process serving one run directory, with the Athrill it
-starts for every test. Started on demand, restarted when it dies or spoils a test, closed with end = 1."""
+starts for every test. Started on demand, restarted when it dies or spoils a test, closed with end = 1. A
+campaign's workers, its own picture bench, `hako test` and `hako trial` all test on one."""
 
 from __future__ import annotations
 
@@ -7,20 +8,23 @@ import subprocess
 import time
 from pathlib import Path
 
-from hakoniwa.physics.options import BenchOptions
 from hakoniwa.wire.processes import die_with_parent
 from hakoniwa.wire.protocol import BenchCause, CrashKind, Event
+from hakoniwa.wire.result import TestResult
 from hakoniwa.wire.rundir import diagnose
+from testctl.bench_options import BenchOptions
 from testctl.executor import TestSpec
-from testctl.result import TestResult
 from testctl.runner import PhysicsGone, TrialRunner
 
 
 class Bench:
-    def __init__(self, options: BenchOptions, run_dir: Path, *, log=None) -> None:
+    def __init__(self, options: BenchOptions, run_dir: Path, *, log=None, physics_args: tuple[str, ...] = ()) -> None:
+        """`physics_args`: options of the physics process alone, which are not the bench's (`--view`)."""
         self.options = options
         self.run_dir = Path(run_dir)
         self.log = log  # where the physics process's own messages go (default: inherited)
+        self.physics_args = physics_args
+        self.exit_status: int | None = None  # how the last physics process ended, once one has
         self._proc: subprocess.Popen | None = None
         self._runner: TrialRunner | None = None
 
@@ -30,7 +34,9 @@ class Bench:
             # A session of its own: a Ctrl-C meant for the campaign must not reach a physics process that the
             # campaign's own bench is starting for a picture (it would die in its imports with a traceback);
             # the bench's owner stops it, and it dies with its parent.
-            self._proc = subprocess.Popen(self.options.physics_command(self.run_dir, []), stdout=self.log,
+            self.exit_status = None
+            self._proc = subprocess.Popen(self.options.physics_command(self.run_dir, [], self.physics_args),
+                                          stdout=self.log,
                                           stderr=self.log, stdin=subprocess.DEVNULL, start_new_session=True,
                                           preexec_fn=die_with_parent)
             try:
@@ -76,7 +82,15 @@ class Bench:
             except subprocess.TimeoutExpired:
                 self._proc.kill()
                 self._proc.wait()
+            self.exit_status = self._proc.returncode
             self._proc = None
+
+    def stop(self) -> None:
+        """End the physics process now, mid-test or still starting (its Athrill dies with it), as a user's
+        Ctrl-C does: it dies of SIGTERM quietly, with no test to finish."""
+        if self._proc is not None and self._proc.poll() is None:
+            self._proc.terminate()
+        self.close()
 
     def __enter__(self) -> Bench:
         return self

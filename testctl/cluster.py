@@ -32,11 +32,11 @@ from dask.typing import Key
 from distributed import Client, Future, LocalCluster, get_worker
 from distributed.diagnostics.plugin import WorkerPlugin
 
-from hakoniwa.physics.options import BenchOptions
 from hakoniwa.wire.errors import HakoError
+from hakoniwa.wire.result import TestResult
 from testctl.bench import Bench
+from testctl.bench_options import BenchOptions
 from testctl.executor import Executor, TestSpec
-from testctl.result import TestResult
 
 PLUGIN_NAME = "hakoniwa-bench"
 RETRIES = 2  # a campaign's test whose bench died is run again this many times before it gives up

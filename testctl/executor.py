@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from itertools import islice
 
 from hakoniwa.wire.errors import HakoError
-from testctl.result import TestResult
+from hakoniwa.wire.result import TestResult
 
 WINDOW_PER_BENCH = 2  # tests handed to the executor per bench ahead of their results: none waits for work
 

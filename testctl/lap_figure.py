@@ -10,8 +10,8 @@ from pathlib import Path
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
+from hakoniwa.wire.result import TestResult
 from testctl.lapstats import LapStats
-from testctl.result import TestResult
 
 
 def plot_lap_distribution(path: Path, results: Sequence[TestResult], title: str,

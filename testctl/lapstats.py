@@ -12,7 +12,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from testctl.result import TestResult
+from hakoniwa.wire.result import TestResult
 
 REPORTED_PERCENTILES = (50, 90)
 

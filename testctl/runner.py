@@ -32,9 +32,9 @@ from hakoniwa.wire.protocol import (
     poll_athrill,
     poll_unity,
 )
+from hakoniwa.wire.result import TestResult
 from hakoniwa.wire.rundir import PROGRAM_OUTPUT_FILE
 from hakoniwa.wire.waiting import pid_alive, wait_for
-from testctl.result import TestResult
 
 POLL_S = 0.002  # a test takes about a second; a 2 ms nap costs nothing and leaves the CPU to the bench
 

@@ -1,7 +1,8 @@
-"""One test as the robot experiences it, with no files and no processes: the world, the lap task, the sensor
-and actuator model, and the physics clock with what is due on it (event checks, trajectory samples).
+"""One test as the robot experiences it, with no files and no processes: the world, the task, the sensor and
+actuator model, and the physics clock with what is due on it (event checks, trajectory samples).
 
-This is dm_control's environment: `World` is the physics, `LapTask` the task, and this class steps them
+This is dm_control's environment: `World` is the physics and the task (`task.Task`, the lap or another
+objective) is given to it as an argument, as dm_control's `Environment(physics, task)`; this class steps them
 together. The physics server (`server.py`) is a thin shell around it that moves its inputs and outputs
 through the mapped files; a test of the physics alone can drive it directly.
 """
@@ -16,24 +17,23 @@ from hakoniwa.physics.replay import Replay, RobotLook, State
 from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
 from hakoniwa.physics.scenario import Scenario
 from hakoniwa.physics.sensors import SensorModel, Sensors
-from hakoniwa.physics.task import LapTask
+from hakoniwa.physics.task import Task
 from hakoniwa.physics.world import World
-from hakoniwa.wire.protocol import Event, Objective
+from hakoniwa.wire.protocol import Event
 from hakoniwa.wire.timebase import EVENT_CHECK_PERIOD_US, PHYSICS_STEP_US, TRACE_PERIOD_US, Scheduler
 
 Pose = tuple[int, float, float, float]  # time [us], x, y [m], yaw [rad]
 
 
 class Environment:
-    def __init__(self, course: Course, time_limit_us: int, robot: Robot = DEFAULT_ROBOT,
-                 scenario: Scenario = Scenario(), objective: Objective = Objective.LAP) -> None:
-        self.course = course
+    def __init__(self, world: World, task: Task, robot: Robot = DEFAULT_ROBOT,
+                 scenario: Scenario = Scenario()) -> None:
+        """`world` holds `robot`'s body on its course; `task` scores the tests on that course."""
+        self.course: Course = world.course
         self.robot = robot
-        self.objective = objective
-        self.world = World(course, robot.body, imu=robot.spike)
-        # Under the completed objective the goal line is one more checkpoint: the program's notice ends the run.
-        self.task = LapTask(course, time_limit_us, ends_at_goal=objective == Objective.LAP)
-        self.sensors = SensorModel(course, robot, scenario)
+        self.world = world
+        self.task = task
+        self.sensors = SensorModel(self.course, robot, scenario)
         self.scheduler = Scheduler(PHYSICS_STEP_US)
         self.scheduler.add("event-check", EVENT_CHECK_PERIOD_US, self._check_events)
         self.scheduler.add("trace", TRACE_PERIOD_US, self._trace)
@@ -81,8 +81,8 @@ class Environment:
         self.event, self.event_us = event, self.now_us
 
     def complete(self) -> None:
-        """The program said its run is over (ET Robocon's completion notice), now: the next event check ends
-        the test as COMPLETED, unless the lap task raises its own event at that very check."""
+        """The program said its run is over (ET Robocon's completion notice), now: the task hears it at the
+        next event check (which ends the test as COMPLETED, unless the task raises its own event then)."""
         if self.completed_us is None:
             self.completed_us = self.now_us
 
@@ -100,9 +100,7 @@ class Environment:
 
     def _check_events(self, now_us: int) -> None:
         if self.event == Event.NONE:
-            self.event = self.task.check(self.world, now_us)
-            if self.event == Event.NONE and self.completed_us is not None:
-                self.event = Event.COMPLETED
+            self.event = self.task.check(self.world, now_us, completed=self.completed_us is not None)
             self.event_us = now_us
 
     def _trace(self, now_us: int) -> None:
@@ -117,6 +115,6 @@ class Environment:
         r = self.robot
         look = RobotLook(r.name, r.hub, r.body, tuple(k for _, k in r.sensors))
         return Replay(str(self.course.folder.resolve()), look,
-                      self.objective.name.lower(), len(self.course.checkpoints), self.event.name, self.event_us,
+                      self.task.objective.name.lower(), len(self.course.checkpoints), self.event.name, self.event_us,
                       tuple(self.task.passed_us), self.completed_us, tuple(t for t, _ in states),
                       tuple(s for _, s in states))

@@ -19,8 +19,6 @@ from hakoniwa.wire.protocol import (
     ETROBOC_EXT,
     HEADER_SIZE,
     MOTOR_PORTS,
-    BenchCause,
-    CrashKind,
     Event,
     Header,
     MappedFile,
@@ -32,6 +30,7 @@ from hakoniwa.wire.protocol import (
     open_athrill,
     open_unity,
 )
+from hakoniwa.wire.result import TestResult
 from hakoniwa.wire.waiting import futex_wake
 
 ACTUATORS_END = Tx.GYRO_RESET + 4  # TX body bytes a test starts with cleared
@@ -42,21 +41,6 @@ OUR_EXT = (Rx.TEST_SEQ, Rx.CRASH_DETAIL + 4)  # RX bytes of our extension the ph
 # expects of a running brick, so the physics side writes a charged EV3 pack idling there.
 BATTERY_MV = 8000  # six AA cells, charged
 BATTERY_MA = 150  # the brick idling, motors still
-
-
-@dataclass(frozen=True)
-class Report:
-    """What the physics side reports of one finished test (the controller reads it back as a TestResult)."""
-
-    event: Event
-    time_us: int
-    checkpoints: int
-    distance_mm: int
-    max_time_diff_us: int
-    crash_kind: CrashKind
-    crash_detail: int
-    completed_us: int | None = None  # when the program's completion notice came, if it did
-    bench_cause: BenchCause = BenchCause.NONE
 
 
 @dataclass(frozen=True)
@@ -145,7 +129,8 @@ class Slots:
             a.write_i32(Tx.GYRO_RESET, 0)
         return Commands(words[:MOTOR_PORTS], resets, gyro, a.read_i32(Tx.COMPLETED) == 1)
 
-    def report(self, r: Report) -> None:
+    def report(self, r: TestResult) -> None:
+        """The test's result, for the controller (its sync mode and objective were written at the start)."""
         u = self.unity
         u.write_u32(Rx.CHECKPOINTS, r.checkpoints)
         u.write_u32(Rx.DISTANCE_MM, r.distance_mm)
@@ -153,13 +138,13 @@ class Slots:
         u.write_i32(Rx.CRASH_KIND, int(r.crash_kind))
         u.write_i32(Rx.CRASH_DETAIL, r.crash_detail)
         u.write_u32(Rx.BENCH_CAUSE, int(r.bench_cause))
-        hi, lo = goal_time_words(r.completed_us or 0)
+        hi, lo = goal_time_words(r.completed_time_us)
         u.write_u32(Rx.COMPLETED_TIME_HI, hi)
         u.write_u32(Rx.COMPLETED_TIME_LO, lo)
-        self.publish_event(r.event, r.time_us)
+        self.publish_event(r.event, r.goal_time_us)
 
-    def publish_event(self, event: Event, time_us: int) -> None:
-        hi, lo = goal_time_words(time_us if event == Event.GOAL else 0)
+    def publish_event(self, event: Event, goal_time_us: int) -> None:
+        hi, lo = goal_time_words(goal_time_us)
         self.unity.write_u32(Rx.GOAL_TIME_HI, hi)
         self.unity.write_u32(Rx.GOAL_TIME_LO, lo)
         self.unity.write_i32(Rx.EVENT, int(event))  # last: the controller reads everything else after it

@@ -1,26 +1,72 @@
-"""The lap test: checkpoints passed in order, wall contact and the time limit, turned into one Event.
+"""What a test is scored by: the task half of the dm_control split, given to the environment as an argument.
 
-This is the task half of the dm_control split: it looks at the world at each event-check tick and never
-moves anything. Checkpoints are the paper's transparent squares; only the next one in order counts, so
-driving backwards over the finish line first does not shorten a lap. The task also measures the path the
-robot drove, which says how far a program got when it did not finish.
+A task looks at the world at each event-check tick and never moves anything. `Task` is all the environment
+and the physics server ask of one: `reset` at each test's start, `check` at each event tick (the event that
+ends the test, or Event.NONE while it goes on), and what it reports (the checkpoints passed, the path driven,
+its objective and time limit). The objectives' tasks are in `TASKS`: `LapTask` (the paper's: GOAL at the last
+checkpoint, scored by the lap time) and `CompletedTask` (ET Robocon's competition programs end their run with
+a completion notice; the goal line is one more checkpoint).
+
+Checkpoints are the paper's transparent squares; only the next one in order counts, so driving backwards over
+the finish line first does not shorten a lap. Both tasks measure the path the robot drove, which says how far
+a program got when it did not finish.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import ClassVar, Protocol
 
 from hakoniwa.physics.course import Course
 from hakoniwa.physics.world import World
-from hakoniwa.wire.protocol import Event
+from hakoniwa.wire.protocol import Event, Objective
+
+
+class Task(Protocol):
+    """What scores a test: reset at its start, checked at each event tick, read for the report."""
+
+    @property
+    def objective(self) -> Objective:
+        """What the task scores (the controller reads it with the report; the replay names it)."""
+        ...
+
+    @property
+    def time_limit_us(self) -> int:
+        """The simulated time a test may take."""
+        ...
+
+    @property
+    def passed_us(self) -> Sequence[int]:
+        """When each checkpoint was passed, in order."""
+        ...
+
+    @property
+    def distance_mm(self) -> int:
+        """The path the robot drove so far."""
+        ...
+
+    def reset(self, start_xy: tuple[float, float] | None = None) -> None:
+        """A new test, with the robot at `start_xy` (default: the course's start; a noisy test's start is
+        jittered)."""
+        ...
+
+    def check(self, world: World, time_us: int, completed: bool = False) -> Event:
+        """The event at `time_us`, Event.NONE while the test goes on; `completed`: the program has sent its
+        completion notice (ET Robocon's `ETRoboc_notifyCompletedToSimulator()`)."""
+        ...
 
 
 @dataclass
 class LapTask:
+    """One lap: GOAL at the course's last checkpoint, having passed every earlier one in order."""
+
+    objective: ClassVar[Objective] = Objective.LAP
+    ends_at_goal: ClassVar[bool] = True  # False: passing the last checkpoint starts the next lap
+
     course: Course
     time_limit_us: int
-    ends_at_goal: bool = True  # False: passing the last checkpoint starts the next lap, and no GOAL is raised
     next_checkpoint: int = 0
     passed_us: list[int] = field(default_factory=list)
     distance_m: float = 0.0
@@ -30,24 +76,19 @@ class LapTask:
         self.reset()
 
     def reset(self, start_xy: tuple[float, float] | None = None) -> None:
-        """A new test, with the robot at `start_xy` (default: the course's start; a noisy test's start is
-        jittered)."""
         self.next_checkpoint = 0
         self.passed_us.clear()
         self.distance_m = 0.0
         self._last_xy = start_xy or (self.course.start.x, self.course.start.y)
 
     @property
-    def passed(self) -> int:
-        return len(self.passed_us)
-
-    @property
     def distance_mm(self) -> int:
         return round(self.distance_m * 1000)
 
-    def check(self, world: World, time_us: int) -> Event:
-        """The event at `time_us` (Event.NONE while the test goes on). Wall contact wins over a goal seen at
-        the same tick: a robot that crashes into the wall at the line has not finished cleanly."""
+    def check(self, world: World, time_us: int, completed: bool = False) -> Event:
+        """Wall contact wins over a goal seen at the same tick: a robot that crashes into the wall at the line
+        has not finished cleanly. A completion notice ends the test at the first check that raises nothing
+        else."""
         x, y = world.position()
         self.distance_m += math.hypot(x - self._last_xy[0], y - self._last_xy[1])
         self._last_xy = (x, y)
@@ -63,4 +104,17 @@ class LapTask:
                 self.next_checkpoint = 0
         if time_us >= self.time_limit_us:
             return Event.TIME_OVER
-        return Event.NONE
+        return Event.COMPLETED if completed else Event.NONE
+
+
+@dataclass
+class CompletedTask(LapTask):
+    """A run the program ends itself (`--objective completed`): scored by when its completion notice came.
+    The goal line is one more checkpoint, so the robot may drive on into the next lap."""
+
+    objective: ClassVar[Objective] = Objective.COMPLETED
+    ends_at_goal: ClassVar[bool] = False
+
+
+# What scores a test of each objective, made for a course and a time limit.
+TASKS: dict[Objective, Callable[[Course, int], Task]] = {task.objective: task for task in (LapTask, CompletedTask)}

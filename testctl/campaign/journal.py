@@ -27,7 +27,7 @@ from pathlib import Path
 from typing import IO, Any
 
 from hakoniwa.wire.errors import HakoError
-from testctl.result import TestResult
+from hakoniwa.wire.result import TestResult
 
 JOURNAL_FILE = "journal.jsonl"
 PHASE_VALIDATION = "validation"  # a draw of the best set's validation, past its repetitions: no test of the search

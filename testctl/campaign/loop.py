@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from hakoniwa.wire.errors import HakoError
+from hakoniwa.wire.result import TestResult
 
 # The configuration lives apart so that --help can read its defaults without NumPy; importers of the campaign
 # find it here too.
@@ -46,7 +47,6 @@ from testctl.campaign.journal import (
 from testctl.campaign.objective import Verdict
 from testctl.executor import Executor, SerialExecutor, TestSpec
 from testctl.noise_seed import noise_seed
-from testctl.result import TestResult
 from testctl.search.optimizers import make_sampler
 from testctl.search.sampler import RandomSampler, Sampler
 from testctl.search.space import ParameterSpace

@@ -24,7 +24,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from hakoniwa.wire.protocol import Event
-from testctl.result import TestResult
+from hakoniwa.wire.result import TestResult
 
 # The paper's time limit (section 4.1), what a failure scores where no bench says otherwise: a rule made
 # without a bench, and a journal written before campaigns recorded their bench's limit (all were 60 s then).

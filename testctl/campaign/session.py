@@ -13,13 +13,13 @@ from typing import TYPE_CHECKING
 
 import click
 
+from hakoniwa.wire.result import TestResult
 from testctl.campaign.journal import JOURNAL_FILE
 from testctl.campaign.loop import BenchBroken, Campaign, CampaignConfig, CampaignSummary, SetResult
 from testctl.campaign.progress import ProgressLine
 from testctl.executor import Executor, TestSpec
 from testctl.interrupts import on_stop_say, stopped_by
 from testctl.options import VALIDATE_KEY, CampaignPlan
-from testctl.result import TestResult
 from testctl.runner import PhysicsGone
 
 if TYPE_CHECKING:

@@ -18,11 +18,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from hakoniwa.wire.result import TestResult
 from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, Journal, TestRecord, now_timestamp
 from testctl.executor import Executor, TestSpec, bench_fault, results_of
 from testctl.lapstats import LapStats
 from testctl.noise_seed import noise_seed
-from testctl.result import TestResult
 
 if TYPE_CHECKING:
     from testctl.campaign.loop import CampaignSummary  # NumPy: not for `hako --help`

@@ -20,8 +20,8 @@ from dataclasses import dataclass
 
 from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.protocol import Event
+from hakoniwa.wire.result import TestResult
 from testctl.lapstats import lap_or_inf, percentile, success_rate
-from testctl.result import TestResult
 
 OPERATORS: dict[str, Callable[[float, float], bool]] = {
     "<=": operator.le, ">=": operator.ge, "==": operator.eq, "<": operator.lt, ">": operator.gt}

@@ -8,7 +8,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
-from testctl.result import TestResult
+from hakoniwa.wire.result import TestResult
 from testctl.suite.cases import case_folder
 from testctl.suite.run import CaseRun
 

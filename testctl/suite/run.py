@@ -13,11 +13,11 @@ from contextlib import AbstractContextManager, contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
-from hakoniwa.physics.options import BenchOptions
+from hakoniwa.wire.result import TestResult
 from testctl.bench import Bench
+from testctl.bench_options import BenchOptions
 from testctl.executor import Executor, SerialExecutor, TestSpec, bench_fault, results_of
 from testctl.lapstats import LapStats, lap_or_inf
-from testctl.result import TestResult
 from testctl.suite.cases import Case
 from testctl.suite.expect import Check
 

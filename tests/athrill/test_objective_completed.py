@@ -11,10 +11,10 @@ import os
 import pytest
 
 from hakoniwa.wire.protocol import Event, Objective
+from hakoniwa.wire.result import TestResult
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
 from testctl.campaign.objective import RepetitionRule
 from testctl.lapstats import LapStats
-from testctl.result import TestResult
 from testctl.suite.expect import parse_expectation
 from tests.helpers.commands import hako
 

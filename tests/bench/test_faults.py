@@ -70,15 +70,20 @@ def test_an_overwritten_magic_is_repaired_not_scored(tmp_path, victim):
     assert f"repaired {tmp_path / victim}: " in (tmp_path / PHYSICS_LOG).read_text()
 
 
-def start_trial(tmp_path: Path, *extra: str) -> subprocess.Popen:
+def start_idle(tmp_path: Path, command: tuple[str, ...], *extra: str) -> subprocess.Popen:
+    """`python -m COMMAND` running the idle program on the run directory tmp_path/run, then `extra`."""
     apps = tmp_path / "apps"
     apps.mkdir(exist_ok=True)
     (apps / "idle_app.py").write_text(IDLE_APP)
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(apps), os.environ.get("PYTHONPATH", "")]))
-    return subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "trial", "--app", "idle_app:main_task",
-                             "--time-limit", "3000", "--run-dir", str(tmp_path / "run"), *extra],
+    return subprocess.Popen([sys.executable, "-m", *command, "--app", "idle_app:main_task", "--time-limit", "3000",
+                             "--run-dir", str(tmp_path / "run"), *extra],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
                             start_new_session=True, preexec_fn=interruptible)
+
+
+def start_trial(tmp_path: Path) -> subprocess.Popen:
+    return start_idle(tmp_path, ("testctl.hako", "trial"))
 
 
 def pid_of(module: str, run_dir: Path, timeout_s: float = 60) -> int:
@@ -113,14 +118,17 @@ def current_test_number(run_dir: Path) -> int:
 def test_a_killed_physics_process_is_named(tmp_path):
     proc = start_trial(tmp_path)
     wait_for_test(tmp_path / "run")
-    os.kill(pid_of("hakoniwa.physics.main", tmp_path / "run"), signal.SIGKILL)
+    os.kill(pid_of("testctl.physics_process", tmp_path / "run"), signal.SIGKILL)
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 128 + signal.SIGKILL
     assert "the physics process was killed by SIGKILL" in err and "Traceback" not in err
 
 
 def test_a_killed_controller_is_named(tmp_path):
-    proc = start_trial(tmp_path)
+    """In the paper's arrangement, where the physics process starts the controller given after `--`."""
+    controller_args = ("--kp", "1", "--ki", "0", "--kd", "0", "--out", str(tmp_path / "run" / "result.json"))
+    proc = start_idle(tmp_path, ("testctl.physics_process",), "--", sys.executable, "-m", "testctl.cli", "trial",
+                      *controller_args)
     wait_for_test(tmp_path / "run")
     controller = pid_of("testctl.cli", tmp_path / "run")
     os.kill(controller, signal.SIGKILL)
@@ -146,7 +154,7 @@ def test_ctrl_c_in_hako_trial_is_one_line_and_130(tmp_path, when):
     """Early: while the physics process is still starting (importing); mid-test: once test 1 runs."""
     proc = start_trial(tmp_path)
     if when == "early":
-        pid_of("hakoniwa.physics.main", tmp_path / "run")
+        pid_of("testctl.physics_process", tmp_path / "run")
     else:
         wait_for_test(tmp_path / "run")
     os.killpg(proc.pid, signal.SIGINT)  # what the terminal does on Ctrl-C
@@ -160,7 +168,7 @@ def test_ctrl_c_in_hako_trial_is_one_line_and_130(tmp_path, when):
                                                   (signal.SIGTERM, 143, "terminated")])
 def test_ctrl_c_or_sigterm_ends_a_campaign_with_the_resume_command(tmp_path, signum, status, word):
     out = tmp_path / "c"
-    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--trials", "20", "--repeats", "1",
+    proc = subprocess.Popen([sys.executable, "-m", "testctl.hako", "run", "--trials", "20", "--repeats", "1",
                              "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True, preexec_fn=interruptible)
     wait_until(lambda: (out / JOURNAL_FILE).exists() and len(read_journal(out / JOURNAL_FILE)[1]) >= 2, 300, 0.1,
@@ -182,7 +190,7 @@ def test_a_sigkilled_campaign_leaves_no_leaked_semaphore_warning(tmp_path):
     """The local workers' queues hold semaphores; multiprocessing's resource tracker, which outlives a
     SIGKILLed `hako run`, unlinks them, and says nothing about it."""
     out = tmp_path / "c"
-    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--trials", "20", "--repeats", "1",
+    proc = subprocess.Popen([sys.executable, "-m", "testctl.hako", "run", "--trials", "20", "--repeats", "1",
                              "--benches", "2", "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             text=True, start_new_session=True)
     deadline = time.monotonic() + 300

@@ -7,8 +7,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from hakoniwa.wire.protocol import Event
+from hakoniwa.wire.result import TestResult
 from testctl.campaign.objective import PAPER_PENALTY_S, RepetitionRule
-from testctl.result import TestResult
 from tests.helpers.campaign_doubles import result
 
 G, T, W, C = Event.GOAL, Event.TIME_OVER, Event.HIT_WALL, Event.CRASH

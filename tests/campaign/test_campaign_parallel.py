@@ -9,10 +9,10 @@ from pathlib import Path
 
 import pytest
 
+from hakoniwa.wire.result import TestResult
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
 from testctl.campaign.loop import MAX_BENCH_FAULTS_IN_A_ROW, BenchBroken, Campaign, CampaignConfig
 from testctl.executor import Executor, TestSpec
-from testctl.result import TestResult
 from tests.helpers.campaign_doubles import BENCH_FAULT, Killed, SyntheticBench
 
 

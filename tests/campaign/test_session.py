@@ -6,10 +6,10 @@ import click
 import pytest
 
 from hakoniwa.wire.protocol import CrashKind, Event
+from hakoniwa.wire.result import TestResult
 from testctl.campaign.session import run_campaign
 from testctl.executor import SerialExecutor
 from testctl.options import plan
-from testctl.result import TestResult
 
 CRASH = TestResult(Event.CRASH, 0, 0.01, crash_kind=CrashKind.PROGRAM, crash_detail=1)
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 from collections.abc import Iterable
 
 from hakoniwa.wire.protocol import CrashKind, Event, Rx
+from hakoniwa.wire.result import TestResult
 from testctl.executor import TestSpec
-from testctl.result import TestResult
 
 
 def result(event: Event, lap_s: float = 0.0) -> TestResult:

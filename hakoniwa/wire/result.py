@@ -1,4 +1,6 @@
-"""What one test on the bench produced, as the controller reads it from `unity_mmap.bin`."""
+"""What one test on the bench produced: the one result type from the physics side, which writes it into
+`unity_mmap.bin` (`hakoniwa.physics.slots.Slots.report`), through the controller, which reads it back
+(`testctl.runner`), to the journal and every report, under one set of field names."""
 
 from __future__ import annotations
 

@@ -1,8 +1,9 @@
 """`hako`: the user's entry point to the test bench.
 
-It only parses, checks and launches: the physics process and the controller do the work, in processes of
-their own. Nothing heavy (NumPy, MuJoCo, GPyOpt, matplotlib) is imported here except where a command
-draws, so `hako --help` and a bad option answer at once.
+It parses, checks and launches benches (`testctl.bench.Bench`: the physics and the program run in processes of
+their own), and controls their tests: `hako trial` its one test on one bench, as a campaign does on many.
+Nothing heavy (NumPy, MuJoCo, GPyOpt, matplotlib) is imported here except where a command draws, so
+`hako --help` and a bad option answer at once.
 """
 
 from __future__ import annotations
@@ -14,18 +15,17 @@ import sys
 import tempfile
 import threading
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, overload
+from typing import TYPE_CHECKING, Any, NoReturn, overload
 
 import click
 
 from hakoniwa.conventions import HELP, Float32, OneLineErrorsGroup, option_group, writable_file
-from hakoniwa.physics.options import BenchOptions, bench_options, pop_bench
 from hakoniwa.physics.video_options import VideoOptions, check_video_path, film_options
 from hakoniwa.wire.exits import exit_status
 from hakoniwa.wire.processes import describe_exit
 from hakoniwa.wire.rundir import TRAJECTORY_FILE, diagnose
 from testctl import paper
-from testctl.launch import controller_command, run_physics
+from testctl.bench_options import BenchOptions, bench_options, pop_bench
 from testctl.options import (
     DEFAULT_DRAWS,
     MAX_DRAWS,
@@ -40,16 +40,15 @@ from testctl.suite.cases import DEFAULT_FILE
 
 if TYPE_CHECKING:
     from hakoniwa.wire.protocol import SyncMode
+    from hakoniwa.wire.result import TestResult
     from testctl.executor import TestSpec
-    from testctl.result import TestResult
 
 POWER = Float32(-100.0, 100.0)
 
 
-def report_death(code: int, run_dir: Path) -> None:
-    """Exit like the bench did, saying what died if nobody else could."""
-    if code == 0:
-        return
+def report_death(code: int, run_dir: Path) -> NoReturn:
+    """Exit like the bench's physics process did (`code`, non-zero), saying what killed it where a signal did:
+    otherwise it said why itself."""
     if code < 0:
         damaged = diagnose(run_dir)
         click.echo(f"hako: the physics process {describe_exit(code)}"
@@ -138,42 +137,56 @@ def make_film(run_dir: Path, film: VideoOptions, title: str = "") -> int:
 def _trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: float, run_dir: Path | None,
            as_json: bool, trajectory: Path | None, options: BenchOptions, film: VideoOptions | None = None,
            view_speed: float | None = None) -> None:
+    from hakoniwa.wire.protocol import LayoutError
+    from testctl.bench import Bench
+    from testctl.executor import TestSpec
+
     if trajectory is not None:
         writable_file(trajectory, "--trajectory")
     with tempfile.TemporaryDirectory(prefix="hako-") as tmp:
         rd = run_dir or Path(tmp)
-        out = rd / "result.json"
         try:
-            out.unlink(missing_ok=True)
+            rd.mkdir(parents=True, exist_ok=True)
         except OSError as e:
             raise click.ClickException(f"--run-dir {rd}: {e.strerror}") from None
-        ctl = controller_command("trial", "--kp", repr(kp), "--ki", repr(ki), "--kd", repr(kd),
-                                 "--power", repr(power), "--seed", str(seed), "--noise", repr(noise),
-                                 "--out", str(out))
-        view = () if view_speed is None else ("--view", repr(view_speed))
-        report_death(run_physics(options.physics_command(rd, ctl, view)), rd)
-        result = json.loads(out.read_text())
+        # The paper's single test, on the bench a campaign tests on: this process is its controller.
+        bench = Bench(options, rd, physics_args=() if view_speed is None else ("--view", repr(view_speed)))
+        spec = TestSpec(0, 1, paper.line_trace_params(kp, ki, kd, power), seed, noise)
+        try:
+            result = bench.run(spec)
+        except LayoutError:  # the physics process ended before it made its files, having said why
+            report_death(bench.exit_status or 1, rd)
+        except KeyboardInterrupt:
+            bench.stop()
+            raise
+        finally:
+            bench.close()
+        if result.bench_fault and bench.exit_status:  # the physics process died under the test
+            report_death(bench.exit_status, rd)
+        params = {"kp": kp, "ki": ki, "kd": kd, "power": power}
+        shown = {**result.to_dict(), "params": params, "seed": seed, "noise": noise}
         if film is not None:
             make_film(rd, film)  # as `hako replay` films the run folder
         if trajectory is not None:
             from hakoniwa.physics.course import load_course
             from hakoniwa.physics.plot import draw_trajectory, read_trajectory
 
-            lap = f"lap {result['lap_time_s']:.2f} s" if result["lap_time_s"] is not None else result["event"]
+            lap = f"lap {result.lap_time_s:.2f} s" if result.lap_time_s is not None else result.event.name
             draw_trajectory(load_course(options.course), read_trajectory(rd / TRAJECTORY_FILE), trajectory,
                             title=f"Kp={kp:g} Ki={ki:g} Kd={kd:g} power={power:g}: {lap}")
-    if result.get("program_output"):  # the program's own error, which the run folder's log alone would hold
-        click.echo(f"hako: the program's last lines:\n{result['program_output']}", err=True)
+    if result.program_output:  # the program's own error, which the run folder's log alone would hold
+        click.echo(f"hako: the program's last lines:\n{result.program_output}", err=True)
     if as_json:
-        click.echo(json.dumps(result, sort_keys=True))
+        click.echo(json.dumps(shown, sort_keys=True))
     else:
-        lap = f"{result['lap_time_s']:.3f} s" if result["lap_time_s"] is not None else "-"
-        why = f" ({result['crash_reason']})" if result.get("crash_reason") else ""
-        done = f"  completed at: {result['completed_time_us'] / 1e6:.3f} s" if "completed_time_us" in result else ""
-        click.echo(f"event: {result['event']}{why}  lap time: {lap}  distance: {result['distance_m']:.2f} m  "
-                   f"checkpoints: {result['checkpoints']}{done}")
-    if result.get("crash") == "bench":
-        raise click.ClickException(f"the bench spoiled the test ({result['crash_reason']}), which says nothing "
+        lap = f"{result.lap_time_s:.3f} s" if result.lap_time_s is not None else "-"
+        reason = result.crash_reason()
+        why = f" ({reason})" if reason else ""
+        done = f"  completed at: {result.completed_time_us / 1e6:.3f} s" if result.completed_time_us else ""
+        click.echo(f"event: {result.event.name}{why}  lap time: {lap}  distance: {result.distance_m:.2f} m  "
+                   f"checkpoints: {result.checkpoints}{done}")
+    if result.bench_fault:
+        raise click.ClickException(f"the bench spoiled the test ({result.crash_reason()}), which says nothing "
                                    f"of the parameters: run it again")
 
 
@@ -416,8 +429,8 @@ def check_bench(bench: BenchOptions, benches: int | None = 1):
         LinkError: its UDP ports are taken.
         click.ClickException: fixed UDP ports and several benches.
     """
-    from athrill_sim.vdev_udp import RX_PORT_KEY, TX_PORT_KEY, check_free
-    from hakoniwa.physics.bench import load_bench
+    from hakoniwa.wire.vdev_udp import RX_PORT_KEY, TX_PORT_KEY, check_free
+    from testctl.bench_options import load_bench
 
     load_bench(bench)
     program = bench.program()
@@ -465,7 +478,7 @@ def campaign_benches(bench: BenchOptions, wave: int) -> int:
     Raises:
         ProgramError: --app names nothing that can run.
     """
-    from athrill_sim.programs import udp_link
+    from athrill_sim.athrill2 import udp_link
     from hakoniwa.wire.protocol import SyncMode
 
     link = udp_link(bench.transport, bench.device_config)
