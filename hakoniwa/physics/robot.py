@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+CHASSIS_BACK_M = 0.01  # the chassis box's centre sits this far behind the axle
 ULTRASONIC_MAX_MM = 2550  # the EV3 sensor's reading when nothing is in range (EV3RT: 255 cm); the world's
 # "no echo"
 
@@ -74,7 +75,7 @@ def robot_mjcf(x: float, y: float, yaw_deg: float, body: Body = EV3_BODY, imu: b
     return f"""
     <body name="robot" pos="{x} {y} {body_z}" euler="0 0 {yaw_deg}">
       <freejoint name="robot_root"/>
-      <geom name="chassis" type="box" size="{hx} {hy} {hz}" pos="-0.01 0 {hz}" mass="{body.chassis_mass}"
+      <geom name="chassis" type="box" size="{hx} {hy} {hz}" pos="{-CHASSIS_BACK_M} 0 {hz}" mass="{body.chassis_mass}"
             rgba=".9 .5 .1 1"/>
       <geom name="caster" type="sphere" size="{caster}" pos="{-hx + 0.005} 0 {caster - body_z}" condim="1"
             mass="0.02" rgba=".3 .3 .3 1"/>
