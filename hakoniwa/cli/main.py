@@ -172,6 +172,10 @@ def _trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: floa
         done = f"  completed at: {result['completed_time_us'] / 1e6:.3f} s" if "completed_time_us" in result else ""
         click.echo(f"event: {result['event']}{why}  lap time: {lap}  distance: {result['distance_m']:.2f} m  "
                    f"checkpoints: {result['checkpoints']}{done}")
+        if "score" in result:
+            from hakoniwa.physics.etrobocon_rules import Score
+
+            click.echo(Score.from_dict(result["score"]).describe())
     if result.get("crash") == "bench":
         raise click.ClickException(f"the bench spoiled the test ({result['crash_reason']}), which says nothing "
                                    f"of the parameters: run it again")
@@ -222,7 +226,7 @@ def _run(benches: int | None, scheduler: str | None, validate: int | None, optio
     given = pop_bench(options)
     if options["repeats"] is None and options["noise"] == 0 and options["resume"] is None and repeatable_bench(given):
         options["repeats"] = 1  # every repetition of a set would be the very same test
-    p = plan(**options, penalty_s=time_limit_s(given))
+    p = plan(**options, penalty_s=time_limit_s(given), objective=given.objective)
     if validate is None:
         validate = (p.validate if p.validate is not None else 1 if p.config.noise == 0
                     else SMOKE_DRAWS if options["smoke"] else DEFAULT_DRAWS)
