@@ -19,7 +19,7 @@ class Measure:
     sign: int  # what a person reads is sign x the campaign's value
 
     def shown(self, value: float) -> float:
-        return self.sign * value
+        return self.sign * value + 0.0  # + 0.0: a score of no points reads 0, not -0
 
     def format(self, value: float) -> str:
         """`value` (the campaign's) in words: "lap 33.12 s", "score 41.50 points"."""
