@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any, overload
 
 import click
 
+from hakoniwa.cli.course import course
 from hakoniwa.conventions import HELP, Float32, OneLineErrorsGroup, option_group, writable_file
 from hakoniwa.physics.options import BenchOptions, bench_options, pop_bench
 from hakoniwa.physics.video_options import VideoOptions, check_video_path, film_options
@@ -62,6 +63,9 @@ def report_death(code: int, run_dir: Path) -> None:
 def main() -> None:
     """Hakoniwa-style robot test bench: MuJoCo physics, an Athrill (our mock, or the real TOPPERS emulator)
     running the robot program, and a test controller: three processes over memory-mapped files."""
+
+
+main.add_command(course)
 
 
 @main.command(context_settings=HELP)
