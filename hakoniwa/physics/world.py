@@ -6,7 +6,9 @@ hot loop is MuJoCo's own C stepping.
 
 A course's objects (`[[object]]`) are free bodies after the robot: the robot pushes and knocks them over,
 the ultrasonic ray sees them, and the colour sensor reads an object's colour where one is under it (a ray
-down through the objects alone, at the sensor's spot). They are not walls: touching one is no HIT_WALL.
+down through the objects alone, at the sensor's spot). They are not walls: touching one is no HIT_WALL. They
+start asleep (MuJoCo's sleeping trees) and wake when the robot touches them, so a bottle standing far from
+the robot costs its contacts nothing.
 """
 
 from __future__ import annotations
@@ -44,9 +46,12 @@ def build_mjcf(course: Course, body: robot.Body = robot.EV3_BODY, imu: bool = Fa
     # Walls live in one static body so that a single contact sensor can watch robot-wall contact inside
     # MuJoCo's own step; reading it costs nothing compared with scanning the contact list in Python.
     imu_sensor = robot.imu_sensor_mjcf() if imu else ""
+    # Objects sleep until the robot touches them (MuJoCo's sleeping trees): an object at rest then costs no
+    # contacts in a step. The robot never sleeps; a course without objects is stepped as it always was.
+    sleep = '><flag sleep="enable"/></option' if course.objects else "/"
     return f"""
 <mujoco model="hakoniwa-{course.name}">
-  <option timestep="{PHYSICS_STEP_US / US_PER_S}" integrator="implicitfast"/>
+  <option timestep="{PHYSICS_STEP_US / US_PER_S}" integrator="implicitfast"{sleep}>
   <default><geom friction="1 0.005 0.0001"/></default>
   <worldbody>
     <geom name="floor" type="plane" size="{(xmax - xmin) / 2} {(ymax - ymin) / 2} 0.1" pos="{cx} {cy} 0"
@@ -55,7 +60,7 @@ def build_mjcf(course: Course, body: robot.Body = robot.EV3_BODY, imu: bool = Fa
     {walls}
     </body>
     {checkpoints}
-    {robot.robot_mjcf(s.x, s.y, s.yaw_deg, body, imu)}
+    {robot.robot_mjcf(s.x, s.y, s.yaw_deg, body, imu, sleeps=not course.objects)}
     {objects}
   </worldbody>
   <actuator>{robot.actuators_mjcf(body)}
@@ -76,7 +81,8 @@ def _object_mjcf(o: CourseObject) -> str:
     a, b, h = o.size
     size = f"{a} {h / 2}" if o.shape == "cylinder" else f"{a / 2} {b / 2} {h / 2}"
     rgba = " ".join(f"{c / 255:.4g}" for c in o.rgb)
-    return (f'<body name="object_{o.name}" pos="{o.x} {o.y} {h / 2}" euler="0 0 {o.yaw_deg}"><freejoint/>'
+    return (f'<body name="object_{o.name}" pos="{o.x} {o.y} {h / 2}" euler="0 0 {o.yaw_deg}" sleep="init">'
+            f'<freejoint/>'
             f'<geom name="object_{o.name}" type="{o.shape}" size="{size}" mass="{o.mass}" group="{OBJECT_GROUP}" '
             f'priority="1" friction="{o.friction} 0.005 0.0001" rgba="{rgba} 1"/></body>')
 
