@@ -187,8 +187,10 @@ def course_toml(lane: Lane, name: str, image: str, mirror: bool) -> str:
     for gate in ("cp1", "cp2", "cp3", "lap"):
         x, y, hx, hy = gate_box(lane.marks[gate])
         label = "LAP gate: the last checkpoint" if gate == "lap" else f"checkpoint {gate[-1]}"
+        heading = lane.marks[gate][2] if not mirror else (180 - lane.marks[gate][2]) % 360
         lines += ["", f"[[checkpoint]]                # {label}", f'name = "{gate}"', f"x = {sign * x:.4f}",
-                  f"y = {y:.4f}", f"hx = {hx}", f"hy = {hy}"]
+                  f"y = {y:.4f}", f"hx = {hx}", f"hy = {hy}",
+                  f"{f'heading_deg = {heading:g}':30s}# the gate's arrow: passed this way only (5.12, 5.13)"]
     gx, gy, (ghx, ghy) = garage_box(lane.marks["garage"])
     rx, ry = left_of(lane.marks["ring"], RING_OFFSET_M)
     lines += ["", "[[zone]]                      # the white inside of the garage (regulation 5.2.4)",

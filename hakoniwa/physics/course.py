@@ -40,13 +40,15 @@ class CourseError(HakoError, ValueError):
 
 @dataclass(frozen=True)
 class Box:
-    """An axis-aligned box on the floor: centre (x, y) and half sizes, in metres."""
+    """An axis-aligned box on the floor: centre (x, y) and half sizes, in metres. A checkpoint may say which way
+    it is passed (`heading_deg`, counter-clockwise from +x: ET Robocon's gate arrow)."""
 
     name: str
     x: float
     y: float
     hx: float
     hy: float
+    heading_deg: float | None = None
 
     def contains(self, x: float, y: float) -> bool:
         return abs(x - self.x) <= self.hx and abs(y - self.y) <= self.hy
@@ -213,6 +215,13 @@ def _box(table: dict, where: str) -> Box:
     return Box(str(table.get("name", where)), _number(table, "x", where), _number(table, "y", where), hx, hy)
 
 
+def _checkpoint(table: dict, where: str) -> Box:
+    box = _box(table, where)
+    if "heading_deg" not in table:
+        return box
+    return dataclasses.replace(box, heading_deg=_number(table, "heading_deg", where))
+
+
 def _color_area(table: dict, where: str) -> ColorArea:
     name = str(table.get("color", "")).upper()
     if name not in ColorId.__members__ or name == "NONE":
@@ -316,7 +325,7 @@ def load_course(name_or_path: str | Path) -> Course:
     if not isinstance(start, dict):
         raise CourseError(f"{where}: missing [start]")
     walls = tuple(_box(w, f"{where} wall {i}") for i, w in enumerate(spec.get("wall", [])))
-    checkpoints = tuple(_box(c, f"{where} checkpoint {i}") for i, c in enumerate(spec.get("checkpoint", [])))
+    checkpoints = tuple(_checkpoint(c, f"{where} checkpoint {i}") for i, c in enumerate(spec.get("checkpoint", [])))
     if not checkpoints:
         raise CourseError(f"{where}: a course needs at least one [[checkpoint]]")
     limit = _number(spec, "time_limit_s", where)

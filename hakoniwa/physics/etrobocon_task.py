@@ -6,7 +6,8 @@ the last one the LAP gate; its `[score]` table names the garage, the sumo ring a
 
 - At reset: nothing reached, the clock of a stop in the garage unset.
 - At each event check: the path driven (as the lap task measures it), wall contact (HIT_WALL), each
-  checkpoint reached once before the LAP gate, in any order (5.12), the LAP gate (5.13; it does not end the
+  checkpoint reached once before the LAP gate, in any order and the way its arrow points where the course
+  gives one (`heading_deg`; 5.12), the LAP gate (5.13, likewise; it does not end the
   run, which goes on to the tasks), the sumo bottle leaving the ring, and the finish: part of the robot in the
   garage with both wheels stopped for 3 s ends the run as FINISH (5.14). The time limit ends it as TIME_OVER,
   unless a stop in the garage began before it, which is then waited out.
@@ -25,6 +26,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from hakoniwa.physics.course import Box
 from hakoniwa.physics.etrobocon_rules import FINISH_STOP_S, Score
 from hakoniwa.physics.robot import CHASSIS_BACK_M
 from hakoniwa.physics.task import LapTask
@@ -59,7 +61,7 @@ class EtRoboconTask(LapTask):
         x, y = self._travel(world)
         if world.touching_wall():
             return Event.HIT_WALL
-        self._gates(x, y, time_us)
+        self._gates(world, x, y, time_us)
         self._sumo(world, x, y)
         if self._garage_stop(world, time_us):
             self._finished = True
@@ -68,15 +70,16 @@ class EtRoboconTask(LapTask):
             return Event.TIME_OVER
         return Event.NONE
 
-    def _gates(self, x: float, y: float, time_us: int) -> None:
+    def _gates(self, world: World, x: float, y: float, time_us: int) -> None:
         if self._lap_us is not None:
             return
+        yaw = world.pose()[2]
         *checkpoints, lap = self.course.checkpoints
         for i, cp in enumerate(checkpoints):
-            if i not in self._reached and cp.contains(x, y):
+            if i not in self._reached and _passes(cp, x, y, yaw):
                 self._reached.add(i)
                 self.passed_us.append(time_us)
-        if lap.contains(x, y):
+        if _passes(lap, x, y, yaw):
             self._lap_us = time_us
             self.passed_us.append(time_us)
 
@@ -125,3 +128,11 @@ class EtRoboconTask(LapTask):
             bottle = world.object_state(spec.sumo_bottle)
             sumo = self._bottle_out and self._left_with_robot_inside and bottle.upright and bottle.speed < STILL_M_S
         return Score.of(spec.competition_class, self._lap_us, len(self._reached), self._finished, sumo)
+
+
+def _passes(gate: Box, x: float, y: float, yaw: float) -> bool:
+    """Whether the robot at (x, y) heading `yaw` [rad] passes `gate`: in its box, and facing the way its arrow
+    points (5.12, 5.13: a gate counts only when passed in the arrow's direction), if it has one."""
+    if not gate.contains(x, y):
+        return False
+    return gate.heading_deg is None or math.cos(yaw - math.radians(gate.heading_deg)) > 0

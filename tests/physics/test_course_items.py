@@ -69,6 +69,8 @@ def test_objects_zones_and_the_score_table_load(tmp_path):
     ("[sensor.spike]\nreflect_white = 40\nreflect_black = 10\ngain = 2\n", r"\[sensor.spike\]: unknown key 'gain'"),
     ("[sensor.nxt]\nreflect_white = 40\nreflect_black = 10\n", r"\[sensor.nxt\]: no such sensor kind"),
     ("[sensor.spike]\nreflect_white = 40\n", r"\[sensor.spike\]: missing 'reflect_black'"),
+    ('[[checkpoint]]\nname = "gate"\nx = 1.2\ny = 0\nhx = 0.1\nhy = 0.1\nheading_deg = "north"\n',
+     r"checkpoint 4: 'heading_deg' must be a number"),
 ])
 def test_bad_items_are_one_line_errors(tmp_path, extra, message):
     with pytest.raises(CourseError, match=message) as e:

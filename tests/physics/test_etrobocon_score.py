@@ -69,12 +69,14 @@ def test_checkpoints_count_once_in_any_order_before_the_lap_gate_which_does_not_
     course = lane()
     task, world = EtRoboconTask(course, 120_000_000), FakeWorld()
     cp1, cp2, cp3, lap = course.checkpoints
-    for t, gate in enumerate((cp2, cp2, cp1, lap, cp3), 1):
+    for t, (gate, backwards) in enumerate(((cp2, False), (cp2, False), (cp1, True), (cp1, False), (lap, True),
+                                           (lap, False), (cp3, False)), 1):
         world.xy = (gate.x, gate.y)
+        world.yaw = math.radians(gate.heading_deg + (180 if backwards else 0))  # against its arrow: no gate
         assert task.check(world, t * 10_000) == Event.NONE
     score = task.score(world)
-    assert (score.checkpoints, score.lap_gate, score.lap_time_s) == (2, True, 0.04)  # cp3 came after the LAP
-    assert task.passed_us == [10_000, 30_000, 40_000]
+    assert (score.checkpoints, score.lap_gate, score.lap_time_s) == (2, True, 0.06)  # cp3 came after the LAP
+    assert task.passed_us == [10_000, 40_000, 60_000]
 
 
 def test_the_finish_is_three_seconds_stopped_in_the_garage_and_a_stop_begun_in_time_is_waited_out():
