@@ -1,4 +1,4 @@
-"""A campaign on ET Robocon's score: our garage program's tracer (its gains and speed `#define`s) tuned on the
+"""A campaign on ET Robocon's score: our garage program's tracer (its speed and steering `#define`s) tuned on the
 etrobocon-l course raises its score above the program's own, and best.patch gives the program the gains that
 score it."""
 

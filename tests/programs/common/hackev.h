@@ -1,6 +1,6 @@
 /*
  * HackEV's wiring and the pieces the ET Robocon-course programs beside it share (etrobo_garage, etrobo_sumo):
- * a PD step along the line's right edge, calibrated to ET Robocon's simulator (white 23, black 0), and the
+ * a step along the line's right edge, calibrated to ET Robocon's simulator (white 23, black 0), and the
  * distance driven from the wheel counts. Their Makefile.inc puts this folder on the include path.
  */
 #ifndef HACKEV_H
@@ -19,15 +19,12 @@ static int driven_mm(void)
     return deg * WHEEL_MM / 360;
 }
 
-/* One step of the tracer: black turns right, white left, so it runs along the line's right edge. */
-static void trace_edge(float kp, float kd, int power)
+/* One step of the tracer, as ET Robocon's HackEV sample steers: hard left on white, hard right on black (by
+ * `turn`, -100..100 of ev3_motor_steer), so that it runs along the line's right edge. */
+static void trace_edge(int power, int turn)
 {
-    static int last_error;
-    float error = (float)(LIGHT_TARGET - ev3_color_sensor_get_reflect(color));
-    int turn = (int)(kp * error + kd * (error - (float)last_error));
-    last_error = (int)error;
-    ev3_motor_set_power(left, power + turn);
-    ev3_motor_set_power(right, power - turn);
+    int white = ev3_color_sensor_get_reflect(color) >= LIGHT_TARGET;
+    ev3_motor_steer(left, right, power, white ? -turn : turn);
 }
 
 static void stop_wheels(void)

@@ -1,14 +1,14 @@
-/* ET Robocon's run on the bench's etrobocon-l course, on HackEV: trace the line's right edge (PD on the
- * reflect, calibrated white 23 / black 0) until the second blue section, the landmark before the garage;
- * follow it a little further to where the line ends, drive straight into the garage by the wheel counts, and
- * stop there. Under --objective etrobocon the run ends as FINISH once the robot has stood still in the garage
- * for 3 s, scored by its LAP time, gates and finish. */
+/* ET Robocon's run on the bench's etrobocon-l course, on HackEV: trace the line's right edge (steering as
+ * ET Robocon's HackEV sample does, calibrated white 23 / black 0) until the second blue section, the landmark
+ * before the garage; follow it a little further to where the line ends, drive straight into the garage by the
+ * wheel counts, and stop there. Under --objective etrobocon the run ends as FINISH once the robot has stood
+ * still in the garage for 3 s, scored by its LAP time, gates and finish. */
 #include "ev3api.h"
 #include "app.h"
 #include "hackev.h"
 #include "gains.h"
 
-#define PERIOD_US (10 * 1000)
+#define PERIOD_US (4 * 1000)
 #define BLUE_READINGS 3     /* consecutive blue readings that make a blue section */
 #define SECTION_GAP_MM 400  /* blue seen again within this much driving is the same section */
 #define GARAGE_BLUE 2       /* the garage's landmark: the second blue section of the run */
@@ -24,7 +24,7 @@ void main_task(intptr_t unused)
     ev3_motor_reset_counts(right);
     int blue = 0, sections = 0, last_blue_mm = -SECTION_GAP_MM;
     while (sections < GARAGE_BLUE) {
-        trace_edge(KP, KD, POWER);
+        trace_edge(POWER, TURN);
         if (ev3_color_sensor_get_color(color) != COLOR_BLUE) {
             blue = 0;
         } else if (++blue >= BLUE_READINGS) {
@@ -38,7 +38,7 @@ void main_task(intptr_t unused)
     }
     int landmark = driven_mm();
     while (driven_mm() - landmark < FOLLOW_MM) {
-        trace_edge(KP, KD, POWER);
+        trace_edge(POWER, TURN);
         tslp_tsk(PERIOD_US);
     }
     int straight = driven_mm();

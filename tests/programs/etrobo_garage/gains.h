@@ -1,10 +1,7 @@
-/* The tracer's gains and speed; a build may set any of them with -DKP=... (tests/programs/garage.toml). */
-#ifndef KP
-#define KP 2.0f
-#endif
-#ifndef KD
-#define KD 2.0f
-#endif
+/* The tracer's speed and how hard it steers; a build may set either with -DPOWER=... (tests/programs/garage.toml). */
 #ifndef POWER
-#define POWER 25
+#define POWER 30
+#endif
+#ifndef TURN
+#define TURN 80
 #endif

@@ -8,10 +8,9 @@
 #include "hackev.h"
 #include "etroboc_ext.h"
 
-#define KP 2.0f
-#define KD 6.0f
-#define POWER 35
-#define PERIOD_US (10 * 1000)
+#define POWER 30
+#define TURN 80
+#define PERIOD_US (4 * 1000)
 #define SONAR_US (40 * 1000)  /* the ultrasonic sensor's pace */
 #define YELLOW_READINGS 2
 #define TO_BOTTLE_MM 260      /* from where the sensor meets the ring to the axle level with the bottle */
@@ -65,7 +64,7 @@ void main_task(intptr_t unused)
     ev3_motor_reset_counts(right);
     int yellow = 0;
     while (yellow < YELLOW_READINGS) {
-        trace_edge(KP, KD, POWER);
+        trace_edge(POWER, TURN);
         colorid_t seen = ev3_color_sensor_get_color(color);
         /* On the line's edge the outline is half black: a dark yellow, which the sensor may call brown. */
         yellow = seen == COLOR_YELLOW || seen == COLOR_BROWN ? yellow + 1 : 0;
