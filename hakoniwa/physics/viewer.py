@@ -65,7 +65,7 @@ class LiveView:
         if delay > 0:
             time.sleep(delay)
         with self.viewer.lock():
-            self.scene.show(self.env.world.state(), self.env.task.passed)
+            self.scene.show(self.env.world.state(), self.env.task.passed, self.env.world.object_states())
         self.viewer.sync()
 
     def close(self) -> None:

@@ -187,3 +187,22 @@ def test_a_course_without_objects_steps_as_before():
     assert env.world.object_states() == () and env.replay().object_states == ()
     assert env.read_sensors().ultrasonic_mm < ULTRASONIC_MAX_MM  # the wall ahead, as always
     assert np.isfinite(env.world.measure().reflect)
+
+
+def test_films_and_the_viewer_put_each_object_where_the_replay_has_it():
+    import mujoco
+
+    from hakoniwa.physics.replay import RobotLook
+    from hakoniwa.physics.scene import build_scene
+
+    course = load_course("etrobocon-l")
+    robot = BUILT_IN["hackev"]
+    scene = build_scene(course, RobotLook(robot.name, robot.hub, robot.body, tuple(k for _, k in robot.sensors)))
+    bottle = mujoco.mj_name2id(scene.model, mujoco.mjtObj.mjOBJ_BODY, "object_bottle")
+    state = (0.0, 0.0, 0.05, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    scene.show(state, 0)  # no object states: where the course stands them
+    assert tuple(scene.data.xpos[bottle]) == pytest.approx((course.objects[0].x, course.objects[0].y, 0.1025))
+    lying = (1.5, -0.2, 0.0325, math.cos(math.pi / 4), math.sin(math.pi / 4), 0.0, 0.0)
+    scene.show(state, 0, lying)
+    assert tuple(scene.data.xpos[bottle]) == pytest.approx(lying[:3])
+    assert scene.data.xmat[bottle][8] == pytest.approx(0.0, abs=1e-9)  # knocked over: its axis lies flat
