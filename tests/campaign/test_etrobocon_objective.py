@@ -89,3 +89,14 @@ def test_time_objectives_keep_their_files_as_they_were(tmp_path, objective):
     write_report(tmp_path, summary)
     assert "objective_s" in (tmp_path / "results.csv").read_text().splitlines()[0]
     assert best_dict(summary)["lap_time_s"] == 30.0
+
+
+def test_a_validation_of_the_best_set_reports_its_scores():
+    from testctl.campaign.validate import Validation
+
+    results = (scored(Event.FINISH, 20.0), scored(Event.TIME_OVER, 24.0))
+    v = Validation((1, 2), results, -25.0, SCORE)
+    assert v.scores == [23.0, 27.0]
+    assert "score mean 25.00 (min 23, max 27)" in v.describe() and "estimate: score 25.00 points" in v.describe()
+    assert v.to_dict()["campaign_estimate"] == 25.0 and "campaign_estimate_s" not in v.to_dict()
+    assert "campaign_estimate_s" in Validation((1,), results[:1], 33.0).to_dict()
