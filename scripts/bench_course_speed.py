@@ -7,7 +7,7 @@ contacts in every MuJoCo step, and a ray at each snapshot) and no walls. Both be
 with the same time limit, so every test covers the same simulated time whatever the program does on the
 course (on etrobocon-l, calibrated for the oval, it circles): the rate compares the physics, not the laps.
 Rounds alternate between the courses so that a change in the machine's load falls on both; each bench's
-own start is left out (once per campaign), as `bench_sim.py` leaves it out.
+own start is left out (once per campaign), as `bench_sim.py`, whose trials these are, leaves it out.
 """
 
 from __future__ import annotations
@@ -15,36 +15,20 @@ from __future__ import annotations
 import datetime as dt
 import os
 import platform
-import subprocess
-import tempfile
-from pathlib import Path
 
 import click
+from bench_sim import trial_rate  # scripts/ is on the path of a script run from it
 
 from hakoniwa.physics.options import BenchOptions
-from testctl.paper import BEST_GAINS, line_trace_params
-from testctl.runner import TrialRunner
 
-PAPER = line_trace_params(*BEST_GAINS)
 COURSES = ("oval", "etrobocon-l")
 
 
 def round_of(course: str, tests: int, time_limit_s: float) -> tuple[float, float, list[str]]:
     """One bench on `course`: a warm-up test, then `tests` tests; (simulated s, wall s, events) of the latter."""
-    bench = BenchOptions(course=course, app="line_trace_c", time_limit_s=time_limit_s)
-    with tempfile.TemporaryDirectory(prefix="hako-course-speed-") as tmp:
-        proc = subprocess.Popen(bench.physics_command(Path(tmp), []))
-        try:
-            runner = TrialRunner.attach(Path(tmp), proc)
-            runner.run_test(PAPER)
-            results = [runner.run_test(PAPER) for _ in range(tests)]
-            runner.end()
-            proc.wait(timeout=30)
-        finally:
-            if proc.poll() is None:
-                proc.kill()
-    sim = sum(r.goal_time_us / 1e6 if r.goal_time_us else time_limit_s for r in results)
-    return sim, sum(r.wall_s for r in results), [r.event.name for r in results]
+    rate, results = trial_rate(BenchOptions(course=course, app="line_trace_c", time_limit_s=time_limit_s), tests)
+    wall = sum(r.wall_s for r in results)
+    return rate * wall, wall, [r.event.name for r in results]
 
 
 @click.command()
