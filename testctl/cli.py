@@ -11,7 +11,7 @@ from pathlib import Path
 import click
 
 from hakoniwa.conventions import HELP, SECONDS, Float32, OneLineErrorsGroup
-from hakoniwa.wire.rundir import COURSE_ENV, RUN_DIR_ENV, TIME_LIMIT_ENV
+from hakoniwa.wire.rundir import COURSE_ENV, OBJECTIVE_ENV, RUN_DIR_ENV, TIME_LIMIT_ENV
 from testctl import paper
 from testctl.executor import SerialExecutor, TestSpec
 from testctl.options import campaign_options, noise_options, plan
@@ -52,13 +52,15 @@ def trial(run_dir: Path, kp: float, ki: float, kd: float, power: float, seed: in
               help="The bench's course folder, for the best set's picture [env: HAKO_COURSE].")
 @click.option("--time-limit", envvar=TIME_LIMIT_ENV, required=True, type=SECONDS,
               help="The bench's time limit: what a failed test scores [env: HAKO_TIME_LIMIT_S].")
+@click.option("--objective", envvar=OBJECTIVE_ENV, default="lap", show_default=True,
+              help="The bench's objective: what a test's value is [env: HAKO_OBJECTIVE].")
 @campaign_options
-def campaign(run_dir: Path, course: str, time_limit: float, **options) -> None:
+def campaign(run_dir: Path, course: str, time_limit: float, objective: str, **options) -> None:
     """Search the control parameters with repeated tests (the paper's experiment) on this one bench,
     journaling every test."""
     from testctl.campaign.session import run_campaign
 
-    p = plan(**options, penalty_s=time_limit)
+    p = plan(**options, penalty_s=time_limit, objective=objective)
     if p.config.space.bindings() is not None:
         p.lock.release()
         raise click.ClickException("--space: define, symbol, file and source parameters need a bench that knows "

@@ -51,7 +51,8 @@ RUN_HELP = (  # `hako run`'s help, from the configuration's defaults
     f"{_count(_RULE.failures_needed, 'failure')} "
     "(one test with --noise 0 on the real emulator's repeatable mode, where every test of a set is the same); the "
     "objective is the mean lap time (the time limit for a failure; with --objective completed, the mean time the "
-    "program notified its completion). Tests run on --benches benches at once; then the best set is tested on "
+    "program notified its completion; with --objective etrobocon, ET Robocon's mean score, maximised). Tests run "
+    "on --benches benches at once; then the best set is tested on "
     "--validate fresh noise draws. Every test is journaled; kill and --resume at any time.")
 
 
@@ -111,9 +112,11 @@ class CampaignPlan:
 
 def plan(trials: int | None, init_points: int | None, repeats: int | None, seed: int | None,
          optimizer: str | None, batch: int | None, noise: float | None, space_file: Path | None,
-         out: Path | None, resume: Path | None, smoke: bool, *, penalty_s: float) -> CampaignPlan:
+         out: Path | None, resume: Path | None, smoke: bool, *, penalty_s: float,
+         objective: str | None = None) -> CampaignPlan:
     """Turn the options into a campaign, or fail with a one-line click error. `penalty_s`, the bench's time
-    limit, is what a failure scores in a new campaign; a resumed one keeps its journal's."""
+    limit, is what a failure scores in a new campaign, `objective` the bench's (what a test's value is); a
+    resumed one keeps its journal's."""
     named = {"trials": trials, "init_points": init_points, "repeats": repeats, "seed": seed, "optimizer": optimizer,
              "batch": batch, "noise": noise}
     given: dict[str, Any] = {k: v for k, v in named.items() if v is not None}
@@ -140,7 +143,8 @@ def plan(trials: int | None, init_points: int | None, repeats: int | None, seed:
                 raise click.ClickException(f"{why} (the campaign in {resume} uses it)")
             return CampaignPlan(config, resume, True, dict(header.get("bench", {})), lock, header.get(VALIDATE_KEY))
         space = ParameterSpace.load(space_file) if space_file is not None else ParameterSpace.default()
-        config = CampaignConfig(space=space, penalty_s=penalty_s, **{**(SMOKE if smoke else {}), **given})
+        config = CampaignConfig(space=space, penalty_s=penalty_s, objective=objective or "lap",
+                                **{**(SMOKE if smoke else {}), **given})
         if (why := missing(config.optimizer)) is not None:
             raise click.ClickException(why)
     except (SpaceError, JournalError, ValueError) as e:

@@ -18,7 +18,7 @@ import click
 from hakoniwa.conventions import HELP, OneLineErrors
 from hakoniwa.wire.exits import EXIT_INTERRUPTED, exit_status
 from hakoniwa.wire.processes import describe_exit, die_with_parent
-from hakoniwa.wire.rundir import COURSE_ENV, RUN_DIR_ENV, TIME_LIMIT_ENV, RunDirLock
+from hakoniwa.wire.rundir import COURSE_ENV, OBJECTIVE_ENV, RUN_DIR_ENV, TIME_LIMIT_ENV, RunDirLock
 from hakoniwa.wire.timebase import US_PER_S
 from testctl.bench_options import BenchOptions, bench_options, load_bench
 
@@ -72,7 +72,8 @@ def serve(server, run_dir: Path, course_folder: Path, controller: tuple[str, ...
     proc = None
     if controller:
         env = dict(os.environ, **{RUN_DIR_ENV: str(run_dir.resolve()), COURSE_ENV: str(course_folder.resolve()),
-                                  TIME_LIMIT_ENV: repr(server.env.task.time_limit_us / US_PER_S)})
+                                  TIME_LIMIT_ENV: repr(server.env.task.time_limit_us / US_PER_S),
+                                  OBJECTIVE_ENV: server.env.task.objective.name.lower()})
         try:
             proc = subprocess.Popen(list(controller), env=env, preexec_fn=die_with_parent)
         except OSError as e:

@@ -3,12 +3,14 @@
 This is the only module of the controller that touches the mapped files, and it touches only what the
 paper gives the controller: the parameter area and the event/goal-time words of unity_mmap.bin, and the
 start/end flags of athrill_mmap.bin, plus the noise seed and scale of each test (`Rx.NOISE_SEED`,
-`Rx.NOISE_SCALE`; docs/NOISE.md).
+`Rx.NOISE_SCALE`; docs/NOISE.md). Under ET Robocon's score the physics process also leaves the score's
+components in the run directory (`SCORE_FILE`), as it leaves a crashed program's last words.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 import subprocess
 import time
@@ -16,6 +18,7 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 
 from hakoniwa.wire.errors import HakoError
+from hakoniwa.wire.etrobocon_rules import Score
 from hakoniwa.wire.params import SLOT_FORMATS, encode, fits_area
 from hakoniwa.wire.protocol import (
     MAX_NOISE_SCALE,
@@ -33,7 +36,7 @@ from hakoniwa.wire.protocol import (
     poll_unity,
 )
 from hakoniwa.wire.result import TestResult
-from hakoniwa.wire.rundir import PROGRAM_OUTPUT_FILE
+from hakoniwa.wire.rundir import PROGRAM_OUTPUT_FILE, SCORE_FILE
 from hakoniwa.wire.waiting import pid_alive, wait_for
 
 POLL_S = 0.002  # a test takes about a second; a 2 ms nap costs nothing and leaves the CPU to the bench
@@ -114,9 +117,19 @@ class TrialRunner:
                             u.read_i32(Rx.CRASH_DETAIL), self._program_output() if event == Event.CRASH else "",
                             goal_time_from_words(u.read_u32(Rx.COMPLETED_TIME_HI), u.read_u32(Rx.COMPLETED_TIME_LO)),
                             Objective(u.read_u32(Rx.OBJECTIVE)), BenchCause(u.read_u32(Rx.BENCH_CAUSE)))
+        if result.objective == Objective.ETROBOCON and event != Event.CRASH:
+            result = dataclasses.replace(result, score=self._score())
         self.athrill.write_i32(Tx.START, 0)
         self._wait(lambda: u.read_i32(Rx.EVENT) == Event.NONE, "the reset after the test")
         return dataclasses.replace(result, wall_s=time.monotonic() - start)
+
+    def _score(self) -> Score | None:
+        """ET Robocon's score the physics process wrote before it reported the event (None if it could not:
+        the test then counts as unscored, like a crash)."""
+        try:
+            return Score.from_dict(json.loads((self.run_dir / SCORE_FILE).read_text()))
+        except (OSError, ValueError, KeyError, TypeError):
+            return None
 
     def _program_output(self) -> str:
         """What the physics process kept of a crashed program's last words (nothing for other crashes)."""

@@ -2,14 +2,18 @@
 
 A course lives in a folder with `course.toml` and the floor image it names, so a user adds a course by
 copying a folder, not by writing code. The color sensor reads the floor the way Unity's does: the point
-below the sensor is looked up in the floor image (bilinearly, as a texture sampler would). The same folder
-describes the robot's wiring (which motor ports drive the wheels), since a course is built for a robot,
-and the levels of the seeded noise tests may turn on (`[noise]`, see docs/NOISE.md).
+below the sensor is looked up in the floor image (bilinearly, as a texture sampler would). The image may be
+grey or in colour; each kind of sensor's response to a colour, calibrated per course (`[sensor.ev3]`,
+`[sensor.spike]`), is `color_response.py`'s. The same folder describes the robot's wiring (which motor ports
+drive the wheels), since a course is built for a robot, the levels of the seeded noise tests may turn on
+(`[noise]`, see docs/NOISE.md), the movable objects and named zones on the floor (`course_items.py`), and
+what ET Robocon's score calls its garage, ring and bottle (`[score]`).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import tomllib
 from dataclasses import dataclass
@@ -17,9 +21,13 @@ from pathlib import Path
 
 import numpy as np
 
+from hakoniwa.physics import color_response
+from hakoniwa.physics.color_response import COLOR_RGB, SPIKE_DEFAULT, Calibration, ColorReading
+from hakoniwa.physics.course_items import CourseObject, ItemError, ScoreSpec, Zone, parse_items, parse_score
 from hakoniwa.physics.noise import DEFAULT_NOISE, NoiseLevels
 from hakoniwa.physics.robot import DEFAULT_WIRING, Wiring
 from hakoniwa.wire.errors import HakoError
+from hakoniwa.wire.etrobocon_rules import CLASSES
 from hakoniwa.wire.protocol import COURSE_BLOCK_POSITIONS, MOTOR_PORTS, ColorId
 from hakoniwa.wire.timebase import US_PER_S
 
@@ -32,16 +40,22 @@ class CourseError(HakoError, ValueError):
 
 @dataclass(frozen=True)
 class Box:
-    """An axis-aligned box on the floor: centre (x, y) and half sizes, in metres."""
+    """An axis-aligned box on the floor: centre (x, y) and half sizes, in metres. A checkpoint may say which way
+    it is passed (`heading_deg`, counter-clockwise from +x: ET Robocon's gate arrow)."""
 
     name: str
     x: float
     y: float
     hx: float
     hy: float
+    heading_deg: float | None = None
 
     def contains(self, x: float, y: float) -> bool:
         return abs(x - self.x) <= self.hx and abs(y - self.y) <= self.hy
+
+    def distance(self, x: float, y: float) -> float:
+        """How far (x, y) is from the box (0 inside it)."""
+        return math.hypot(max(abs(x - self.x) - self.hx, 0.0), max(abs(y - self.y) - self.hy, 0.0))
 
 
 @dataclass(frozen=True)
@@ -51,16 +65,6 @@ class ColorArea:
     box: Box
     color: ColorId
 
-
-# What the colour sensor's colour mode reports for plain floor: the darkest third of the way from black to
-# white is BLACK, the lightest third WHITE, the grey line edge in between no colour, as a real EV3 sensor
-# half over a line often does.
-BLACK_BELOW = 1 / 3
-WHITE_ABOVE = 2 / 3
-# Raw RGB of each colour id (0..255), for areas and for plain floor's black and white.
-COLOR_RGB = {ColorId.BLACK: (0, 0, 0), ColorId.BLUE: (0, 0, 255), ColorId.GREEN: (0, 160, 0),
-             ColorId.YELLOW: (255, 220, 0), ColorId.RED: (220, 0, 0), ColorId.WHITE: (255, 255, 255),
-             ColorId.BROWN: (130, 80, 30)}
 
 
 @dataclass(frozen=True)
@@ -84,7 +88,7 @@ class Pose:
 class Course:
     name: str
     folder: Path
-    floor: np.ndarray  # reflect value (float32) per pixel, row 0 at the top of the image
+    floor: np.ndarray  # the EV3's reflect (float32) per pixel, row 0 at the top of the image: the red channel
     meters_per_pixel: float
     origin: tuple[float, float]  # world (x, y) of the image's bottom-left corner
     walls: tuple[Box, ...]
@@ -98,6 +102,18 @@ class Course:
     wiring: Wiring = DEFAULT_WIRING
     noise: NoiseLevels = DEFAULT_NOISE
     info: CourseInfo = CourseInfo()
+    # A colour image's green, blue and mean channels (float32, the EV3's reflect units) per pixel; None for a
+    # grey image, whose channels are all `floor`.
+    colour: np.ndarray | None = None
+    spike: Calibration = SPIKE_DEFAULT  # the SPIKE sensor's reading on white and black
+    zones: tuple[Zone, ...] = ()
+    objects: tuple[CourseObject, ...] = ()
+    score: ScoreSpec = ScoreSpec()
+
+    @functools.cached_property
+    def ev3(self) -> Calibration:
+        """The EV3's reading on white and black (`reflect_white`, `reflect_black`)."""
+        return Calibration(self.reflect_white, self.reflect_black)
 
     @property
     def extent(self) -> tuple[float, float, float, float]:
@@ -108,28 +124,79 @@ class Course:
 
     def reflect_at(self, x: float, y: float) -> float:
         """Bilinear lookup of the floor under world point (x, y); off the image reads as the image border."""
+        f = self.floor
+        i0, j0, i1, j1, fv, fu = self._texel(x, y)
+        top = f[i0, j0] * (1 - fu) + f[i0, j1] * fu
+        bottom = f[i1, j0] * (1 - fu) + f[i1, j1] * fu
+        return float(top * (1 - fv) + bottom * fv)
+
+    def colour_at(self, x: float, y: float) -> tuple[float, float, float] | None:
+        """The green, blue and mean channels under (x, y), bilinearly, as `reflect_at` the red; None on a grey
+        course."""
+        c = self.colour
+        if c is None:
+            return None
+        i0, j0, i1, j1, fv, fu = self._texel(x, y)
+        top = c[i0, j0] * (1 - fu) + c[i0, j1] * fu
+        bottom = c[i1, j0] * (1 - fu) + c[i1, j1] * fu
+        g, b, mean = (top * (1 - fv) + bottom * fv).tolist()
+        return g, b, mean
+
+    def _texel(self, x: float, y: float) -> tuple[int, int, int, int, float, float]:
+        """The four pixels around (x, y) and the weights between them; off the image, its border."""
         h, w = self.floor.shape
         u = (x - self.origin[0]) / self.meters_per_pixel - 0.5
         v = (h - 1) - ((y - self.origin[1]) / self.meters_per_pixel - 0.5)
         u = min(max(u, 0.0), w - 1.0)
         v = min(max(v, 0.0), h - 1.0)
         i0, j0 = int(v), int(u)
-        i1, j1 = min(i0 + 1, h - 1), min(j0 + 1, w - 1)
-        fv, fu = v - i0, u - j0
-        f = self.floor
-        top = f[i0, j0] * (1 - fu) + f[i0, j1] * fu
-        bottom = f[i1, j0] * (1 - fu) + f[i1, j1] * fu
-        return float(top * (1 - fv) + bottom * fv)
+        return i0, j0, min(i0 + 1, h - 1), min(j0 + 1, w - 1), v - i0, u - j0
 
-    def color_at(self, x: float, y: float, reflect: float) -> tuple[ColorId, tuple[int, int, int]]:
-        """Colour id and raw RGB of the floor under (x, y), whose reflect value is `reflect`."""
+    def color_at(self, x: float, y: float, reflect: float,
+                 colour: tuple[float, float, float] | None = None) -> tuple[ColorId, tuple[int, int, int]]:
+        """Colour id and raw RGB of the floor under (x, y), whose red channel (reflect) is `reflect` and other
+        channels `colour` (None: a grey)."""
         for area in self.color_areas:
             if area.box.contains(x, y):
                 return area.color, COLOR_RGB[area.color]
-        f = (reflect - self.reflect_black) / (self.reflect_white - self.reflect_black)
-        grey = round(min(max(f, 0.0), 1.0) * 255)
-        color = ColorId.BLACK if f < BLACK_BELOW else ColorId.WHITE if f > WHITE_ABOVE else ColorId.NONE
-        return color, (grey, grey, grey)
+        return color_response.ev3_color(reflect, colour, self.ev3), color_response.raw_rgb(reflect, colour, self.ev3)
+
+    def reading_at(self, x: float, y: float, spike: bool = False) -> ColorReading:
+        """What a colour sensor over (x, y) reads, without noise: an EV3's, or (`spike`) a SPIKE's with its
+        HSV. For a scenario or a test that needs to know what the floor at a point looks like to the robot."""
+        reflect, colour = self.reflect_at(x, y), self.colour_at(x, y)
+        color, rgb = self.color_at(x, y, reflect, colour)
+        if not spike:
+            return ColorReading(round(reflect), color, rgb)
+        mean = reflect if colour is None else colour[2]
+        return ColorReading(color_response.spike_reflect(mean, self.ev3, self.spike), color, rgb,
+                            color_response.hsv_of(rgb))
+
+    def picture(self) -> np.ndarray:
+        """The floor as a person sees it (RGB, 0..255, row 0 at the image's top): each channel's place between
+        black and white, and the colour areas painted in."""
+        span = self.reflect_white - self.reflect_black
+
+        def byte(channel: np.ndarray) -> np.ndarray:
+            return (np.clip((channel - self.reflect_black) / span, 0, 1) * 255).astype(np.uint8)
+
+        red = byte(self.floor)
+        c = self.colour
+        rgb = np.stack([red, red, red] if c is None else [red, byte(c[:, :, 0]), byte(c[:, :, 1])], axis=2)
+        h = red.shape[0]
+        mpp, (x0, y0) = self.meters_per_pixel, self.origin
+        for area in self.color_areas:
+            b = area.box
+            c0, c1 = round((b.x - b.hx - x0) / mpp), round((b.x + b.hx - x0) / mpp)
+            r0, r1 = h - round((b.y + b.hy - y0) / mpp), h - round((b.y - b.hy - y0) / mpp)
+            rgb[max(r0, 0):max(r1, 0), max(c0, 0):max(c1, 0)] = COLOR_RGB[area.color]
+        return rgb
+
+    def zone(self, name: str) -> Zone:
+        return next(z for z in self.zones if z.name == name)
+
+    def object(self, name: str) -> CourseObject:
+        return next(o for o in self.objects if o.name == name)
 
 
 def _number(table: dict, key: str, where: str) -> float:
@@ -146,6 +213,13 @@ def _box(table: dict, where: str) -> Box:
     if hx <= 0 or hy <= 0:
         raise CourseError(f"{where}: half sizes must be positive")
     return Box(str(table.get("name", where)), _number(table, "x", where), _number(table, "y", where), hx, hy)
+
+
+def _checkpoint(table: dict, where: str) -> Box:
+    box = _box(table, where)
+    if "heading_deg" not in table:
+        return box
+    return dataclasses.replace(box, heading_deg=_number(table, "heading_deg", where))
 
 
 def _color_area(table: dict, where: str) -> ColorArea:
@@ -241,14 +315,8 @@ def load_course(name_or_path: str | Path) -> Course:
     image_path = path.parent / str(spec.get("floor_image", ""))
     if not image_path.is_file():
         raise CourseError(f"{where}: floor_image {spec.get('floor_image')!r} not found")
-    white, black = _number(spec, "reflect_white", where), _number(spec, "reflect_black", where)
-    from PIL import Image, UnidentifiedImageError
-
-    try:
-        with Image.open(image_path) as img:
-            luminance = np.asarray(img.convert("L"), dtype=np.float32) / 255.0
-    except (UnidentifiedImageError, OSError) as e:
-        raise CourseError(f"{image_path.name}: not a readable image: {e}") from None
+    ev3, spike = _calibrations(spec, where)
+    red, colour = _floor_channels(image_path)
     mpp = _number(spec, "meters_per_pixel", where)
     origin = spec.get("origin")
     if not (isinstance(origin, list) and len(origin) == 2):
@@ -257,19 +325,22 @@ def load_course(name_or_path: str | Path) -> Course:
     if not isinstance(start, dict):
         raise CourseError(f"{where}: missing [start]")
     walls = tuple(_box(w, f"{where} wall {i}") for i, w in enumerate(spec.get("wall", [])))
-    checkpoints = tuple(_box(c, f"{where} checkpoint {i}") for i, c in enumerate(spec.get("checkpoint", [])))
+    checkpoints = tuple(_checkpoint(c, f"{where} checkpoint {i}") for i, c in enumerate(spec.get("checkpoint", [])))
     if not checkpoints:
         raise CourseError(f"{where}: a course needs at least one [[checkpoint]]")
     limit = _number(spec, "time_limit_s", where)
     if limit <= 0 or mpp <= 0:
         raise CourseError(f"{where}: time_limit_s and meters_per_pixel must be positive")
-    if white <= black:
-        raise CourseError(f"{where}: reflect_white must be above reflect_black")
     areas = tuple(_color_area(a, f"{where} area {i}") for i, a in enumerate(spec.get("area", [])))
-    return Course(
+    try:
+        zones, objects = parse_items(spec, where)
+        score = parse_score(spec.get("score"), zones, objects, where, CLASSES)
+    except ItemError as e:
+        raise CourseError(str(e)) from None
+    course = Course(
         name=str(spec.get("name", path.parent.name)),
         folder=path.parent,
-        floor=(black + (white - black) * luminance).astype(np.float32),
+        floor=_scaled(red, ev3),
         meters_per_pixel=mpp,
         origin=(float(origin[0]), float(origin[1])),
         walls=walls,
@@ -277,10 +348,93 @@ def load_course(name_or_path: str | Path) -> Course:
         checkpoints=checkpoints,
         start=Pose(_number(start, "x", where), _number(start, "y", where), _number(start, "yaw_deg", where)),
         time_limit_us=round(limit * US_PER_S),
-        reflect_white=white,
-        reflect_black=black,
+        reflect_white=ev3.white,
+        reflect_black=ev3.black,
         color_areas=areas,
         wiring=_wiring(spec.get("robot"), where),
         noise=_noise(spec.get("noise"), where),
         info=_course_info(spec.get("etroboc"), where),
+        colour=None if colour is None else _scaled(colour, ev3),
+        spike=spike,
+        zones=zones,
+        objects=objects,
+        score=score,
     )
+    _check_items(course, where)
+    return course
+
+
+def _calibrations(spec: dict, where: str) -> tuple[Calibration, Calibration]:
+    """The EV3's and the SPIKE's readings on white and black: `[sensor.ev3]` (or the top-level reflect_white and
+    reflect_black, the form the oval's file has always had) and `[sensor.spike]` (default: ET Robocon's 40 / 10)."""
+    sensor = spec.get("sensor", {})
+    if not isinstance(sensor, dict):
+        raise CourseError(f"{where}: [sensor] must be a table ([sensor.ev3], [sensor.spike])")
+    unknown = sorted(set(sensor) - {"ev3", "spike"})
+    if unknown:
+        raise CourseError(f"{where}: [sensor.{unknown[0]}]: no such sensor kind (known: ev3, spike)")
+    top = {"reflect_white", "reflect_black"} & set(spec)
+    if top and "ev3" in sensor:
+        raise CourseError(f"{where}: the EV3's reflect is given twice: [sensor.ev3] and the top-level "
+                          f"{sorted(top)[0]}; keep one")
+    cals = {}
+    for kind, table, default in (("ev3", sensor.get("ev3", spec), None), ("spike", sensor.get("spike"), SPIKE_DEFAULT)):
+        if table is None and default is not None:
+            cals[kind] = default
+            continue
+        at = f"{where} [sensor.{kind}]" if table is not spec else where
+        if not isinstance(table, dict):
+            raise CourseError(f"{at}: must be a table")
+        if table is not spec:
+            extra = sorted(set(table) - {"reflect_white", "reflect_black"})
+            if extra:
+                raise CourseError(f"{at}: unknown key {extra[0]!r} (known: reflect_black, reflect_white)")
+        white, black = _number(table, "reflect_white", at), _number(table, "reflect_black", at)
+        if white <= black:
+            raise CourseError(f"{at}: reflect_white must be above reflect_black")
+        if not (0 <= black and white <= 100):
+            raise CourseError(f"{at}: a reflect reading is 0..100, got black {black:g} and white {white:g}")
+        cals[kind] = Calibration(white, black)
+    return cals["ev3"], cals["spike"]
+
+
+def _floor_channels(image_path: Path) -> tuple[np.ndarray, np.ndarray | None]:
+    """The image's red channel (0..1, float32) and, for a colour image, its green, blue and mean channels
+    (None for a grey one, where every channel is the red)."""
+    from PIL import Image, UnidentifiedImageError
+
+    try:
+        with Image.open(image_path) as img:
+            rgb = np.asarray(img.convert("RGB"))
+    except (UnidentifiedImageError, OSError) as e:
+        raise CourseError(f"{image_path.name}: not a readable image: {e}") from None
+    red = rgb[:, :, 0].astype(np.float32) / 255.0
+    if (rgb[:, :, 0] == rgb[:, :, 1]).all() and (rgb[:, :, 1] == rgb[:, :, 2]).all():
+        return red, None
+    channels = rgb.astype(np.float32)
+    mean = channels.sum(axis=2) / 3
+    return red, np.stack([channels[:, :, 1], channels[:, :, 2], mean], axis=2) / 255.0
+
+
+def _scaled(channels: np.ndarray, ev3: Calibration) -> np.ndarray:
+    """Channels 0..1 as the EV3's reflect between the course's black and white."""
+    return (ev3.black + (ev3.white - ev3.black) * channels).astype(np.float32)
+
+
+def _check_items(course: Course, where: str) -> None:
+    """Objects and zones on the floor image, and no object standing in a wall."""
+    xmin, xmax, ymin, ymax = course.extent
+    for zone in course.zones:
+        x0, x1, y0, y1 = zone.bounds()
+        if not (xmin <= x0 and x1 <= xmax and ymin <= y0 and y1 <= ymax):
+            raise CourseError(f"{where}: zone {zone.name!r} reaches off the floor image (x {xmin:g}..{xmax:g}, "
+                              f"y {ymin:g}..{ymax:g})")
+    for obj in course.objects:
+        r = obj.half_extent
+        if not (xmin + r <= obj.x <= xmax - r and ymin + r <= obj.y <= ymax - r):
+            raise CourseError(f"{where}: object {obj.name!r} at ({obj.x:g}, {obj.y:g}) stands off the floor image "
+                              f"(x {xmin:g}..{xmax:g}, y {ymin:g}..{ymax:g})")
+        for wall in course.walls:
+            if wall.distance(obj.x, obj.y) < r:
+                raise CourseError(f"{where}: object {obj.name!r} at ({obj.x:g}, {obj.y:g}) stands inside wall "
+                                  f"{wall.name!r}")

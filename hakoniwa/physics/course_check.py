@@ -21,11 +21,10 @@ from pathlib import Path
 import numpy as np
 
 from hakoniwa.physics.course import Box, Course, CourseError
-from hakoniwa.physics.robot import Body
+from hakoniwa.physics.robot import CHASSIS_BACK_M, Body
 
 CELL_M = 0.02  # the flood fill's grid
 TOUCH_M = 0.001  # a start closer to a wall than this touches it: the first event check would see the contact
-CHASSIS_BACK_M = 0.01  # the chassis box sits this far behind the axle (`robot.robot_mjcf`)
 
 
 def check_course(course: Course, body: Body, file: Path) -> None:
@@ -68,7 +67,7 @@ def _footprint_touches(body: Body, x: float, y: float, yaw: float, wall: Box) ->
     c, s = math.cos(yaw), math.sin(yaw)
     for side in (1, -1):
         wx, wy = x - s * side * body.track_width / 2, y + c * side * body.track_width / 2
-        if _box_distance(wall, wx, wy) <= body.wheel_radius + TOUCH_M:
+        if wall.distance(wx, wy) <= body.wheel_radius + TOUCH_M:
             return True
     hx, hy = body.chassis_half[0], body.chassis_half[1]
     cx, cy = x - CHASSIS_BACK_M * c, y - CHASSIS_BACK_M * s
@@ -79,10 +78,6 @@ def _footprint_touches(body: Body, x: float, y: float, yaw: float, wall: Box) ->
         if abs((cx - wall.x) * ax + (cy - wall.y) * ay) > chassis_r + wall_r + TOUCH_M:
             return False
     return True
-
-
-def _box_distance(box: Box, x: float, y: float) -> float:
-    return math.hypot(max(abs(x - box.x) - box.hx, 0.0), max(abs(y - box.y) - box.hy, 0.0))
 
 
 def _flood(course: Course, body: Body) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

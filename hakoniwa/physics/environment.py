@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from hakoniwa.physics.course import Course
+from hakoniwa.physics.etrobocon_task import EtRoboconTask
 from hakoniwa.physics.noise import NoiseDraw
 from hakoniwa.physics.replay import Replay, RobotLook, State
 from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
@@ -19,6 +20,7 @@ from hakoniwa.physics.scenario import Scenario
 from hakoniwa.physics.sensors import SensorModel, Sensors
 from hakoniwa.physics.task import Task
 from hakoniwa.physics.world import World
+from hakoniwa.wire.etrobocon_rules import Score
 from hakoniwa.wire.protocol import Event
 from hakoniwa.wire.timebase import EVENT_CHECK_PERIOD_US, PHYSICS_STEP_US, TRACE_PERIOD_US, Scheduler
 
@@ -46,6 +48,7 @@ class Environment:
         self.sensors.begin(noise)
         self.trajectory: list[Pose] = []
         self.states: list[tuple[int, State]] = []  # the replay's samples: at the trajectory's, and at the end
+        self.object_states: list[tuple[float, ...]] = []  # the course's objects at the same samples
 
     def begin(self, noise: NoiseDraw | None) -> None:
         """A new test with this noise: the robot put down (with the test's start jitter), the clock at 0."""
@@ -86,6 +89,10 @@ class Environment:
         if self.completed_us is None:
             self.completed_us = self.now_us
 
+    def score(self) -> Score | None:
+        """ET Robocon's result points as they stand (None under another objective)."""
+        return self.task.score(self.world) if isinstance(self.task, EtRoboconTask) else None
+
     def read_sensors(self) -> Sensors:
         return self.sensors.read(self.world, self.now_us)
 
@@ -106,15 +113,19 @@ class Environment:
     def _trace(self, now_us: int) -> None:
         self.trajectory.append((now_us, *self.world.pose()))
         self.states.append((now_us, self.world.state()))
+        if self.course.objects:
+            self.object_states.append(self.world.object_states())
 
     def replay(self) -> Replay:
         """The test so far as a replay: its samples, and the state now if the test ended between two."""
-        states = self.states
+        states, objects = self.states, self.object_states
         if states[-1][0] < self.now_us:
             states = [*states, (self.now_us, self.world.state())]
+            objects = [*objects, self.world.object_states()] if objects else objects
         r = self.robot
         look = RobotLook(r.name, r.hub, r.body, tuple(k for _, k in r.sensors))
+        score = self.score()
         return Replay(str(self.course.folder.resolve()), look,
                       self.task.objective.name.lower(), len(self.course.checkpoints), self.event.name, self.event_us,
                       tuple(self.task.passed_us), self.completed_us, tuple(t for t, _ in states),
-                      tuple(s for _, s in states))
+                      tuple(s for _, s in states), tuple(objects), None if score is None else score.to_dict())

@@ -117,6 +117,7 @@ class NoiseDraw:
         self.motor_gain = (max(0.0, 1.0 + lv.motor_gain_sd * z[2]), max(0.0, 1.0 + lv.motor_gain_sd * z[3]))
         self.start = StartOffset(lv.start_xy_sd_mm / 1000 * z[4], lv.start_xy_sd_mm / 1000 * z[5],
                                  lv.start_yaw_sd_deg * z[6])
+        self._reflect_flicker = 0.0  # the last reading's reflect flicker (`shift_reflect`)
 
     def reading(self, reflect: float, rate_dps: float, ultrasonic_mm: int) -> tuple[float, float, int]:
         """Noisy (reflect, gyro rate, ultrasonic distance) for one snapshot of the true values.
@@ -128,13 +129,20 @@ class NoiseDraw:
         lv = self.levels
         z_reflect, z_rate, z_sonar = self._readings.take(3)
         lo, hi = REFLECT_RANGE
-        noisy_reflect = min(max(reflect + self.reflect_offset + lv.reflect_sd * z_reflect, lo), hi)
+        self._reflect_flicker = lv.reflect_sd * z_reflect
+        noisy_reflect = min(max(reflect + self.reflect_offset + self._reflect_flicker, lo), hi)
         noisy_rate = rate_dps + self.gyro_bias_dps + lv.gyro_rate_sd_dps * z_rate
         if ultrasonic_mm >= ULTRASONIC_MAX_MM:
             noisy_mm = ultrasonic_mm
         else:
             noisy_mm = min(max(round(ultrasonic_mm + lv.ultrasonic_sd_mm * z_sonar), 0), ULTRASONIC_MAX_MM - 1)
         return noisy_reflect, noisy_rate, noisy_mm
+
+    def shift_reflect(self, channels: tuple[float, ...]) -> tuple[float, ...]:
+        """The floor's other colour channels with the last reading's reflect noise: light and sensor height
+        brighten or darken every colour alike, so one draw shifts them all."""
+        lo, hi = REFLECT_RANGE
+        return tuple(min(max(c + self.reflect_offset + self._reflect_flicker, lo), hi) for c in channels)
 
     def gyro_drift_deg(self, time_us: int) -> float:
         """What the gyro angle has drifted by at `time_us`: the test's rate bias, integrated from the start

@@ -1,5 +1,6 @@
 """What a test did, kept so that it can be watched afterwards: the robot's pose and wheel angles at every
-trajectory sample, the checkpoint passes, the event, and the course and robot it ran on.
+trajectory sample (and the course's objects' poses), the checkpoint passes, the event, ET Robocon's score
+under that objective, and the course and robot it ran on.
 
 The physics process writes it at each test's end from state it already has (the samples are taken at the
 trajectory's 50 ms ticks, which the world steps to anyway), so recording it changes neither a result nor its
@@ -53,6 +54,8 @@ class Replay:
     completed_us: int | None
     times_us: tuple[int, ...]
     states: tuple[State, ...]
+    object_states: tuple[tuple[float, ...], ...] = ()  # at each sample, each object's free joint (7 values)
+    score: dict | None = None  # ET Robocon's score at the end (`etrobocon_rules.Score.to_dict`)
 
     @property
     def duration_us(self) -> int:
@@ -77,6 +80,13 @@ class Replay:
         wheels = [p * (1 - f) + r * f for p, r in zip(a[7:], b[7:])]
         return (*pos, *(v / norm for v in q), *wheels)
 
+    def objects_at(self, t_us: float) -> tuple[float, ...]:
+        """The objects' free joints at the sample at or before `t_us` (50 ms apart: an object pushed along
+        moves a few millimetres between two)."""
+        if not self.object_states:
+            return ()
+        return self.object_states[max(bisect_right(self.times_us, t_us) - 1, 0)]
+
     def passed_at(self, t_us: float) -> int:
         """Checkpoints entered by `t_us`."""
         return bisect_right(self.passed_us, t_us)
@@ -84,8 +94,10 @@ class Replay:
 
 def write_replay(path: Path, replay: Replay) -> None:
     """Written beside and renamed into place: a reader sees a whole file or none."""
-    doc = dataclasses.asdict(dataclasses.replace(replay, times_us=(), states=()))  # asdict would copy every sample
-    doc.update(version=REPLAY_VERSION, times_us=replay.times_us, states=replay.states)  # floats exact, as repr
+    # asdict would copy every sample
+    doc = dataclasses.asdict(dataclasses.replace(replay, times_us=(), states=(), object_states=()))
+    doc.update(version=REPLAY_VERSION, times_us=replay.times_us, states=replay.states,  # floats exact, as repr
+               object_states=replay.object_states)
     tmp = path.with_name(path.name + ".tmp")
     tmp.write_text(json.dumps(doc, separators=(",", ":")))
     tmp.replace(path)
@@ -107,11 +119,15 @@ def read_replay(run_dir: Path) -> Replay:
                          tuple(robot["sensors"]))
         states = tuple(tuple(float(v) for v in s) for s in doc["states"])
         times = tuple(int(t) for t in doc["times_us"])
-        if not times or len(times) != len(states) or any(len(s) != STATE_SIZE for s in states):
+        objects = tuple(tuple(float(v) for v in s) for s in doc.get("object_states", ()))
+        if (not times or len(times) != len(states) or any(len(s) != STATE_SIZE for s in states)
+                or (objects and len(objects) != len(times))):
             raise ReplayError(f"{path}: its samples are damaged")
+        score = doc.get("score")
         return Replay(str(doc["course"]), look, str(doc["objective"]), int(doc["checkpoints"]), str(doc["event"]),
                       int(doc["event_us"]), tuple(int(t) for t in doc["passed_us"]),
-                      None if doc["completed_us"] is None else int(doc["completed_us"]), times, states)
+                      None if doc["completed_us"] is None else int(doc["completed_us"]), times, states, objects,
+                      None if score is None else dict(score))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError, KeyError, TypeError, ValueError) as e:
         if isinstance(e, ReplayError):
             raise

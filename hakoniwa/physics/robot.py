@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+CHASSIS_BACK_M = 0.01  # the chassis box's centre sits this far behind the axle
 ULTRASONIC_MAX_MM = 2550  # the EV3 sensor's reading when nothing is in range (EV3RT: 255 cm); the world's
 # "no echo"
 
@@ -61,9 +62,11 @@ class Wiring:
 DEFAULT_WIRING = Wiring(left=0, right=1)
 
 
-def robot_mjcf(x: float, y: float, yaw_deg: float, body: Body = EV3_BODY, imu: bool = False) -> str:
+def robot_mjcf(x: float, y: float, yaw_deg: float, body: Body = EV3_BODY, imu: bool = False,
+               sleeps: bool = True) -> str:
     """The robot body as an MJCF fragment placed at the start pose; with `imu`, a site at the hub for the
-    accelerometer `imu_sensor_mjcf` declares."""
+    accelerometer `imu_sensor_mjcf` declares; without `sleeps`, a robot MuJoCo never puts to sleep (in a world
+    that lets resting bodies sleep, a robot waiting for its start must still feel its motors)."""
     hx, hy, hz = body.chassis_half
     r = body.wheel_radius
     half_track = body.track_width / 2
@@ -72,9 +75,9 @@ def robot_mjcf(x: float, y: float, yaw_deg: float, body: Body = EV3_BODY, imu: b
     hub = f'''
       <site name="imu" pos="-0.01 0 {hz}" size="0.006" rgba="0 1 0 1"/>''' if imu else ""
     return f"""
-    <body name="robot" pos="{x} {y} {body_z}" euler="0 0 {yaw_deg}">
+    <body name="robot" pos="{x} {y} {body_z}" euler="0 0 {yaw_deg}"{"" if sleeps else ' sleep="never"'}>
       <freejoint name="robot_root"/>
-      <geom name="chassis" type="box" size="{hx} {hy} {hz}" pos="-0.01 0 {hz}" mass="{body.chassis_mass}"
+      <geom name="chassis" type="box" size="{hx} {hy} {hz}" pos="{-CHASSIS_BACK_M} 0 {hz}" mass="{body.chassis_mass}"
             rgba=".9 .5 .1 1"/>
       <geom name="caster" type="sphere" size="{caster}" pos="{-hx + 0.005} 0 {caster - body_z}" condim="1"
             mass="0.02" rgba=".3 .3 .3 1"/>

@@ -4,13 +4,14 @@ The physics model (`world.py`) is built to be cheap to step: a white plane, sphe
 built to be recognised: the floor image as the floor's texture (the line and the colour areas the sensor
 reads), the walls, the checkpoints (shaded once passed), and a robot dressed as the one simulated, on the
 same body sizes (its chassis, wheels with a tyre and a spoke that shows them turning, the colour sensor and
-the spot it reads, the ultrasonic sensor's eyes, an EV3 brick's screen or a SPIKE hub's light matrix). A
-replay state (`replay.State`) sets its robot's joints directly, so a frame shows the robot exactly where the
-physics had it.
+the spot it reads, the ultrasonic sensor's eyes, an EV3 brick's screen or a SPIKE hub's light matrix), and
+the course's objects (a bottle with its neck and cap). A replay state (`replay.State`) sets its robot's joints
+directly, and its objects' states theirs, so a frame shows each exactly where the physics had it.
 """
 
 from __future__ import annotations
 
+import math
 import os
 import sys
 import tempfile
@@ -25,9 +26,8 @@ if "mujoco" not in sys.modules and "MUJOCO_GL" not in os.environ and find_librar
     os.environ["MUJOCO_GL"] = "egl"
 
 import mujoco
-import numpy as np
 
-from hakoniwa.physics.course import COLOR_RGB, Course
+from hakoniwa.physics.course import Course
 from hakoniwa.physics.replay import STATE_SIZE, RobotLook, State
 from hakoniwa.physics.robots import SPIKE
 
@@ -37,21 +37,6 @@ PASSED_RGBA = (0.1, 0.85, 0.25, 0.55)  # passed: solid
 # The robot's colours: an EV3 brick's light grey and dark frame; a SPIKE Prime hub's white and yellow.
 BODY_RGBA = {"ev3": ".82 .83 .80 1", SPIKE: ".96 .78 .10 1"}
 TOP_RGBA = {"ev3": ".20 .22 .24 1", SPIKE: ".95 .95 .93 1"}
-
-
-def floor_texture(course: Course) -> np.ndarray:
-    """The floor as the sensor sees it (RGB, row 0 at the image's top): grey from the reflect values, and the
-    colour areas painted in."""
-    grey = (course.floor - course.reflect_black) / (course.reflect_white - course.reflect_black)
-    rgb = np.repeat((np.clip(grey, 0, 1) * 255).astype(np.uint8)[:, :, None], 3, axis=2)
-    h, _ = grey.shape
-    mpp, (x0, y0) = course.meters_per_pixel, course.origin
-    for area in course.color_areas:
-        b = area.box
-        c0, c1 = round((b.x - b.hx - x0) / mpp), round((b.x + b.hx - x0) / mpp)
-        r0, r1 = h - round((b.y + b.hy - y0) / mpp), h - round((b.y - b.hy - y0) / mpp)
-        rgb[max(r0, 0):max(r1, 0), max(c0, 0):max(c1, 0)] = COLOR_RGB[area.color]
-    return rgb
 
 
 def _robot(look: RobotLook) -> str:
@@ -107,6 +92,23 @@ def _robot(look: RobotLook) -> str:
     </body>"""
 
 
+def _objects(course: Course) -> str:
+    """The course's objects as free bodies after the robot, in course order (a replay's `object_states`): a
+    bottle (a cylinder) gets a neck and a white cap."""
+    bodies = []
+    for o in course.objects:
+        a, b, h = o.size
+        rgba = " ".join(f"{c / 255:.4g}" for c in o.rgb) + " 1"
+        if o.shape == "cylinder":
+            geoms = (f'<geom type="cylinder" size="{a} {h * .4}" pos="0 0 {-h * .1}" rgba="{rgba}"/>'
+                     f'<geom type="cylinder" size="{a * .95} {h * .1}" pos="0 0 {h * .3}" rgba=".85 .9 .95 .6"/>'
+                     f'<geom type="cylinder" size="{a * .4} {h * .05}" pos="0 0 {h * .45}" rgba=".95 .95 .95 1"/>')
+        else:
+            geoms = f'<geom type="box" size="{a / 2} {b / 2} {h / 2}" rgba="{rgba}"/>'
+        bodies.append(f'<body name="object_{o.name}"><freejoint/>{geoms}</body>')
+    return "\n".join(bodies)
+
+
 def scene_mjcf(course: Course, look: RobotLook, floor_png: Path, width: int = WIDTH, height: int = HEIGHT,
                samples: int = 0) -> str:
     xmin, xmax, ymin, ymax = course.extent
@@ -143,6 +145,7 @@ def scene_mjcf(course: Course, look: RobotLook, floor_png: Path, width: int = WI
     {walls}
     {checkpoints}
     {_robot(look)}
+    {_objects(course)}
   </worldbody>
 </mujoco>"""
 
@@ -156,9 +159,13 @@ class Scene:
     model: mujoco.MjModel
     data: mujoco.MjData
 
-    def show(self, state: State, passed: int) -> None:
+    def show(self, state: State, passed: int, objects: tuple[float, ...] = ()) -> None:
+        """Put the robot in `state` and the objects where `objects` (their free joints, course order) has
+        them (none given: where they stand at the start)."""
         assert len(state) == STATE_SIZE
-        self.data.qpos[:] = state
+        self.data.qpos[:STATE_SIZE] = state
+        start = [v for o in self.course.objects for v in (o.x, o.y, o.height / 2, *_yaw_quat(o.yaw_deg))]
+        self.data.qpos[STATE_SIZE:] = objects or start
         mujoco.mj_kinematics(self.model, self.data)
         n = len(self.course.checkpoints)
         # Under the `completed` objective laps go on: a new lap starts with its checkpoints unshaded.
@@ -168,11 +175,16 @@ class Scene:
             self.model.geom_rgba[gid] = PASSED_RGBA if i < this_lap else CHECKPOINT_RGBA
 
 
+def _yaw_quat(yaw_deg: float) -> tuple[float, float, float, float]:
+    half = math.radians(yaw_deg) / 2
+    return math.cos(half), 0.0, 0.0, math.sin(half)
+
+
 def build_scene(course: Course, look: RobotLook, width: int = WIDTH, height: int = HEIGHT, samples: int = 0) -> Scene:
     from PIL import Image
 
     with tempfile.TemporaryDirectory(prefix="hako-scene-") as tmp:
         png = Path(tmp) / "floor.png"
-        Image.fromarray(floor_texture(course)).save(png)
+        Image.fromarray(course.picture()).save(png)
         model = mujoco.MjModel.from_xml_string(scene_mjcf(course, look, png, width, height, samples))
     return Scene(course, look, model, mujoco.MjData(model))

@@ -3,24 +3,25 @@ piece of sensor state.
 
 The world (`world.py`) measures the truth; this model turns it into what EV3RT's drivers (or ET Robocon's
 SPIKE SDK) report. It adds the test's seeded noise (`noise.py`) to the readings and the motor commands,
-derives the colour id and raw RGB from the noisy reflect (so the three agree, as on a real sensor), counts the
-gyro's whole turns and its drift, and keeps the zeros that `ev3_motor_reset_counts` and
+derives the colour id and raw RGB from the same noisy channels as the reflect (so they agree, as on a real
+sensor), counts the gyro's whole turns and its drift, and keeps the zeros that `ev3_motor_reset_counts` and
 `ev3_gyro_sensor_reset` set. Nothing else in the physics side touches a `NoiseDraw`, so a test's draws happen
 in one fixed order: sensor readings at each snapshot, motor factors at each command.
 
-A robot's sensors have the response of their kind. The floor's brightness is the EV3 colour sensor's reflect
-(the course file gives it on white and black); a SPIKE colour sensor maps the same floor onto what it reads
-on ET Robocon's course, `SPIKE_REFLECT_WHITE` and `SPIKE_REFLECT_BLACK`. A SPIKE robot also gets its hub
-IMU, the colour sensor's HSV, its force sensor in touch slot 0 and the SPIKE ultrasonic sensor's range; an
-EV3 robot's readings are what they always were.
+A robot's sensors have the response of their kind (`color_response.py`): an EV3 colour sensor reads the
+floor's red channel as its reflect, a SPIKE one the mean of its channels mapped onto what it reads on the
+course's white and black (`[sensor.spike]`). A SPIKE robot also gets its hub IMU, the colour sensor's HSV, its
+force sensor in touch slot 0 and the SPIKE ultrasonic sensor's range; an EV3 robot's readings are what they
+always were.
 """
 
 from __future__ import annotations
 
-import colorsys
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from hakoniwa.physics import color_response
+from hakoniwa.physics.color_response import hsv_of
 from hakoniwa.physics.course import Course
 from hakoniwa.physics.noise import NoiseDraw
 from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
@@ -28,10 +29,6 @@ from hakoniwa.physics.scenario import Scenario
 from hakoniwa.physics.world import Inertial, World
 from hakoniwa.wire.protocol import FORCE_PRESSED_N, MOTOR_PORTS, TOUCH_PRESSED, ColorId
 
-# What the SPIKE colour sensor reads on ET Robocon's course, white and black: the official sample's calibration
-# (RasPike-ART sample_c5_spike, LineTracer/LineTracer.h: WHITE_BRIGHTNESS 40, BLACK_BRIGHTNESS 10).
-SPIKE_REFLECT_WHITE = 40
-SPIKE_REFLECT_BLACK = 10
 # The SPIKE ultrasonic sensor's reading with nothing in range (Pybricks' UltrasonicSensor.distance: 2000 mm);
 # ET Robocon's SDK hands the slot's mm on unchanged (raspike_ultrasonicsensor.c).
 SPIKE_ULTRASONIC_MAX_MM = 2000
@@ -73,16 +70,19 @@ class SensorModel:
 
     def read(self, world: World, now_us: int) -> Sensors:
         truth = world.measure()
-        reflect, rate_dps, ultrasonic_mm = truth.reflect, truth.rate_dps, truth.ultrasonic_mm
+        reflect, colour, rate_dps, ultrasonic_mm = truth.reflect, truth.colour, truth.rate_dps, truth.ultrasonic_mm
         if self.noise is not None:
             reflect, rate_dps, ultrasonic_mm = self.noise.reading(reflect, rate_dps, ultrasonic_mm)
-        color, rgb = self.course.color_at(*truth.sensor_xy, reflect)
+            if colour is not None:
+                g, b, mean = self.noise.shift_reflect(colour)
+                colour = g, b, mean
+        color, rgb = self.course.color_at(*truth.sensor_xy, reflect, colour)
         wiring = self.course.wiring
         wheels = ((wiring.left, wiring.left_forward, truth.wheel_angles_deg[0]),
                   (wiring.right, wiring.right_forward, truth.wheel_angles_deg[1]))
         spike = self.robot.spike
         return Sensors(
-            reflect=self._spike_reflect(reflect) if spike else round(reflect),
+            reflect=self._spike_reflect(reflect if colour is None else colour[2]) if spike else round(reflect),
             ambient=0,
             color=color,
             rgb=rgb,
@@ -99,12 +99,9 @@ class SensorModel:
             imu=self._imu(world, -rate_dps) if spike else None,
         )
 
-    def _spike_reflect(self, reflect: float) -> int:
-        """What a SPIKE colour sensor reads where an EV3 one reads `reflect`: the course's black and white
-        mapped onto the SPIKE sensor's."""
-        c = self.course
-        f = (reflect - c.reflect_black) / (c.reflect_white - c.reflect_black)
-        return min(max(round(SPIKE_REFLECT_BLACK + (SPIKE_REFLECT_WHITE - SPIKE_REFLECT_BLACK) * f), 0), 100)
+    def _spike_reflect(self, channel: float) -> int:
+        """What a SPIKE colour sensor reads where the floor's mean channel (on the EV3's scale) is `channel`."""
+        return color_response.spike_reflect(channel, self.course.ev3, self.course.spike)
 
     @staticmethod
     def _imu(world: World, yaw_rate_dps: float) -> Inertial:
@@ -145,9 +142,3 @@ class SensorModel:
         self._yaw = (wrapped_deg, total)
         return total if self.noise is None else total + self.noise.gyro_drift_deg(now_us)
 
-
-def hsv_of(rgb: tuple[int, int, int]) -> tuple[int, int, int]:
-    """HSV as SPIKE-RT's `pbio_color_hsv_t` holds it (h 0..359 degrees, s and v 0..100 percent), of the raw
-    RGB (0..255) the same snapshot reports, so that `pup_color_sensor_hsv` and `pup_color_sensor_rgb` agree."""
-    h, s, v = colorsys.rgb_to_hsv(*(c / 255 for c in rgb))
-    return round(h * 360) % 360, round(s * 100), round(v * 100)

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import csv
 import io
+import json
 import math
 import subprocess
 import threading
@@ -39,13 +40,13 @@ from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
 from hakoniwa.physics.scenario import Scenario
 from hakoniwa.physics.slots import Slots
 from hakoniwa.physics.sync import SYNC_LOOPS, AthrillCrash, snapshot_end_us, unity_time_us
-from hakoniwa.physics.task import TASKS
+from hakoniwa.physics.tasks import TASKS
 from hakoniwa.physics.world import World
 from hakoniwa.wire.launch import Launcher, ProgramRefused
 from hakoniwa.wire.processes import kill
 from hakoniwa.wire.protocol import BenchCause, CrashKind, Event, Objective
 from hakoniwa.wire.result import TestResult
-from hakoniwa.wire.rundir import PHYSICS_LOG, PROGRAM_OUTPUT_FILE, SERIAL_INPUT, TRAJECTORY_FILE
+from hakoniwa.wire.rundir import PHYSICS_LOG, PROGRAM_OUTPUT_FILE, SCORE_FILE, SERIAL_INPUT, TRAJECTORY_FILE
 from hakoniwa.wire.timebase import Scheduler
 from hakoniwa.wire.wallclock import WallCeiling
 
@@ -152,6 +153,7 @@ class PhysicsServer:
         damaged = self.check_files("before the test")
         forget_screen(self.run_dir)
         (self.run_dir / PROGRAM_OUTPUT_FILE).unlink(missing_ok=True)
+        (self.run_dir / SCORE_FILE).unlink(missing_ok=True)
         noise = self._read_noise()
         self.env.begin(noise)
         self._max_diff_us = 0
@@ -208,6 +210,9 @@ class PhysicsServer:
             self._write_program_output(self.launcher.last_lines(proc, PROGRAM_OUTPUT_LINES))
         self._write_trajectory()  # before the report too: whoever sees the event reads this test's files
         write_replay(self.run_dir / REPLAY_FILE, self.env.replay())
+        score = env.score()
+        if score is not None:
+            self._replace_file(SCORE_FILE, json.dumps(score.to_dict()))
         self.slots.report(result)
         self.tests_run += 1
         why = f" ({crash.kind.name.lower()}: {crash})" if crash else ""
@@ -217,7 +222,7 @@ class PhysicsServer:
                         f"{result.checkpoints} checkpoints, {result.distance_mm} mm, "
                         f"max time diff {result.max_time_diff_us} us, wall {result.wall_s:.3f} s"
                         + ("" if env.completed_us is None else f", completed at {env.completed_us} us")
-                        + "\n")
+                        + ("" if score is None else f", {score.describe()}") + "\n")
         self._log.flush()
         return result
 

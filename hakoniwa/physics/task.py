@@ -3,9 +3,10 @@
 A task looks at the world at each event-check tick and never moves anything. `Task` is all the environment
 and the physics server ask of one: `reset` at each test's start, `check` at each event tick (the event that
 ends the test, or Event.NONE while it goes on), and what it reports (the checkpoints passed, the path driven,
-its objective and time limit). The objectives' tasks are in `TASKS`: `LapTask` (the paper's: GOAL at the last
-checkpoint, scored by the lap time) and `CompletedTask` (ET Robocon's competition programs end their run with
-a completion notice; the goal line is one more checkpoint).
+its objective and time limit). The objectives' tasks are in `tasks.TASKS`: `LapTask` (the paper's: GOAL at the
+last checkpoint, scored by the lap time), `CompletedTask` (ET Robocon's competition programs end their run with
+a completion notice; the goal line is one more checkpoint) and `etrobocon_task.EtRoboconTask` (the regulation's
+result points).
 
 Checkpoints are the paper's transparent squares; only the next one in order counts, so driving backwards over
 the finish line first does not shorten a lap. Both tasks measure the path the robot drove, which says how far
@@ -15,7 +16,7 @@ a program got when it did not finish.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import ClassVar, Protocol
 
@@ -85,13 +86,18 @@ class LapTask:
     def distance_mm(self) -> int:
         return round(self.distance_m * 1000)
 
+    def _travel(self, world: World) -> tuple[float, float]:
+        """Where the robot is now; the way there is added to the path driven."""
+        x, y = world.position()
+        self.distance_m += math.hypot(x - self._last_xy[0], y - self._last_xy[1])
+        self._last_xy = (x, y)
+        return x, y
+
     def check(self, world: World, time_us: int, completed: bool = False) -> Event:
         """Wall contact wins over a goal seen at the same tick: a robot that crashes into the wall at the line
         has not finished cleanly. A completion notice ends the test at the first check that raises nothing
         else."""
-        x, y = world.position()
-        self.distance_m += math.hypot(x - self._last_xy[0], y - self._last_xy[1])
-        self._last_xy = (x, y)
+        x, y = self._travel(world)
         if world.touching_wall():
             return Event.HIT_WALL
         checkpoints = self.course.checkpoints
@@ -115,6 +121,3 @@ class CompletedTask(LapTask):
     objective: ClassVar[Objective] = Objective.COMPLETED
     ends_at_goal: ClassVar[bool] = False
 
-
-# What scores a test of each objective, made for a course and a time limit.
-TASKS: dict[Objective, Callable[[Course, int], Task]] = {task.objective: task for task in (LapTask, CompletedTask)}

@@ -1,6 +1,7 @@
 """A test's replay filmed: MuJoCo renders each frame offscreen (EGL by default, or MUJOCO_GL=osmesa), Pillow
 writes the overlay (simulated time, lap, checkpoints, the event) and a GIF, imageio-ffmpeg an MP4.
 
+Under ET Robocon's score the overlay shows the LAP time once it is reached and the score at the end.
 It runs after the test, from the replay file, never inside the lockstep loop, so a film changes nothing a
 test measures. Frame i of N shows simulated time duration x i / (N - 1), N = round(duration x fps / speed):
 the first frame is the start, the last the moment the test ended, and the film plays at `speed` times real
@@ -25,6 +26,7 @@ from hakoniwa.physics.course import Course, load_course
 from hakoniwa.physics.replay import Replay
 from hakoniwa.physics.video_options import VideoOptions
 from hakoniwa.wire.errors import HakoError
+from hakoniwa.wire.etrobocon_rules import Score
 from hakoniwa.wire.timebase import US_PER_S
 
 CHASE_DISTANCE_M = 0.9
@@ -141,7 +143,7 @@ class Filmer:
     def render(self, t_us: float, overlay: bool = True) -> np.ndarray:
         r = self.replay
         state = r.state_at(t_us)
-        self.scene.show(state, r.passed_at(t_us))
+        self.scene.show(state, r.passed_at(t_us), r.objects_at(t_us))
         self.camera.place(self.cam, state, t_us)
         self.renderer.update_scene(self.scene.data, self.cam)
         pixels = self.renderer.render()
@@ -174,6 +176,9 @@ class Filmer:
         lap = (passed - 1) // n + 1 if passed else 1  # a lap's last checkpoint still counts to that lap
         this_lap = passed - n * (lap - 1)
         text = f"t {t_us / US_PER_S:6.2f} s    lap {lap}    checkpoints {this_lap}/{n}"
+        lap_s = r.score["lap_time_s"] if r.score else None
+        if lap_s is not None and t_us >= lap_s * US_PER_S:
+            text = f"t {t_us / US_PER_S:6.2f} s    LAP {lap_s:.2f} s    checkpoints {this_lap}/{n}"
         pad = bar // 4
         draw.text((pad, pad), text, font=self._font, fill=(255, 255, 255, 255))
         small = self._small
@@ -190,14 +195,20 @@ class Filmer:
             banner = _event_text(r)
             w = draw.textlength(banner, font=self._big)
             y = bar + pad
-            draw.rectangle((0, y - pad, self.width, y + self._big.size + 2 * pad), fill=(15, 18, 24, 150))
+            score = Score.from_dict(r.score).describe() if r.score else ""
+            bottom = y + self._big.size + 2 * pad + (self._font.size + pad if score else 0)
+            draw.rectangle((0, y - pad, self.width, bottom), fill=(15, 18, 24, 150))
             colour = _EVENT_COLOUR.get(r.event, (255, 255, 255))
             draw.text(((self.width - w) / 2, y), banner, font=self._big, fill=colour)
+            if score:
+                font = self._font if draw.textlength(score, font=self._font) < self.width - 2 * pad else self._small
+                w = draw.textlength(score, font=font)
+                draw.text(((self.width - w) / 2, y + self._big.size + pad), score, font=font, fill=(255, 230, 120, 255))
         return np.asarray(img)
 
 
-_EVENT_COLOUR = {"GOAL": (110, 235, 130), "COMPLETED": (110, 235, 130), "HIT_WALL": (255, 120, 100),
-                 "TIME_OVER": (255, 200, 90), "CRASH": (255, 120, 100)}
+_EVENT_COLOUR = {"GOAL": (110, 235, 130), "COMPLETED": (110, 235, 130), "FINISH": (110, 235, 130),
+                 "HIT_WALL": (255, 120, 100), "TIME_OVER": (255, 200, 90), "CRASH": (255, 120, 100)}
 
 
 def _event_text(r: Replay) -> str:

@@ -65,7 +65,7 @@ class LiveView:
         if delay > 0:
             time.sleep(delay)
         with self.viewer.lock():
-            self.scene.show(self.env.world.state(), len(self.env.task.passed_us))
+            self.scene.show(self.env.world.state(), len(self.env.task.passed_us), self.env.world.object_states())
         self.viewer.sync()
 
     def close(self) -> None:

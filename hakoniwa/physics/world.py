@@ -3,6 +3,12 @@
 This is the physics half of the dm_control split: it knows bodies, motors and sensors, not checkpoints or
 events (that is `task.py`). Sensors are computed on demand, at the instants Athrill wakes up, so that the
 hot loop is MuJoCo's own C stepping.
+
+A course's objects (`[[object]]`) are free bodies after the robot: the robot pushes and knocks them over,
+the ultrasonic ray sees them, and the colour sensor reads an object's colour where one is under it (a ray
+down through the objects alone, at the sensor's spot). They are not walls: touching one is no HIT_WALL. They
+start asleep (MuJoCo's sleeping trees) and wake when the robot touches them, so a bottle standing far from
+the robot costs its contacts nothing.
 """
 
 from __future__ import annotations
@@ -15,6 +21,7 @@ import numpy as np
 
 from hakoniwa.physics import robot
 from hakoniwa.physics.course import Course
+from hakoniwa.physics.course_items import CourseObject
 from hakoniwa.physics.noise import StartOffset
 from hakoniwa.wire.timebase import PHYSICS_STEP_US, US_PER_S
 
@@ -34,13 +41,17 @@ def build_mjcf(course: Course, body: robot.Body = robot.EV3_BODY, imu: bool = Fa
         f'<site name="cp_{c.name}" type="box" size="{c.hx} {c.hy} 0.001" pos="{c.x} {c.y} 0.001" rgba="0 1 0 .2"/>'
         for c in course.checkpoints
     )
+    objects = "\n".join(_object_mjcf(o) for o in course.objects)
     s = course.start
     # Walls live in one static body so that a single contact sensor can watch robot-wall contact inside
     # MuJoCo's own step; reading it costs nothing compared with scanning the contact list in Python.
     imu_sensor = robot.imu_sensor_mjcf() if imu else ""
+    # Objects sleep until the robot touches them (MuJoCo's sleeping trees): an object at rest then costs no
+    # contacts in a step. The robot never sleeps; a course without objects is stepped as it always was.
+    sleep = '><flag sleep="enable"/></option' if course.objects else "/"
     return f"""
 <mujoco model="hakoniwa-{course.name}">
-  <option timestep="{PHYSICS_STEP_US / US_PER_S}" integrator="implicitfast"/>
+  <option timestep="{PHYSICS_STEP_US / US_PER_S}" integrator="implicitfast"{sleep}>
   <default><geom friction="1 0.005 0.0001"/></default>
   <worldbody>
     <geom name="floor" type="plane" size="{(xmax - xmin) / 2} {(ymax - ymin) / 2} 0.1" pos="{cx} {cy} 0"
@@ -49,7 +60,8 @@ def build_mjcf(course: Course, body: robot.Body = robot.EV3_BODY, imu: bool = Fa
     {walls}
     </body>
     {checkpoints}
-    {robot.robot_mjcf(s.x, s.y, s.yaw_deg, body, imu)}
+    {robot.robot_mjcf(s.x, s.y, s.yaw_deg, body, imu, sleeps=not course.objects)}
+    {objects}
   </worldbody>
   <actuator>{robot.actuators_mjcf(body)}
   </actuator>
@@ -57,6 +69,32 @@ def build_mjcf(course: Course, body: robot.Body = robot.EV3_BODY, imu: bool = Fa
     <contact name="wall_contact" subtree1="robot" body2="walls" data="found" reduce="mindist"/>{imu_sensor}
   </sensor>
 </mujoco>"""
+
+
+OBJECT_GROUP = 3  # the geom group of objects alone: what the colour sensor's downward ray looks at
+UPRIGHT_COS = 0.9  # an object stands while its axis is within about 25 degrees of the vertical
+
+
+def _object_mjcf(o: CourseObject) -> str:
+    """An object as a free body standing on the floor. Its geom's priority makes its own friction the one of
+    every contact it has (MuJoCo otherwise takes the larger of the two geoms')."""
+    a, b, h = o.size
+    size = f"{a} {h / 2}" if o.shape == "cylinder" else f"{a / 2} {b / 2} {h / 2}"
+    rgba = " ".join(f"{c / 255:.4g}" for c in o.rgb)
+    return (f'<body name="object_{o.name}" pos="{o.x} {o.y} {h / 2}" euler="0 0 {o.yaw_deg}" sleep="init">'
+            f'<freejoint/>'
+            f'<geom name="object_{o.name}" type="{o.shape}" size="{size}" mass="{o.mass}" group="{OBJECT_GROUP}" '
+            f'priority="1" friction="{o.friction} 0.005 0.0001" rgba="{rgba} 1"/></body>')
+
+
+@dataclass(frozen=True)
+class ObjectState:
+    """Where an object is: its centre, whether it still stands, and how fast it moves."""
+
+    x: float
+    y: float
+    upright: bool
+    speed: float  # m/s, of its centre
 
 
 @dataclass(frozen=True)
@@ -72,13 +110,14 @@ class Measurement:
     """What the robot's sensors would read at one instant if they were perfect (`sensors.py` makes them
     EV3 sensors)."""
 
-    reflect: float  # 0..100 under the colour sensor
+    reflect: float  # 0..100 under the colour sensor: the red channel, in the EV3's scale
     sensor_xy: tuple[float, float]  # where the colour sensor looks at the floor
     rate_dps: float  # clockwise positive, as the gyro angle
     ultrasonic_mm: int
     gyro_angle_deg: float  # heading in (-180, 180], clockwise positive seen from above
     touch: bool  # the robot's bumper: the body touching a wall
     wheel_angles_deg: tuple[float, float]  # left, right encoder
+    colour: tuple[float, float, float] | None = None  # green, blue, mean channels; None on a grey
 
 
 class World:
@@ -103,6 +142,17 @@ class World:
         self._color_xpos, self._sonar_xpos = d.site_xpos[self._color_site], d.site_xpos[self._sonar_site]
         self._ray_direction = np.zeros(3)  # mj_ray's arguments, filled in place at each reading
         self._ray_geom = np.zeros(1, dtype=np.int32)
+        self._wheel_dof = [m.jnt_dofadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, n)]
+                           for n in ("wheel_left", "wheel_right")]
+        bodies = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"object_{o.name}") for o in course.objects]
+        # Each object's free joint: where its qpos (7) and qvel (6) start.
+        self._objects = {o.name: (m.jnt_qposadr[m.body_jntadr[b]], m.jnt_dofadr[m.body_jntadr[b]])
+                         for o, b in zip(course.objects, bodies)}
+        self._object_rgb = {mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, f"object_{o.name}"): o.rgb
+                            for o in course.objects}
+        self._groups = np.zeros(mujoco.mjNGROUP, dtype=np.uint8)
+        self._groups[OBJECT_GROUP] = 1
+        self._down = np.array([0.0, 0.0, -1.0])
         mujoco.mj_forward(m, self.data)
         if imu:  # settled on its wheels before the test starts: at t = 0 an IMU reads a robot at rest, not one
             self.step(SETTLE_STEPS)  # put down in free fall (for an EV3 robot nothing reads it; left as it was)
@@ -168,12 +218,32 @@ class World:
     def touching_wall(self) -> bool:
         return self._sensordata[self._wall_contact] > 0
 
+    def object_states(self) -> tuple[float, ...]:
+        """Every object's free joint (position, orientation quaternion), in course order: what a replay needs
+        to show them as they were."""
+        q = self._qpos
+        return tuple(v for a, _ in self._objects.values() for v in q[a:a + 7].tolist())
+
+    def object_state(self, name: str) -> ObjectState:
+        a, dof = self._objects[name]
+        x, y, _, _, qx, qy, _ = self._qpos[a:a + 7].tolist()
+        vx, vy, vz = self.data.qvel[dof:dof + 3].tolist()  # a free joint's linear velocity, in world axes
+        axis_z = 1 - 2 * (qx * qx + qy * qy)  # the z component of the object's own vertical axis
+        return ObjectState(x, y, axis_z >= UPRIGHT_COS, math.sqrt(vx * vx + vy * vy + vz * vz))
+
+    def wheel_speeds(self) -> tuple[float, float]:
+        """The wheels' turning speeds [rad/s]: both near 0 is the robot at a complete stop."""
+        left, right = self.data.qvel[self._wheel_dof].tolist()
+        return left, right
+
     # -- sensors -------------------------------------------------------------------------------------
     def measure(self) -> Measurement:
         sx, sy = self._color_xpos[:2].tolist()
         _, _, yaw = self.pose()
+        reflect, colour = self._floor_under(sx, sy)
         return Measurement(
-            reflect=self.course.reflect_at(sx, sy),
+            reflect=reflect,
+            colour=colour,
             sensor_xy=(sx, sy),
             rate_dps=-math.degrees(float(self.data.qvel[5])),
             ultrasonic_mm=self._ultrasonic_mm(yaw),
@@ -181,6 +251,18 @@ class World:
             touch=self.touching_wall(),
             wheel_angles_deg=self.wheel_angles_deg(),
         )
+
+    def _floor_under(self, x: float, y: float) -> tuple[float, tuple[float, float, float] | None]:
+        """The colour channels at the sensor's spot: an object's where one is under it, else the floor's."""
+        course = self.course
+        if self._object_rgb:
+            origin = np.array([x, y, 10.0])
+            if mujoco.mj_ray(self.model, self.data, origin, self._down, self._groups, 1, -1, self._ray_geom) >= 0:
+                ev3 = course.ev3
+                rgb = self._object_rgb[int(self._ray_geom[0])]
+                r, g, b = (ev3.black + (ev3.white - ev3.black) * c / 255 for c in rgb)
+                return r, (g, b, (r + g + b) / 3)
+        return course.reflect_at(x, y), course.colour_at(x, y)
 
     def inertial(self) -> Inertial:
         """The hub IMU's reading: the free joint's angular velocity, which MuJoCo gives in the body's own

@@ -166,8 +166,9 @@ FORCE_PRESSED_N = 10
 
 
 class Event(enum.IntEnum):
-    """Event state at RX 528 (paper Table 3, plus CRASH for an Athrill that dies or goes silent, and
-    COMPLETED for a program that said it is done, ET Robocon's `ETRoboc_notifyCompletedToSimulator()`)."""
+    """Event state at RX 528 (paper Table 3, plus CRASH for an Athrill that dies or goes silent, COMPLETED for
+    a program that said it is done, ET Robocon's `ETRoboc_notifyCompletedToSimulator()`, and FINISH for ET
+    Robocon's finish: the robot stopped in the garage for 3 s)."""
 
     NONE = 0
     GOAL = 1
@@ -175,6 +176,7 @@ class Event(enum.IntEnum):
     HIT_WALL = 3
     CRASH = 4
     COMPLETED = 5
+    FINISH = 6
 
 
 class CrashKind(enum.IntEnum):
@@ -222,6 +224,8 @@ class Objective(enum.IntEnum):
     LAP = 0  # the paper's: GOAL at the course's last checkpoint, scored by the lap time
     COMPLETED = 1  # ET Robocon's: the program's ETRoboc_notifyCompletedToSimulator(), scored by its time; the
     # goal line does not end the test (a competition program ends its whole run that way)
+    ETROBOCON = 2  # ET Robocon's result points (hakoniwa.physics.etrobocon_task): the LAP time, the gates, the
+    # sumo, the finish in the garage; a test ends at FINISH, the time limit, a wall or the completion notice
 
 
 class LedBit(enum.IntFlag):

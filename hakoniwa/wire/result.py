@@ -5,8 +5,14 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
+from hakoniwa.wire.etrobocon_rules import Score
 from hakoniwa.wire.protocol import BenchCause, CrashKind, Event, Objective, SyncMode
+
+# What ends a test under ET Robocon's score: each of them is a scored run (5.18: a run that ends without the
+# finish keeps the points it made); only a crash says nothing.
+SCORED_EVENTS = (Event.FINISH, Event.TIME_OVER, Event.HIT_WALL, Event.COMPLETED)
 
 
 @dataclass(frozen=True)
@@ -24,6 +30,8 @@ class TestResult:
     athrill.log.
     A bench fault's `bench_cause` says what spoiled the test; its `crash_detail` is then the exit status of
     the process that ended (the physics process's, for `PHYSICS_KILLED` and a `FILE_DAMAGED` that killed it).
+    Under `Objective.ETROBOCON` every test that ends without a crash succeeds with its `score` (ET Robocon's
+    result points and their parts); `lap_time_s` is then the LAP gate's time, and `cost` minus the score.
     """
 
     __test__ = False  # not a pytest class
@@ -41,15 +49,27 @@ class TestResult:
     completed_time_us: int = 0
     objective: Objective = Objective.LAP
     bench_cause: BenchCause = BenchCause.NONE
+    score: Score | None = None
 
     @property
     def success_event(self) -> Event:
-        """The event that makes the test a success under its objective."""
-        return Event.COMPLETED if self.objective == Objective.COMPLETED else Event.GOAL
+        """The event that makes the test a success under its objective (under ET Robocon's score, the best
+        of those that do: the finish)."""
+        return {Objective.COMPLETED: Event.COMPLETED, Objective.ETROBOCON: Event.FINISH}.get(self.objective,
+                                                                                           Event.GOAL)
 
     @property
     def success(self) -> bool:
+        if self.objective == Objective.ETROBOCON:
+            return self.event in SCORED_EVENTS and self.score is not None
         return self.event == self.success_event
+
+    @property
+    def cost(self) -> float | None:
+        """What a campaign minimises for this test when it succeeded: its lap time, or minus its score."""
+        if not self.success:
+            return None
+        return -self.score.total if self.score is not None else self.lap_time_s
 
     @property
     def bench_fault(self) -> bool:
@@ -61,6 +81,8 @@ class TestResult:
         """The scored time of a successful test: the lap, or (objective completed) when the program ended."""
         if not self.success:
             return None
+        if self.score is not None:
+            return self.score.lap_time_s
         return (self.completed_time_us if self.objective == Objective.COMPLETED else self.goal_time_us) / 1e6
 
     @property
@@ -83,9 +105,10 @@ class TestResult:
 
     def to_dict(self) -> dict:
         """The fields a person or a script reads (`hako trial --json`, the journal)."""
-        d = {"event": self.event.name, "lap_time_s": self.lap_time_s, "goal_time_us": self.goal_time_us,
-             "sync": self.sync.name.lower(), "checkpoints": self.checkpoints, "distance_m": self.distance_m,
-             "max_time_diff_us": self.max_time_diff_us}
+        d: dict[str, Any] = {
+            "event": self.event.name, "lap_time_s": self.lap_time_s, "goal_time_us": self.goal_time_us,
+            "sync": self.sync.name.lower(), "checkpoints": self.checkpoints, "distance_m": self.distance_m,
+            "max_time_diff_us": self.max_time_diff_us}
         if self.event == Event.CRASH:
             d.update(crash=self.crash_kind.name.lower(), crash_detail=self.crash_detail,
                      crash_reason=self.crash_reason())
@@ -97,6 +120,8 @@ class TestResult:
             d["completed_time_us"] = self.completed_time_us
         if self.objective != Objective.LAP:
             d["objective"] = self.objective.name.lower()
+        if self.score is not None:
+            d["score"] = self.score.to_dict()
         return d
 
     @classmethod
@@ -109,4 +134,5 @@ class TestResult:
                    SyncMode[d.get("sync", "lockstep").upper()],
                    CrashKind[crash.upper()] if crash else CrashKind.NONE, int(d.get("crash_detail", 0)),
                    str(d.get("program_output", "")), int(d.get("completed_time_us", 0)),
-                   Objective[d.get("objective", "lap").upper()], BenchCause[d.get("bench_cause", "none").upper()])
+                   Objective[d.get("objective", "lap").upper()], BenchCause[d.get("bench_cause", "none").upper()],
+                   None if d.get("score") is None else Score.from_dict(d["score"]))

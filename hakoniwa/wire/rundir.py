@@ -18,6 +18,7 @@ LOCK_FILE = ".hako.lock"
 TRAJECTORY_FILE = "trajectory.csv"  # the last test's path, for pictures
 PHYSICS_LOG = "physics.log"  # one line per test: what the physics process saw
 ATHRILL_LOG = "athrill.log"  # what the Athrill processes printed (the program's syslog)
+SCORE_FILE = "score.json"  # ET Robocon's score of the last test and its components (--objective etrobocon)
 PROGRAM_OUTPUT_FILE = "program_output.txt"  # the last lines a crashed program printed (its own error), per test
 # What a native EV3RT program leaves of its test (the C runtime writes them; docs/NATIVE.md).
 LCD_LOG = "lcd.txt"  # every LCD drawing call of the test, in order, stamped with the simulated time
@@ -30,6 +31,7 @@ SDCARD_DIR = "sdcard"  # the folder standing in for the SD card: the program's w
 # What the physics process tells the controller it starts (the paper's arrangement), in its environment.
 RUN_DIR_ENV = "HAKO_RUN_DIR"  # the run directory
 COURSE_ENV = "HAKO_COURSE"  # the course folder
+OBJECTIVE_ENV = "HAKO_OBJECTIVE"  # the bench's objective by name (lap, completed, etrobocon): what a test's value is
 TIME_LIMIT_ENV = "HAKO_TIME_LIMIT_S"  # the bench's time limit in simulated seconds: what a failure scores
 
 

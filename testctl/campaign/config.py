@@ -13,6 +13,7 @@ from typing import Any
 
 from hakoniwa.wire.protocol import MAX_NOISE_SCALE
 from testctl.campaign.journal import JournalError
+from testctl.campaign.measure import SCORE, Measure, measure_of
 from testctl.campaign.objective import RepetitionRule
 from testctl.search.optimizers import OPTIMIZERS
 from testctl.search.space import ParameterSpace
@@ -37,6 +38,7 @@ class CampaignConfig:
     noise: float = 1.0
     penalty_s: float = RepetitionRule.penalty_s  # the bench's time limit, set by the options from course and
     # --time-limit
+    objective: str = "lap"  # the bench's --objective: what a test's value is (`measure`)
 
     def __post_init__(self) -> None:
         if self.optimizer not in OPTIMIZERS:
@@ -55,7 +57,11 @@ class CampaignConfig:
 
     @property
     def rule(self) -> RepetitionRule:
-        return RepetitionRule(self.repeats, self.max_crashes, self.penalty_s)
+        return RepetitionRule(self.repeats, self.max_crashes, self.penalty_s, score=self.measure is SCORE)
+
+    @property
+    def measure(self) -> Measure:
+        return measure_of(self.objective)
 
     @property
     def total_sets(self) -> int:

@@ -3,7 +3,8 @@
 Paper, section 4.1: the same parameters may succeed or fail depending on the load of the machine, so each set
 is tested repeatedly; whichever of success or failure reaches 3 first decides the set (at most 5 tests). A
 successful set scores the mean lap time of its successes, a failed one the bench's time limit (60 s in the
-paper). Here that rule is
+paper); under ET Robocon's score, minus the mean score (the optimizers minimise) and 0 for a failed set. Here
+that rule is
 generalized to `repeats` tests with a strict majority `repeats // 2 + 1` needed for success.
 
 A CRASH of the robot program (Athrill died or went silent) may or may not be the parameters' doing, unlike a
@@ -29,11 +30,12 @@ from hakoniwa.wire.result import TestResult
 # The paper's time limit (section 4.1), what a failure scores where no bench says otherwise: a rule made
 # without a bench, and a journal written before campaigns recorded their bench's limit (all were 60 s then).
 PAPER_PENALTY_S = 60.0
+# Under ET Robocon's score every one of these is a scored run (`TestResult.success`).
 # Under the lap objective, COMPLETED is the program's own end of its run (ET Robocon's completion notice)
 # before any lap: it ends the test early, as a program that stops driving ends it at the time limit, and
 # scores as that would: a failure. Under the completed objective it is the success (`TestResult.success`),
 # and a test that ends without it fails.
-_OUTCOMES = (Event.GOAL, Event.TIME_OVER, Event.HIT_WALL, Event.COMPLETED)
+_OUTCOMES = (Event.GOAL, Event.TIME_OVER, Event.HIT_WALL, Event.COMPLETED, Event.FINISH)
 
 
 @dataclass(frozen=True)
@@ -43,7 +45,7 @@ class Verdict:
     successes: int
     failures: int  # including crashes beyond the allowance
     crashes: int  # all crashes, forgiven or not
-    laps: tuple[float, ...]
+    laps: tuple[float, ...]  # each success's cost: its lap time (minus its score under ET Robocon's)
     decided: bool
     success: bool
     value: float | None
@@ -56,6 +58,8 @@ class RepetitionRule:
     repeats: int = 5
     max_crashes: int = 3
     penalty_s: float = PAPER_PENALTY_S  # the bench's time limit: a failure scores as a test that used it all
+    score: bool = False  # the tests are scored by ET Robocon's points (each costs minus its score): a failed set
+    # costs 0, no points
 
     def __post_init__(self) -> None:
         if self.repeats < 1:
@@ -64,6 +68,10 @@ class RepetitionRule:
             raise ValueError(f"max_crashes must be at least 0, got {self.max_crashes}")
         if not self.penalty_s > 0:
             raise ValueError(f"penalty_s must be positive, got {self.penalty_s}")
+
+    @property
+    def failure_value(self) -> float:
+        return 0.0 if self.score else self.penalty_s
 
     @property
     def needed(self) -> int:
@@ -90,9 +98,9 @@ class RepetitionRule:
                 crashes += 1
                 failures += crashes > self.max_crashes
             elif r.success:
-                assert r.lap_time_s is not None
+                assert r.cost is not None
                 successes += 1
-                laps.append(r.lap_time_s)
+                laps.append(r.cost)
             elif r.event in _OUTCOMES:
                 failures += 1
             else:
@@ -100,5 +108,5 @@ class RepetitionRule:
         success = successes >= self.needed
         # Failed once success can no longer be reached within `repeats` counted tests.
         failed = failures >= self.failures_needed
-        value = (sum(laps) / len(laps) if success else self.penalty_s) if success or failed else None
+        value = (sum(laps) / len(laps) if success else self.failure_value) if success or failed else None
         return Verdict(successes, failures, crashes, tuple(laps), success or failed, success, value)

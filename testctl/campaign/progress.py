@@ -15,6 +15,7 @@ from collections import deque
 from collections.abc import Callable
 
 from testctl.campaign.loop import Progress
+from testctl.campaign.measure import LAP_TIME, Measure
 
 RECENT_TESTS = 30  # the window the rate is measured over
 DEFAULT_TESTS_PER_SET = 3.0  # before any set is decided: the paper's first-to-3
@@ -33,8 +34,10 @@ def format_duration(seconds: float) -> str:
 class ProgressLine:
     """Feeds a click progress bar (over sets) with a status text; call it with every `Progress`."""
 
-    def __init__(self, bar, clock=time.monotonic, plain: Callable[[str], None] | None = None) -> None:
+    def __init__(self, bar, clock=time.monotonic, plain: Callable[[str], None] | None = None,
+                 measure: Measure = LAP_TIME) -> None:
         self.bar = bar
+        self.measure = measure
         self.clock = clock
         self.plain = plain  # where plain lines go when no terminal shows the bar
         self.shown = 0
@@ -70,5 +73,6 @@ class ProgressLine:
             per_set = p.tests_done / p.sets_done if p.sets_done else DEFAULT_TESTS_PER_SET
             left = max(p.sets_total - p.sets_done, 0) * per_set
             parts += [f"{rate:.2f} tests/s", f"~{format_duration(left / rate)} left"]
-        parts.append(f"best {p.best.value:.2f} s (set {p.best.number})" if p.best else "no lap yet")
+        m = self.measure
+        parts.append(f"best {m.format(p.best.value)} (set {p.best.number})" if p.best else f"no {m.word} yet")
         return ", ".join(parts)

@@ -56,15 +56,17 @@ def write_results_csv(path: Path, summary: CampaignSummary) -> None:
     best = best_so_far(summary.sets)
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
+        m = summary.config.measure
+        suffix = "_s" if m.unit == "s" else ""  # the columns are named for what they hold: seconds or a score
         w.writerow(
-            ["set", "phase", *names, "tests", "successes", "failures", "crashes", "success", "objective_s",
-             "best_so_far_s"]
+            ["set", "phase", *names, "tests", "successes", "failures", "crashes", "success", f"objective{suffix}",
+             f"best_so_far{suffix}"]
         )
         for s, b in zip(summary.sets, best):
             v = s.verdict
             w.writerow(
                 [s.number, s.phase, *(repr(c) for c in s.x), len(s.tests), v.successes, v.failures, v.crashes,
-                 int(v.success), repr(s.value), repr(b)]
+                 int(v.success), repr(m.shown(s.value)), repr(m.shown(b))]
             )
 
 
@@ -80,6 +82,11 @@ def best_dict(summary: CampaignSummary, validation: dict[str, Any] | None = None
     validated, and what best.patch sets where."""
     space = summary.config.space
     best = summary.best
+    m = summary.config.measure
+    value = ({"lap_time_s": best.value if best else None, "laps_s": list(best.verdict.laps) if best else None}
+             if m.sign > 0 else
+             {"score": m.shown(best.value) if best else None,
+              "scores": [m.shown(v) for v in best.verdict.laps] if best else None})
     return {
         "success": best is not None,
         "set": best.number if best else None,
@@ -87,8 +94,7 @@ def best_dict(summary: CampaignSummary, validation: dict[str, Any] | None = None
         "fixed": {f.name: f.value for f in space.fixed},
         "offsets": {str(k): v for k, v in space.to_offsets(best.x).items()} if best else None,
         "kinds": {p.name: p.to_dict() for p in space.every},
-        "lap_time_s": best.value if best else None,
-        "laps_s": list(best.verdict.laps) if best else None,
+        **value,
         "n_sets": len(summary.sets),
         "n_tests": summary.n_tests,
         "bench_faults": summary.bench_faults,
@@ -109,7 +115,7 @@ def format_summary(summary: CampaignSummary) -> str:
         best_line = "best: no parameter set succeeded"
     else:
         params = ", ".join(f"{k}={v:.3f}" for k, v in summary.config.space.to_named(best.x).items())
-        best_line = f"best: [{params}] lap {best.value:.2f} s (set {best.number})"
+        best_line = f"best: [{params}] {summary.config.measure.format(best.value)} (set {best.number})"
     return "\n".join(
         [
             best_line,
@@ -145,35 +151,39 @@ def plot_fig8(path: Path, summary: CampaignSummary) -> None:
 
 def fig8(summary: CampaignSummary) -> Figure:
     """Fig. 8: the searched values per iteration (Kp red, Ki blue, Kd green), one panel per parameter since
-    their ranges differ (gains in 0..5, a motor power in 10..30), and the lap time per iteration (failed sets
-    drawn as crosses at the penalty)."""
+    their ranges differ (gains in 0..5, a motor power in 10..30), and the lap time (or ET Robocon's score) per
+    iteration (failed sets drawn as crosses at the penalty)."""
     names = summary.config.space.names
+    m = summary.config.measure
     fig = Figure(figsize=(8, 2.5 + 1.5 * len(names)), layout="constrained")
-    *ax_params, ax_lap = _iteration_axes(fig, summary, *names, "lap time [s]")
+    *ax_params, ax_lap = _iteration_axes(fig, summary, *names, m.label)
     its = [s.number for s in summary.sets]
     for i, (ax, name) in enumerate(zip(ax_params, names)):
         ax.plot(its, [s.x[i] for s in summary.sets], ".-", color=param_colour(i), label=name, lw=1)
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1))
     ok = [s for s in summary.sets if s.verdict.success]
     failed = [s for s in summary.sets if not s.verdict.success]
-    ax_lap.plot(its, [s.value for s in summary.sets], "-", color="0.6", lw=0.8)
-    ax_lap.plot([s.number for s in ok], [s.value for s in ok], "o", color="black", ms=4,
-                label="success (mean lap)")
-    ax_lap.plot([s.number for s in failed], [s.value for s in failed], "x", color="red",
-                label=f"failure (scored {summary.config.penalty_s:g} s)")
-    ax_lap.axhline(summary.config.penalty_s, color="red", ls=":", lw=0.8)
+    penalty = m.shown(summary.config.rule.failure_value)
+    ax_lap.plot(its, [m.shown(s.value) for s in summary.sets], "-", color="0.6", lw=0.8)
+    ax_lap.plot([s.number for s in ok], [m.shown(s.value) for s in ok], "o", color="black", ms=4,
+                label=f"success (mean {m.word})")
+    ax_lap.plot([s.number for s in failed], [m.shown(s.value) for s in failed], "x", color="red",
+                label=f"failure (scored {penalty:g} {m.unit})")
+    ax_lap.axhline(penalty, color="red", ls=":", lw=0.8)
     ax_lap.legend(loc="upper left", bbox_to_anchor=(1.01, 1))
-    fig.suptitle("Search values of the control parameters and lap time")
+    fig.suptitle(f"Search values of the control parameters and {m.name}")
     return fig
 
 
 def plot_fig9(path: Path, summary: CampaignSummary) -> None:
     """Fig. 9: the total parameter change |dx|_1 per iteration and the best objective so far."""
     fig = Figure(figsize=(8, 6), layout="constrained")
-    ax_change, ax_best = _iteration_axes(fig, summary, "|Δx|₁", "best lap so far [s]")
+    m = summary.config.measure
+    ax_change, ax_best = _iteration_axes(fig, summary, "|Δx|₁", f"best {m.word} so far [{m.unit}]")
     its = [s.number for s in summary.sets]
     ax_change.plot(its[1:], l1_changes(summary.sets), ".-", color="purple", lw=1, label="|Δx|₁ from the set before")
-    ax_best.step(its, best_so_far(summary.sets), where="post", color="black", label="best objective so far")
+    ax_best.step(its, [m.shown(b) for b in best_so_far(summary.sets)], where="post", color="black",
+                 label=f"best objective so far ({m.better} {m.name})")
     for ax in (ax_change, ax_best):
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1))
     fig.suptitle("Total parameter change and best solution so far")

@@ -98,7 +98,8 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
             plain = None if sys.stderr.isatty() else lambda line: click.echo(f"{label}: {line}", err=True)
             mirror = StudyMirror(p.out_dir, lambda s, png: draw_set(p.config, s, trial_once, course_folder, png))
             mirror_update = InBackground(mirror.update)
-            summary = Campaign(p.config, p.out_dir, executor, on_progress=ProgressLine(bar, plain=plain),
+            progress = ProgressLine(bar, plain=plain, measure=p.config.measure)
+            summary = Campaign(p.config, p.out_dir, executor, on_progress=progress,
                                on_sets=mirror_update, resume=p.resume, bench_info=bench_info,
                                header={VALIDATE_KEY: validate}).run()
             mirror_update.join()
@@ -204,10 +205,11 @@ def draw_set(config: CampaignConfig, s: SetResult, trial_once: TrialOnce, course
     from hakoniwa.wire.rundir import TRAJECTORY_FILE
 
     result, run_dir = trial_for_picture(trial_once, set_spec(config, s))
-    lap = f"lap {result.lap_time_s:.2f} s" if result.lap_time_s is not None else result.event.name
+    m = config.measure
+    test = m.format(result.cost) if result.cost is not None else result.event.name
     names = " ".join(f"{k}={v:.3f}" for k, v in config.space.to_named(s.x).items())
     draw_trajectory(load_course(course_folder), read_trajectory(run_dir / TRAJECTORY_FILE), out,
-                    title=f"{what}set {s.number}, {names}: {lap} (mean of the set {s.value:.2f} s)")
+                    title=f"{what}set {s.number}, {names}: {test} (mean of the set {m.format(s.value)})")
     if film is not None:
         from testctl.film import film_run
 

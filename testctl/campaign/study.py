@@ -35,6 +35,7 @@ from typing import TYPE_CHECKING, Any
 
 from testctl.campaign.journal import JOURNAL_FILE, TestRecord, read_journal
 from testctl.campaign.loop import CampaignConfig, SetResult
+from testctl.campaign.measure import SCORE
 from testctl.search.optuna_samplers import distributions, params_of, quiet_optuna
 
 if TYPE_CHECKING:
@@ -44,6 +45,7 @@ STUDY_FILE = "optuna.log"
 ARTIFACT_DIR = "optuna-artifacts"
 TRAJECTORY_DIR = "trajectories"
 METRIC = "lap time [s]"
+SCORE_METRIC = "minus the score [points]"  # Optuna minimises what the campaign minimises (`measure.py`)
 # Draws set `s`'s trajectory into the PNG at the path given.
 DrawSet = Callable[[SetResult, Path], object]  # what it returns is not used
 
@@ -81,6 +83,8 @@ def test_attrs(r: TestRecord) -> dict[str, Any]:
          "checkpoints": res.checkpoints, "distance_m": res.distance_m}
     if (reason := res.crash_reason()) is not None:
         d["crash"] = reason
+    if res.score is not None:
+        d["score"] = res.score.total
     return d
 
 
@@ -147,6 +151,10 @@ class StudyMirror:
             else:  # the study disagrees with the journal: it is rebuilt, and this loop writes it from set 1
                 self._rebuild()
 
+    @property
+    def _metric(self) -> str:
+        return SCORE_METRIC if self._config.measure is SCORE else METRIC
+
     # -- opening: create, check against the journal, or rebuild -----------------------------------------
     def _open(self) -> None:
         """Load the study (its trials are checked against the sets as they come), or create it."""
@@ -155,7 +163,7 @@ class StudyMirror:
         self._campaign = campaign_attrs(header)
         self._header = header
         study = self._load()
-        if study is None or study.user_attrs != study_attrs(header) or study.metric_names != [METRIC]:
+        if study is None or study.user_attrs != study_attrs(header) or study.metric_names != [self._metric]:
             self._rebuild()  # missing, damaged, another campaign's, or cut before its attributes
         else:
             self._study = study
@@ -198,7 +206,7 @@ class StudyMirror:
                                     direction="minimize")
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
-            study.set_metric_names([METRIC])
+            study.set_metric_names([self._metric])
         for key, value in study_attrs(self._header).items():
             study.set_user_attr(key, value)
         self._study = study

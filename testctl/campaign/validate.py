@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING
 
 from hakoniwa.wire.result import TestResult
 from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, Journal, TestRecord, now_timestamp
+from testctl.campaign.measure import LAP_TIME, SCORE, Measure
 from testctl.executor import Executor, TestSpec, bench_fault, results_of
 from testctl.lapstats import LapStats
 from testctl.noise_seed import noise_seed
@@ -34,19 +35,33 @@ VALIDATION_PNG = "validation.png"
 class Validation:
     seeds: tuple[int, ...]
     results: tuple[TestResult, ...]  # in draw order
-    estimate_s: float  # what the campaign made of the set: the mean lap of its tests
+    estimate_s: float  # what the campaign made of the set: the mean of its tests' values (`measure`)
+    measure: Measure = LAP_TIME
 
     @property
     def stats(self) -> LapStats:
         return LapStats.of(self.results)
 
+    @property
+    def scores(self) -> list[float]:
+        """ET Robocon's score of each draw (a crash scores none)."""
+        return [r.score.total for r in self.results if r.score is not None]
+
     def to_dict(self) -> dict:
-        return {"draws": len(self.seeds), **self.stats.to_dict(), "campaign_estimate_s": self.estimate_s,
+        if self.measure is SCORE:
+            value = {"scores": self.scores, "campaign_estimate": self.measure.shown(self.estimate_s)}
+        else:
+            value = {"campaign_estimate_s": self.estimate_s}
+        return {"draws": len(self.seeds), **self.stats.to_dict(), **value,
                 "events": dict(Counter(r.event.name for r in self.results)), "noise_seeds": list(self.seeds)}
 
     def describe(self) -> str:
-        return (f"validation on {len(self.seeds)} fresh noise draws: {self.stats.describe()} "
-                f"(the campaign's estimate: {self.estimate_s:.2f} s)")
+        scores = self.scores
+        mean = f"score mean {sum(scores) / len(scores):.2f} (min {min(scores):g}, max {max(scores):g}); " \
+            if self.measure is SCORE and scores else ""
+        estimate = self.measure.format(self.estimate_s) if self.measure is SCORE else f"{self.estimate_s:.2f} s"
+        return (f"validation on {len(self.seeds)} fresh noise draws: {mean}{self.stats.describe()} "
+                f"(the campaign's estimate: {estimate})")
 
 
 def validation_specs(summary: CampaignSummary, draws: int) -> list[TestSpec]:
@@ -80,7 +95,8 @@ def validate_best(summary: CampaignSummary, executor: Executor, draws: int, out_
                 raise bench_fault(result, bench)
             done[spec.rep] = result
             on_result(spec, result)
-    return Validation(tuple(s.noise_seed for s in specs), tuple(done[s.rep] for s in specs), best.value)
+    return Validation(tuple(s.noise_seed for s in specs), tuple(done[s.rep] for s in specs), best.value,
+                      summary.config.measure)
 
 
 def draw_validation(path: Path, summary: CampaignSummary, validation: Validation) -> Path:
@@ -89,5 +105,7 @@ def draw_validation(path: Path, summary: CampaignSummary, validation: Validation
     best = summary.best
     assert best is not None
     names = " ".join(f"{k}={v:.3f}" for k, v in summary.config.space.to_named(best.x).items())
+    # The figure is of laps: the campaign's estimate is one only when the campaign's value is a time.
+    estimate = validation.estimate_s if validation.measure is LAP_TIME else None
     return plot_lap_distribution(path, validation.results, f"best set {best.number} ({names}) on "
-                                 f"{len(validation.seeds)} fresh noise draws", validation.estimate_s)
+                                 f"{len(validation.seeds)} fresh noise draws", estimate)

@@ -26,6 +26,7 @@ from hakoniwa.wire.processes import describe_exit
 from hakoniwa.wire.rundir import TRAJECTORY_FILE, diagnose
 from testctl import paper
 from testctl.bench_options import BenchOptions, bench_options, pop_bench
+from testctl.hako.course import course
 from testctl.options import (
     DEFAULT_DRAWS,
     MAX_DRAWS,
@@ -61,6 +62,9 @@ def report_death(code: int, run_dir: Path) -> NoReturn:
 def main() -> None:
     """Hakoniwa-style robot test bench: MuJoCo physics, an Athrill (our mock, or the real TOPPERS emulator)
     running the robot program, and a test controller: three processes over memory-mapped files."""
+
+
+main.add_command(course)
 
 
 @main.command(context_settings=HELP)
@@ -185,6 +189,8 @@ def _trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: floa
         done = f"  completed at: {result.completed_time_us / 1e6:.3f} s" if result.completed_time_us else ""
         click.echo(f"event: {result.event.name}{why}  lap time: {lap}  distance: {result.distance_m:.2f} m  "
                    f"checkpoints: {result.checkpoints}{done}")
+        if result.score is not None:
+            click.echo(result.score.describe())
     if result.bench_fault:
         raise click.ClickException(f"the bench spoiled the test ({result.crash_reason()}), which says nothing "
                                    f"of the parameters: run it again")
@@ -235,7 +241,7 @@ def _run(benches: int | None, scheduler: str | None, validate: int | None, optio
     given = pop_bench(options)
     if options["repeats"] is None and options["noise"] == 0 and options["resume"] is None and repeatable_bench(given):
         options["repeats"] = 1  # every repetition of a set would be the very same test
-    p = plan(**options, penalty_s=time_limit_s(given))
+    p = plan(**options, penalty_s=time_limit_s(given), objective=given.objective)
     if validate is None:
         validate = (p.validate if p.validate is not None else 1 if p.config.noise == 0
                     else SMOKE_DRAWS if options["smoke"] else DEFAULT_DRAWS)

@@ -57,7 +57,7 @@ def test_unreadable_floor_image(tmp_path):
 
 
 def test_unknown_course_lists_the_builtin_ones(tmp_path):
-    with pytest.raises(CourseError, match="built-in courses: oval"):
+    with pytest.raises(CourseError, match="built-in courses: etrobocon-l, etrobocon-r, oval"):
         load_course(tmp_path / "missing")
 
 
