@@ -9,8 +9,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "ev3api.h"
+#include "devices.h"
 #include "runtime.h"
 
 #define MAX_DIRS 16
@@ -111,7 +113,8 @@ ER ev3_sdcard_closedir(ID dirid)
     return E_OK;
 }
 
-void hako_sdcard_enter(void)
+/* When the kernel starts: the SD card folder is the working directory. */
+static void enter_sdcard(void)
 {
     char path[4096];
     snprintf(path, sizeof path, "%s/%s", hako_run_dir(), HAKO_SDCARD_DIR);
@@ -119,3 +122,5 @@ void hako_sdcard_enter(void)
     if (chdir(path) != 0)
         hako_bench_fault("cannot enter the SD card folder %s", path);
 }
+
+HAKO_DEVICE(sdcard_device) = {.start = enter_sdcard};

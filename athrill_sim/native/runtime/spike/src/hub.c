@@ -16,12 +16,21 @@
 #include "spike/hub/light.h"
 #include "spike/hub/system.h"
 
-uint16_t hub_battery_get_voltage(void) { return (uint16_t)spike_read_u32(HAKO_RX_BATTERY_VOLTAGE); }
+uint16_t hub_battery_get_voltage(void)
+{
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
+    return (uint16_t)spike_read_u32(HAKO_RX_BATTERY_VOLTAGE);
+}
 
-uint16_t hub_battery_get_current(void) { return (uint16_t)spike_read_u32(HAKO_RX_BATTERY_CURRENT); }
+uint16_t hub_battery_get_current(void)
+{
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
+    return (uint16_t)spike_read_u32(HAKO_RX_BATTERY_CURRENT);
+}
 
 pbio_error_t hub_button_is_pressed(hub_button_t *pressed)
 {
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
     static const struct {
         button_t ev3;
         hub_button_t hub;
@@ -46,9 +55,17 @@ static void read_floats(uint32_t rx_offset, float out[3])
     }
 }
 
-void hub_imu_get_acceleration(float accel[3]) { read_floats(HAKO_RX_SPIKE_IMU_ACCEL_X, accel); }
+void hub_imu_get_acceleration(float accel[3])
+{
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
+    read_floats(HAKO_RX_SPIKE_IMU_ACCEL_X, accel);
+}
 
-void hub_imu_get_angular_velocity(float angv[3]) { read_floats(HAKO_RX_SPIKE_IMU_ANGVEL_X, angv); }
+void hub_imu_get_angular_velocity(float angv[3])
+{
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
+    read_floats(HAKO_RX_SPIKE_IMU_ANGVEL_X, angv);
+}
 
 /* The SDK's: the one LED bit of the four named colours, the byte written whole; any other colour is off. */
 pbio_error_t hub_light_on_color(pbio_color_t color)

@@ -10,6 +10,7 @@
 #include <stdint.h>
 
 #include "../../src/runtime.h"
+#include "../../src/scheduler.h"
 #include "spike/pup_device.h"
 
 #define SPIKE_PORTS 6 /* A..F: RP_PORT_NUMBER */
