@@ -8,8 +8,8 @@
  * in slp_tsk, is seen as on EV3RT.
  */
 #include "athrill_syscall.h"
-#include "ev3api.h"
 #include "devices.h"
+#include "ev3api.h"
 #include "runtime.h"
 #include "scheduler.h"
 

@@ -17,9 +17,9 @@ typedef struct hako_device {
     int64_t (*next_due)(int64_t tick);
 } hako_device;
 
-#define HAKO_DEVICE(name)                                                                                         \
-    static const hako_device name;                                                                               \
-    __attribute__((used, section("hako_devices"))) static const hako_device *const name##_entry = &name;       \
+#define HAKO_DEVICE(name)                                                                                              \
+    static const hako_device name;                                                                                     \
+    __attribute__((used, section("hako_devices"))) static const hako_device *const name##_entry = &name;               \
     static const hako_device name
 
 /* The declared devices, for the kernel. */

@@ -79,7 +79,7 @@ static bool sensor_ready(sensor_port_t port, sensor_type_t kind, const char *nam
 static int sensor_index(sensor_port_t port, sensor_type_t kind)
 {
     int index = 0;
-    for (int p = 0; p < port; p++)
+    for (int p = 0; p < (int)port; p++)
         index += sensors[p] == kind;
     return index;
 }

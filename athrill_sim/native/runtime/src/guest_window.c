@@ -31,8 +31,8 @@ static uint8_t *body(int i) { return i == 0 ? hako_rx_body() : hako_tx_body(); }
 void hako_window_map(void)
 {
     void *want = window;
-    void *got = mmap(want, WINDOW_BYTES, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_FIXED_NOREPLACE,
-                     -1, 0);
+    void *got =
+        mmap(want, WINDOW_BYTES, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_FIXED_NOREPLACE, -1, 0);
     if (got != want) {
         if (got != MAP_FAILED)
             munmap(got, WINDOW_BYTES); /* a kernel without MAP_FIXED_NOREPLACE took it as a hint */

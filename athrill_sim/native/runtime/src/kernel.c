@@ -116,8 +116,8 @@ static int enter_service(void)
 static void leave_service(int *was) { in_service = *was; }
 /* Marks a kernel service for the rest of its scope (GCC's cleanup runs on every return), inside another one
  * too. */
-#define SERVICE                                                                                                  \
-    __attribute__((cleanup(leave_service))) int service_guard_ = enter_service();                                \
+#define SERVICE                                                                                                        \
+    __attribute__((cleanup(leave_service))) int service_guard_ = enter_service();                                      \
     (void)service_guard_
 
 /* The C++ runtime's per-thread exception record, where the program is C++ (libstdc++'s __cxa_get_globals). */
@@ -340,10 +340,7 @@ hako_task *hako_self(void) { return running; }
 
 long hako_task_number(const hako_task *t) { return t != NULL ? t->number : 0; }
 
-hako_task *hako_task_by_number(long number)
-{
-    return number >= 1 && number <= task_count ? tasks[number - 1] : NULL;
-}
+hako_task *hako_task_by_number(long number) { return number >= 1 && number <= task_count ? tasks[number - 1] : NULL; }
 
 long hako_task_limit(void) { return task_count; }
 

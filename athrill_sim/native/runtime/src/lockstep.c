@@ -14,10 +14,10 @@
  * a handler that only raises a flag lets the program's loops see it, end and write their logs, while the
  * next test already runs. Past HAKO_AFTER_INTERRUPT_US of simulated time it leaves.
  */
-#include <signal.h>
 #include <errno.h>
 #include <limits.h>
 #include <linux/futex.h>
+#include <signal.h>
 #include <string.h>
 #include <sys/syscall.h>
 #include <time.h>
@@ -36,10 +36,7 @@ void hako_lockstep_detach(void) { detached = 1; }
 
 bool hako_lockstep_detached(void) { return detached != 0; }
 
-static void futex_wake(uint32_t *word)
-{
-    hako_real()->syscall(SYS_futex, word, FUTEX_WAKE, INT_MAX, NULL, NULL, 0);
-}
+static void futex_wake(uint32_t *word) { hako_real()->syscall(SYS_futex, word, FUTEX_WAKE, INT_MAX, NULL, NULL, 0); }
 
 /* Sleep while *word still holds `expected`, at most `seconds` (the kernel compares before it sleeps). */
 static void futex_wait(uint32_t *word, uint32_t expected, double seconds)

@@ -220,8 +220,7 @@ static bool on_this_machine(const struct sockaddr *addr)
         return ntohl(((const struct sockaddr_in *)addr)->sin_addr.s_addr) >> 24 == 127;
     if (addr->sa_family == AF_INET6) {
         const struct in6_addr *a = &((const struct sockaddr_in6 *)addr)->sin6_addr;
-        return IN6_IS_ADDR_LOOPBACK(a) ||
-               (IN6_IS_ADDR_V4MAPPED(a) && a->s6_addr[12] == 127);
+        return IN6_IS_ADDR_LOOPBACK(a) || (IN6_IS_ADDR_V4MAPPED(a) && a->s6_addr[12] == 127);
     }
     return true; /* a Unix socket, or another family the program means for this machine */
 }

@@ -68,8 +68,7 @@ static int lock_until(pthread_mutex_t *m, int64_t due, const char *call)
         }
         if (kind_of(m) == PTHREAD_MUTEX_ERRORCHECK)
             return EDEADLK;
-        hako_log("%s: %s locks a mutex it holds: it waits for ever, as on Linux", call,
-                 hako_task_name(hako_self()));
+        hako_log("%s: %s locks a mutex it holds: it waits for ever, as on Linux", call, hako_task_name(hako_self()));
     }
     while (m->__data.__owner != 0 && m->__data.__owner != self) {
         int err = hako_block_on(m, due);

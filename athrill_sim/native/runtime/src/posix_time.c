@@ -146,10 +146,7 @@ unsigned int sleep(unsigned int seconds)
     return 0;
 }
 
-int usleep(useconds_t usec)
-{
-    return sleep_relative(__func__, (int64_t)usec);
-}
+int usleep(useconds_t usec) { return sleep_relative(__func__, (int64_t)usec); }
 
 int nanosleep(const struct timespec *req, struct timespec *rem)
 {

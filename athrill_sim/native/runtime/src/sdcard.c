@@ -11,8 +11,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "ev3api.h"
 #include "devices.h"
+#include "ev3api.h"
 #include "runtime.h"
 
 #define MAX_DIRS 16

@@ -16,8 +16,8 @@
 #define MAX_DETECTABLE 30 /* SPIKE-RT's CB_COLOR_MAP_SIZE */
 
 static pup_color_hsv_t detectable[MAX_DETECTABLE] = {
-    {PBIO_COLOR_HUE_RED, 100, 100}, {PBIO_COLOR_HUE_YELLOW, 100, 100}, {PBIO_COLOR_HUE_GREEN, 100, 100},
-    {PBIO_COLOR_HUE_BLUE, 100, 100}, {0, 0, 100} /* white */,      {0, 0, 0} /* none */,
+    {PBIO_COLOR_HUE_RED, 100, 100},  {PBIO_COLOR_HUE_YELLOW, 100, 100}, {PBIO_COLOR_HUE_GREEN, 100, 100},
+    {PBIO_COLOR_HUE_BLUE, 100, 100}, {0, 0, 100} /* white */,           {0, 0, 0} /* none */,
 };
 static int32_t detectable_count = 6;
 

@@ -4,8 +4,8 @@
  * writes 4095 while pressed), touched is a value above 0. Where the SDK is incomplete, SPIKE-RT's: `pressed`
  * is touched with at least `force`. The device is never looked at.
  */
-#include "spike.h"
 #include "spike/pup/forcesensor.h"
+#include "spike.h"
 
 pup_device_t *pup_force_sensor_get_device(pbio_port_id_t port) { return spike_take_port(port, DEVICE_FORCE, __func__); }
 

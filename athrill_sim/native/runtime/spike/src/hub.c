@@ -34,7 +34,9 @@ pbio_error_t hub_button_is_pressed(hub_button_t *pressed)
     static const struct {
         button_t ev3;
         hub_button_t hub;
-    } map[] = {{LEFT_BUTTON, HUB_BUTTON_LEFT}, {RIGHT_BUTTON, HUB_BUTTON_RIGHT}, {ENTER_BUTTON, HUB_BUTTON_CENTER},
+    } map[] = {{LEFT_BUTTON, HUB_BUTTON_LEFT},
+               {RIGHT_BUTTON, HUB_BUTTON_RIGHT},
+               {ENTER_BUTTON, HUB_BUTTON_CENTER},
                {BACK_BUTTON, HUB_BUTTON_BT}};
     uint8_t buttons = *(volatile const uint8_t *)spike_rx(HAKO_RX_BUTTONS);
     int bits = 0;
@@ -87,11 +89,15 @@ pbio_error_t hub_light_on_hsv(const pbio_color_hsv_t *hsv)
     static const struct {
         int hue;
         pbio_color_t color;
-    } hues[] = {{PBIO_COLOR_HUE_RED, PBIO_COLOR_RED},       {PBIO_COLOR_HUE_ORANGE, PBIO_COLOR_ORANGE},
-                {PBIO_COLOR_HUE_YELLOW, PBIO_COLOR_YELLOW}, {PBIO_COLOR_HUE_GREEN, PBIO_COLOR_GREEN},
+    } hues[] = {{PBIO_COLOR_HUE_RED, PBIO_COLOR_RED},
+                {PBIO_COLOR_HUE_ORANGE, PBIO_COLOR_ORANGE},
+                {PBIO_COLOR_HUE_YELLOW, PBIO_COLOR_YELLOW},
+                {PBIO_COLOR_HUE_GREEN, PBIO_COLOR_GREEN},
                 {PBIO_COLOR_HUE_SPRING_GREEN, PBIO_COLOR_SPRING_GREEN},
-                {PBIO_COLOR_HUE_CYAN, PBIO_COLOR_CYAN},     {PBIO_COLOR_HUE_BLUE, PBIO_COLOR_BLUE},
-                {PBIO_COLOR_HUE_VIOLET, PBIO_COLOR_VIOLET}, {PBIO_COLOR_HUE_MAGENTA, PBIO_COLOR_MAGENTA},
+                {PBIO_COLOR_HUE_CYAN, PBIO_COLOR_CYAN},
+                {PBIO_COLOR_HUE_BLUE, PBIO_COLOR_BLUE},
+                {PBIO_COLOR_HUE_VIOLET, PBIO_COLOR_VIOLET},
+                {PBIO_COLOR_HUE_MAGENTA, PBIO_COLOR_MAGENTA},
                 {PBIO_COLOR_HUE_MODULO, PBIO_COLOR_RED}};
     if (hsv->s == 0 || hsv->v == 0)
         return hub_light_off();

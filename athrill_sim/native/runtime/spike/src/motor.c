@@ -21,8 +21,8 @@
 #include <stddef.h>
 #include <stdlib.h>
 
-#include "spike.h"
 #include "../../src/devices.h"
+#include "spike.h"
 #include "spike/pup/motor.h"
 
 #define CONTROL_PERIOD_US 5000 /* PBIO_CONFIG_CONTROL_LOOP_TIME_MS */

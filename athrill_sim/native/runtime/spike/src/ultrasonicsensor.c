@@ -3,8 +3,8 @@
  * slot, in millimetres (SPIKE-RT's unit). Nothing on the bench emits ultrasound, so `presence` is false. Its
  * lights change nothing the bench measures: each light call is a line in the log.
  */
-#include "spike.h"
 #include "spike/pup/ultrasonicsensor.h"
+#include "spike.h"
 
 pup_device_t *pup_ultrasonic_sensor_get_device(pbio_port_id_t port)
 {
