@@ -4,9 +4,9 @@ The paper repeats every parameter set because its Unity bench is not repeatable;
 microsecond, so without noise a repetition says nothing. Noise here is *seeded*: the controller writes a
 seed and a scale for each test (`Rx.NOISE_SEED`, `Rx.NOISE_SCALE`), and everything random in that test is
 drawn from generators made from that seed, in a fixed order, at instants the lockstep fixes (test start,
-sensor snapshots, motor commands). So the same (parameters, seed, scale) still give the same event and goal
-time to the microsecond under any machine load, and scale 0 draws nothing at all: the bench is the
-noise-free bench, bit for bit.
+sensor snapshots, motor commands, a scenario's places). So the same (parameters, seed, scale) still give the
+same event and goal time to the microsecond under any machine load, and scale 0 draws nothing at all: the
+bench is the noise-free bench, bit for bit.
 
 Every source is zero-mean Gaussian with a standard deviation from the course's `[noise]` table
 (`NoiseLevels`), multiplied by the scale. Draws happen outside MuJoCo's stepping, so the hot loop costs the
@@ -96,10 +96,10 @@ class NoiseDraw:
     """One test's noise, drawn from its seed.
 
     Three independent streams are spawned from the seed, so that the number of draws one kind of event
-    makes never shifts another's: per-test values (drawn here, in the order of `NoiseLevels`' per-test
-    fields), sensor readings (three normals per snapshot: reflect, gyro rate, ultrasonic) and motor
-    commands (two normals per command: left, right). Draws are made even where a level is 0, so changing
-    one level leaves the others' draws as they were.
+    makes never shifts another's: per-test values (drawn here, in the order of `NoiseLevels`' per-test fields,
+    then one put-down per scenario place as it happens), sensor readings (three normals per snapshot: reflect,
+    gyro rate, ultrasonic) and motor commands (two normals per command: left, right). Draws are made even where
+    a level is 0, so changing one level leaves the others' draws as they were.
     """
 
     def __init__(self, levels: NoiseLevels, seed: int, scale: float) -> None:
