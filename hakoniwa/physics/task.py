@@ -37,6 +37,12 @@ class LapTask:
         self.distance_m = 0.0
         self._last_xy = start_xy or (self.course.start.x, self.course.start.y)
 
+    def carried(self, lifted_xy: tuple[float, float], set_xy: tuple[float, float]) -> None:
+        """The robot was lifted at `lifted_xy` and set down at `set_xy` (a scenario's place): its path counts to
+        where it was lifted and goes on from where it was set down, as a carry is not driven distance."""
+        self._walk(lifted_xy)
+        self._last_xy = set_xy
+
     @property
     def passed(self) -> int:
         return len(self.passed_us)
@@ -49,8 +55,7 @@ class LapTask:
         """The event at `time_us` (Event.NONE while the test goes on). Wall contact wins over a goal seen at
         the same tick: a robot that crashes into the wall at the line has not finished cleanly."""
         x, y = world.position()
-        self.distance_m += math.hypot(x - self._last_xy[0], y - self._last_xy[1])
-        self._last_xy = (x, y)
+        self._walk((x, y))
         if world.touching_wall():
             return Event.HIT_WALL
         checkpoints = self.course.checkpoints
@@ -64,3 +69,7 @@ class LapTask:
         if time_us >= self.time_limit_us:
             return Event.TIME_OVER
         return Event.NONE
+
+    def _walk(self, xy: tuple[float, float]) -> None:
+        self.distance_m += math.hypot(xy[0] - self._last_xy[0], xy[1] - self._last_xy[1])
+        self._last_xy = xy
