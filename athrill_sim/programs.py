@@ -34,6 +34,7 @@ from hakoniwa.wire.rundir import SDCARD_DIR
 
 if TYPE_CHECKING:
     from athrill_sim.vdev_udp import UdpLink
+    from athrill_sim.working_folder import WorkingFolder
 
 PROJECT = Path(__file__).resolve().parents[1]
 NATIVE_DIR = Path(__file__).resolve().parent / "native"  # the bench's runtime and libraries, not the user's program
@@ -102,6 +103,9 @@ class Program:
     sdcard: Path | None = None  # the program's own sdcard/ folder, copied onto the bench's SD card
     tuning: Any = field(default=None, compare=False)  # athrill_sim.tuning.Tuning: the parameters' bindings
     forkable: bool = False  # argv is MOCK_ARGV + arguments: `athrill_sim.zygote` can fork it instead
+    working_folder: WorkingFolder | None = None  # a scratch copy of the program's workspace per test, its cwd
+    interrupted_at_end: bool = False  # a test's end sends SIGINT (Ctrl-C) before the process is stopped
+    env: tuple[tuple[str, str], ...] = ()  # set in the process's environment
 
     def prepare(self, run_dir: Path) -> None:
         for name, text in self.config_files.items():
@@ -135,16 +139,19 @@ class Program:
     def args(self, run_dir: Path, test_seq: int) -> list[str]:
         return [a.format(test=test_seq, run_dir=run_dir) for a in self.argv]
 
-    def spawn(self, run_dir: Path, test_seq: int, output) -> subprocess.Popen:
-        """Start the process for test `test_seq`. It gets a session of its own, so that a Ctrl-C meant for
-        the campaign does not kill it mid-test (the physics process stops it), and dies with the physics
-        process, so that nothing is left running if that is killed."""
+    def spawn(self, run_dir: Path, test_seq: int, output, cwd: Path | None = None) -> subprocess.Popen:
+        """Start the process for test `test_seq` (in `cwd`, its working folder, if it has one). It gets a
+        session of its own, so that a Ctrl-C meant for the campaign does not kill it mid-test (the physics
+        process stops it), and dies with the physics process, so that nothing is left running if that is
+        killed."""
         return subprocess.Popen(self.args(run_dir, test_seq), stdin=subprocess.DEVNULL, stdout=output,
-                                stderr=subprocess.STDOUT, cwd=run_dir if self.in_run_dir else None,
+                                stderr=subprocess.STDOUT, cwd=cwd or (run_dir if self.in_run_dir else None),
+                                env={**os.environ, **dict(self.env)} if self.env else None,
                                 start_new_session=True, preexec_fn=die_with_parent)
 
 
 MOCK_ARGV = (sys.executable, "-m", "athrill_sim.main")  # the mock Athrill, whose arguments follow
+NATIVE_ENV = (("TZ", "UTC0"),)  # localtime() of the simulated clock: the same on every machine (docs/NATIVE.md)
 
 
 def python_program(spec: str) -> Program:
@@ -168,16 +175,18 @@ def native_program(source: Path, flags: tuple[str, ...] = ()) -> Program:
     from athrill_sim.native import NativeBuildError
     from athrill_sim.native.build import build_app
     from athrill_sim.native.workspace import find_app
+    from athrill_sim.working_folder import WorkingFolder, WorkingFolderError
 
     try:
         exe = build_app(source, flags=flags)
         files = tuple(f for f in find_app(source).hashed if not f.is_relative_to(NATIVE_DIR))  # the user's
-    except NativeBuildError as e:
+        card = program_sdcard(source)
+        folder = WorkingFolder.of(source, card)
+    except (NativeBuildError, WorkingFolderError) as e:
         raise ProgramError(str(e)) from None
-    card = program_sdcard(source)
     return Program(f"native C app {source}", SyncMode.LOCKSTEP, True,
                    (str(exe), "--run-dir", "{run_dir}", "--test", "{test}"), files=(*files, *card_files(card)),
-                   image=exe, sdcard=card)
+                   image=exe, working_folder=folder, interrupted_at_end=True, env=NATIVE_ENV)
 
 
 def program_sdcard(source: Path) -> Path | None:

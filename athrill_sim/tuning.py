@@ -5,7 +5,7 @@ pattern that matches twice, a template placeholder no parameter fills, a `#defin
 line each, with the fix), and returns the program with its `Tuning`. At each test start the physics process
 calls `Tuning.for_test`, which reads the values from their slots and
 
-- writes the `file` kinds' data files onto the run directory's SD card;
+- writes the `file` kinds' data files onto the test's SD card (a native program's: its working folder);
 - picks the variant for the `define` and `source` values, building it when it is new (`build_cache`: cached
   per value, shared by every bench on the machine, so a set that repeats builds once);
 - sets the `symbol` kinds' initial values in a copy of that variant's image (`elf_symbols`).
@@ -71,10 +71,11 @@ class Tuning:
         """What the controller wrote into the slots for this test."""
         return {b.name: float(unity.read(SLOT_FORMATS[CARRIER], b.slot)) for b in self.bindings}
 
-    def for_test(self, run_dir: Path, values: dict[str, float]) -> Program:
-        """Write this test's data files, and return the program variant its values make."""
+    def for_test(self, run_dir: Path, card: Path, values: dict[str, float]) -> Program:
+        """Write this test's data files onto its SD card `card`, and return the program variant its values
+        make."""
         for path, text in self.data_files(values).items():
-            target = run_dir / SDCARD_DIR / path
+            target = card / path
             target.parent.mkdir(parents=True, exist_ok=True)
             tmp = target.with_name(target.name + ".tmp")
             tmp.write_text(text, newline="")

@@ -179,7 +179,7 @@ class PhysicsServer:
             return self.program
         values = tuning.values(self.slots.unity)
         try:
-            return tuning.for_test(self.run_dir, values)
+            return tuning.for_test(self.run_dir, self.launcher.card(self.tests_run + 1), values)
         except BindingError as e:
             self._write_program_output([str(e)])
             return AthrillCrash(CrashKind.PROGRAM, 0, str(e))
@@ -253,7 +253,7 @@ class PhysicsServer:
     def reset(self) -> None:
         """start = 0: stop Athrill, restore the saved initial state, clear event and goal time."""
         if self._athrill_proc is not None:
-            kill(self._athrill_proc)
+            self.launcher.end(self._athrill_proc)
             self._athrill_proc = None
         self.transport.ended()
         self.env.reset()

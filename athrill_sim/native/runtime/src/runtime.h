@@ -42,11 +42,12 @@ bool hako_lockstep_detached(void);
 
 /* kernel.c: the tasks and cyclic handlers of app.cfg in simulated time; leaving it as when every task has
  * ended (the outputs flushed, NEVER_WAKES published). */
-void hako_kernel_start(int64_t start_us); /* the tables, TA_ACT tasks and TA_STA handlers; the SD card folder */
+void hako_kernel_start(int64_t start_us); /* the tables, TA_ACT tasks and TA_STA handlers; the devices' start */
 void hako_kernel_run(void) __attribute__((noreturn));
 void hako_kernel_exit(void) __attribute__((noreturn));
 
-/* main.c: the run directory (absolute: the program's working directory is the SD card folder). */
+/* main.c: the run directory (absolute: the program's working directory is its own, the bench's copy of its
+ * workspace). */
 const char *hako_run_dir(void);
 
 /* syslog.c: lines on stderr, each written at once. */
