@@ -27,7 +27,7 @@ from elftools.elf.elffile import ELFFile
 from elftools.elf.relocation import RelocationSection
 from elftools.elf.sections import Symbol, SymbolTableSection
 
-from athrill_sim.bindings import BindingError
+from athrill_sim.forms.form import BindingError
 
 V850_MACHINES = ("EM_V800", "EM_V850", 0x9080)  # pyelftools' names of athrill_sim.v850.elf's machines
 

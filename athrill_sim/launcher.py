@@ -1,4 +1,5 @@
-"""A fresh Athrill process for every test (that is how the paper re-initializes the robot program).
+"""A fresh Athrill process for every test (that is how the paper re-initializes the robot program): the
+program side of `hakoniwa.wire.launch.Launcher`, which the physics server is given.
 
 Starting a Python process costs 0.1-0.3 s, a third of a whole test, so a program that allows it is started
 one test ahead: when test N starts, the process for N+1 is launched too, imports everything, and waits
@@ -19,10 +20,15 @@ import threading
 from pathlib import Path
 
 from athrill_sim import working_folder
-from athrill_sim.programs import MOCK_ARGV, Program
+from athrill_sim.forms.form import BindingError
+from athrill_sim.program import MOCK_ARGV, Program
 from athrill_sim.zygote import ForkedProcess, Zygote
+from hakoniwa.wire.launch import ProgramRefused
 from hakoniwa.wire.output import CappedOutput
+from hakoniwa.wire.processes import kill
+from hakoniwa.wire.protocol import MappedFile, SyncMode
 from hakoniwa.wire.rundir import ATHRILL_LOG, SDCARD_DIR
+from hakoniwa.wire.vdev_udp import UdpLink
 
 END_BOUND_S = 2.0  # how long an interrupted program may take to end, in wall time
 
@@ -38,19 +44,35 @@ class AthrillLauncher:
         self._zygote: Zygote | None = None  # started by the first test of a program it can fork
         self._forks = True  # until the zygote fails once
         self._taken: int | None = None  # the pid of the process running the current test
+        self._prepared = program  # what the current test runs (`prepare`)
         self._running: tuple[int, subprocess.Popen, Program] | None = None  # the current test's
         self._folders: dict[int, Path] = {}  # each test's working folder, until it is kept or discarded
         program.prepare(run_dir)
 
-    def card(self, seq: int) -> Path:
-        """The folder that is test `seq`'s SD card, where its data files go before it starts: its working
-        folder, made now if its process is not started yet, or the run directory's SD card."""
-        return self._folder(seq) if self.program.working_folder is not None else self.run_dir / SDCARD_DIR
+    @property
+    def sync(self) -> SyncMode:
+        return self.program.sync
 
-    def app_folder(self, seq: int) -> Path:
-        """Where test `seq`'s copy of the program's app folder is (its working folder for a lone file)."""
-        assert self.program.working_folder is not None
-        return self.program.working_folder.app_folder(self._folder(seq))
+    @property
+    def udp(self) -> UdpLink | None:
+        return self.program.udp
+
+    def prepare(self, seq: int, unity: MappedFile) -> None:
+        """The program test `seq`'s parameter values make (the program itself unless it is tuned by forms
+        other than `offset`), with its data files written onto its SD card: its working folder, made now if
+        its process is not started yet, or the run directory's SD card. A value the program does not build
+        with is the program's failure; a file that cannot be written, the bench's."""
+        tuning = self.program.tuning
+        if tuning is None:
+            return
+        values = tuning.values(unity)
+        card = self._folder(seq) if self.program.working_folder is not None else self.run_dir / SDCARD_DIR
+        try:
+            self._prepared = tuning.for_test(self.run_dir, card, values)
+        except BindingError as e:
+            raise ProgramRefused(str(e)) from None
+        except OSError as e:
+            raise OSError(f"cannot prepare the program for {values}: {e}") from e
 
     def _folder(self, seq: int) -> Path:
         assert self.program.working_folder is not None
@@ -94,10 +116,10 @@ class AthrillLauncher:
         return out.last_lines(n) if out is not None else []
 
     def take(self, seq: int, program: Program | None = None) -> subprocess.Popen:
-        """The process for test `seq` (OSError if it cannot be started), running `program` (a variant of the
-        launcher's, made for this test's parameter values: `athrill_sim.tuning`). The process launched ahead
-        runs the variant of the test before: a test with other values discards it."""
-        program = program or self.program
+        """The process for test `seq` (OSError if it cannot be started), running `program` (by default what
+        `prepare` made: a variant of the launcher's for this test's parameter values, `athrill_sim.tuning`).
+        The process launched ahead runs the variant of the test before: a test with other values discards it."""
+        program = program or self._prepared
         proc = None
         if self._spare is not None:
             spare_seq, spare_program, spare = self._spare
@@ -148,9 +170,3 @@ class AthrillLauncher:
         for out in self._outputs.values():
             out.join()
         self._log.close()
-
-
-def kill(proc: subprocess.Popen) -> None:
-    if proc.poll() is None:
-        proc.kill()
-    proc.wait()

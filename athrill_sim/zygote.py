@@ -11,7 +11,7 @@ reseeded, and it gets a session, a working directory and an output pipe of its o
 physics side when it has exited; the zygote, its parent, reaps it and says how.
 
 The zygote is an optimization only: where it cannot be started or stops answering, the launcher starts
-`athrill-sim` processes the usual way (`athrill_sim.programs.Program.spawn`).
+`athrill-sim` processes the usual way (`athrill_sim.program.Program.spawn`).
 """
 
 from __future__ import annotations

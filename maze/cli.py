@@ -300,7 +300,9 @@ def mazes() -> None:
     names = builtin_names()
     width = max(map(len, names))
     for name in names:
-        maze = read_maze(builtin_path(name))
+        path = builtin_path(name)
+        assert path is not None  # a name builtin_names() gave
+        maze = read_maze(path)
         click.echo(f"{name:{width}}  {maze.size}x{maze.size}  goal {goals_text(maze.goals)}")
 
 
@@ -488,6 +490,7 @@ def echo_search(steps: int, turns: int, run: SearchRun, timing: MouseParams, vis
 
 
 def echo_fastest(found: Route | None, true: Route | None) -> None:
+    assert true is not None  # a true maze without a run to its goal fails here either way
     shown = f"{found.seconds:.3f} s" if found is not None else "none"
     ok = found is not None and true is not None and found.seconds <= true.seconds + 1e-9
     click.echo(f"fastest path:  found {shown}, true {true.seconds:.3f} s: {'yes' if ok else 'NO'}")

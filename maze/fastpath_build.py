@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from math import ceil
+from typing import overload
 
 import numpy as np
 
@@ -76,7 +77,7 @@ DIAGONAL_TURNS = (
 
 
 def turn_shapes(diagonal: bool) -> list[TurnShape]:
-    shapes = set()
+    shapes: set[TurnShape] = set()
     for base in ALONG_TURNS + (DIAGONAL_TURNS if diagonal else ()):
         for shape in (base, base.reversed()):
             for _ in range(4):
@@ -155,7 +156,11 @@ class StaticGraph:
         self.turns = self._build_turns()
 
     # -- geometry helpers -------------------------------------------------------------------------------------
-    def index(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    @overload
+    def index(self, x: int, y: int) -> int: ...
+    @overload
+    def index(self, x: np.ndarray, y: np.ndarray) -> np.ndarray: ...
+    def index(self, x: int | np.ndarray, y: int | np.ndarray) -> int | np.ndarray:
         return y * self.side + x
 
     def inside(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:

@@ -324,7 +324,7 @@ class FastestSearch:
         limit = max((q.hint or 0.0) * HINT_MARGIN, mouse.cell / mouse.run.top_speed)
         for limit in [limit * LIMIT_GROWTH ** k for k in range(LIMIT_TRIES)] + [np.inf]:
             dist = dijkstra(q.astar, directed=True, indices=len(q.nodes) - 1, limit=limit)
-            q.bound.spent += np.count_nonzero(dist < np.inf)
+            q.bound.spent += int(np.count_nonzero(dist < np.inf))
             best = self._goal_node(q, dist)
             if np.isfinite(dist[best]):
                 q.hint = float(dist[best])

@@ -197,6 +197,7 @@ def compare_schemes(result: SearchResult, cuts: int, seed: int = 0) -> list[Sche
         rep = SchemeReport(name, full.programmed, sum(full.erases), max(full.erases), len(writes))
         for _ in range(cuts):
             flash, batch = run_writes(writes, sectors, rng.randrange(full.programmed))
+            assert batch is not None  # a cut before the last programmed byte interrupts a write
             knew = baseline + known_after[batch + 1]
             rep.lost.append(knew - recover(flash.data).known_inner())
         reports.append(rep)

@@ -246,6 +246,7 @@ def _send(fd: int, data: bytes, timeout: float) -> bool:
 def _finish(proc: subprocess.Popen[bytes], exited: bool) -> int | None:
     """Reap the program; one still running (we stopped the run) is terminated, then killed."""
     for stream in (proc.stdin, proc.stdout):
+        assert stream is not None  # started with both piped
         try:
             stream.close()
         except OSError:

@@ -51,7 +51,7 @@ def atomic_open(path: Path, mode: str = "wb") -> Iterator[IO]:
         raise MazeError(f"{path}: cannot write there ({e.strerror})") from None
     os.chmod(tmp, 0o666 & ~_umask())  # mkstemp's 0600 would make every output private
     try:
-        with os.fdopen(fd, mode, **({} if "b" in mode else {"encoding": "utf-8"})) as fp:
+        with os.fdopen(fd, mode, encoding=None if "b" in mode else "utf-8") as fp:
             yield fp
         os.replace(tmp, path)
     except BaseException:

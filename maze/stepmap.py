@@ -14,11 +14,11 @@ from .model import Cell, Maze, Topology, central_goals
 UNREACHED = 1 << 30
 
 
-def _as_int(flags: bytes) -> int:
+def _as_int(flags: bytes | bytearray) -> int:
     return int.from_bytes(flags, "little")
 
 
-def optimistic(maze: Maze, virtual: bytes | None = None) -> bytes:
+def optimistic(maze: Maze, virtual: bytes | bytearray | None = None) -> bytes:
     """Unknown walls treated as open, as while searching; virtual walls block."""
     if virtual is None:
         return bytes(maze.wall)

@@ -38,7 +38,7 @@ from pathlib import Path
 
 import click
 
-from hakoniwa.physics.options import BenchOptions
+from testctl.bench_options import BenchOptions
 from testctl.campaign.journal import JOURNAL_FILE
 from testctl.campaign.loop import Campaign, CampaignConfig
 
@@ -59,7 +59,7 @@ def campaign(out: Path, *args: str) -> float | None:
         return None
     fresh = not (out / JOURNAL_FILE).exists()
     start, launched = time.monotonic(), time.time()
-    cmd = [sys.executable, "-m", "hakoniwa.cli", "run"]
+    cmd = [sys.executable, "-m", "testctl.hako", "run"]
     cmd += [*args, "--out", str(out)] if fresh else ["--resume", str(out)]
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
@@ -103,7 +103,7 @@ def pinned_scaling(cores: list[int], benches: list[int], trials: int, first_cpu:
         for b in benches:
             with tempfile.TemporaryDirectory(prefix="hako-bench-pinned-") as tmp:
                 out = Path(tmp) / "campaign"
-                cmd = ["taskset", "-c", cpus, sys.executable, "-m", "hakoniwa.cli", "run", "--trials", str(trials),
+                cmd = ["taskset", "-c", cpus, sys.executable, "-m", "testctl.hako", "run", "--trials", str(trials),
                        "--benches", str(b), "--validate", "0", "--seed", "0", "--out", str(out)]
                 start = time.monotonic()
                 r = subprocess.run(cmd, capture_output=True, text=True)

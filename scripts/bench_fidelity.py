@@ -31,12 +31,13 @@ from pathlib import Path
 
 import click
 
-from athrill_sim.programs import Program, ProgramError, resolve_program
-from hakoniwa.physics.bench import load_bench
+from athrill_sim.launcher import AthrillLauncher
+from athrill_sim.program import Program, ProgramError
+from athrill_sim.programs import resolve_program
 from hakoniwa.physics.course import load_course
-from hakoniwa.physics.options import BenchOptions
 from hakoniwa.physics.server import PhysicsServer
 from hakoniwa.wire.timebase import US_PER_S
+from testctl.bench_options import BenchOptions, load_bench
 from testctl.paper import BEST_GAINS, GAIN_RANGE, line_trace_params
 from testctl.result import TestResult
 from testctl.runner import TrialRunner
@@ -93,7 +94,8 @@ class RecordingBench:
         options = BenchOptions(course=course, time_limit_s=time_limit_s, robot=subject and subject.robot,
                                scenario=subject and subject.scenario(Path(self._tmp.name)))
         loaded, robot, scenario = load_bench(options)
-        self.server = PhysicsServer(Path(self._tmp.name), loaded, program, athrill_timeout_s=30.0,
+        self.server = PhysicsServer(Path(self._tmp.name), loaded, AthrillLauncher(Path(self._tmp.name), program),
+                                    athrill_timeout_s=30.0,
                                     time_limit_us=options.time_limit_us(loaded.time_limit_us), robot=robot,
                                     scenario=scenario)
         self.commands: list[tuple[int, ...]] = []

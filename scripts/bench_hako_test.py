@@ -26,7 +26,7 @@ def one_run(test_file: Path, benches: int, work: Path) -> tuple[float, float, in
     load = os.getloadavg()[0]
     results = work / "results.json"
     start = time.monotonic()
-    r = subprocess.run([sys.executable, "-m", "hakoniwa.cli", "test", str(test_file), "--benches", str(benches),
+    r = subprocess.run([sys.executable, "-m", "testctl.hako", "test", str(test_file), "--benches", str(benches),
                         "--out", str(work / "out"), "--json", str(results)], capture_output=True, text=True)
     wall = time.monotonic() - start
     if r.returncode != 0:

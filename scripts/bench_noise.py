@@ -10,8 +10,8 @@ from pathlib import Path
 
 import click
 
-from hakoniwa.physics.options import BenchOptions
 from testctl.bench import Bench
+from testctl.bench_options import BenchOptions
 from testctl.executor import TestSpec
 from testctl.noise_seed import noise_seed
 from testctl.paper import BEST_GAINS, line_trace_params

@@ -32,13 +32,14 @@ from pathlib import Path
 import click
 import mujoco
 
-from athrill_sim.programs import MOCK_ARGV, Program, ProgramError, resolve_program
+from athrill_sim.program import MOCK_ARGV, Program, ProgramError
+from athrill_sim.programs import resolve_program
 from athrill_sim.zygote import Zygote
 from hakoniwa.physics.course import load_course
-from hakoniwa.physics.options import DEFAULT_COURSE, BenchOptions
 from hakoniwa.physics.sync import HAKONIWA_START_US
 from hakoniwa.physics.world import World
 from hakoniwa.wire.protocol import MappedFile, Rx, SyncMode, Tx, open_athrill, open_unity
+from testctl.bench_options import DEFAULT_COURSE, BenchOptions
 from testctl.paper import BEST_GAINS, line_trace_params
 from testctl.runner import TrialRunner
 

@@ -27,7 +27,7 @@ import click
 ROUND = """
 import os, sys, tempfile, time
 from pathlib import Path
-from hakoniwa.physics.options import BenchOptions
+from testctl.bench_options import BenchOptions
 from testctl.bench import Bench
 from testctl.executor import TestSpec
 

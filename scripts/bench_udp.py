@@ -14,7 +14,7 @@ import click
 from bench_sim import REPO, trial_rate  # scripts/ is this script's folder
 
 from hakoniwa.conventions import HELP
-from hakoniwa.physics.options import BenchOptions
+from testctl.bench_options import BenchOptions
 
 TRACER = REPO / "athrill_sim" / "apps" / "line_trace.c"
 
@@ -25,7 +25,7 @@ TRACER = REPO / "athrill_sim" / "apps" / "line_trace.c"
               help="The real TOPPERS emulator (scripts/build_athrill2.sh builds it).")
 def main(tests: int, athrill2: str) -> None:
     """Print, per transport, the sim-s per wall-s of all trials together, and the laps."""
-    image = subprocess.run([sys.executable, "-m", "hakoniwa.cli", "build", str(TRACER)], capture_output=True,
+    image = subprocess.run([sys.executable, "-m", "testctl.hako", "build", str(TRACER)], capture_output=True,
                            text=True, check=True).stdout.strip()
     benches = {"mmap": BenchOptions(app=image, athrill2=athrill2, sync="hakoniwa"),
                "udp": BenchOptions(app=image, athrill2=athrill2, transport="udp")}

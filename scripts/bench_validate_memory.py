@@ -25,7 +25,7 @@ from pathlib import Path
 import click
 import psutil
 
-from hakoniwa.physics.options import BenchOptions
+from testctl.bench_options import BenchOptions
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
 from testctl.campaign.loop import Campaign, load_config
 from testctl.campaign.validate import validate_best, validation_specs
@@ -45,7 +45,7 @@ def main(draws: int, benches: int, time_limit: float, every: int) -> None:
     """Print the controller's RSS over a validation of --draws draws."""
     with tempfile.TemporaryDirectory(prefix="hako-valmem-") as tmp:
         out = Path(tmp) / "c"
-        subprocess.run([sys.executable, "-m", "hakoniwa.cli", "run", "--smoke", "--validate", "0", "--benches", "1",
+        subprocess.run([sys.executable, "-m", "testctl.hako", "run", "--smoke", "--validate", "0", "--benches", "1",
                         "--out", str(out)], check=True, stdout=subprocess.DEVNULL)
         header, _ = read_journal(out / JOURNAL_FILE)
         bench = dataclasses.replace(BenchOptions(**{k: v for k, v in header["bench"].items()

@@ -28,7 +28,7 @@ def main(frames: int) -> None:
 
     with tempfile.TemporaryDirectory() as tmp:
         run = Path(tmp) / "run"
-        subprocess.run([sys.executable, "-m", "hakoniwa.cli", "trial", "--noise", "0", "--run-dir", str(run)],
+        subprocess.run([sys.executable, "-m", "testctl.hako", "trial", "--noise", "0", "--run-dir", str(run)],
                        check=True, stdout=subprocess.DEVNULL)
         replay = read_replay(run)
         t0 = time.perf_counter()

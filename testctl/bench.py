@@ -7,10 +7,10 @@ import subprocess
 import time
 from pathlib import Path
 
-from hakoniwa.physics.options import BenchOptions
 from hakoniwa.wire.processes import die_with_parent
 from hakoniwa.wire.protocol import BenchCause, CrashKind, Event
 from hakoniwa.wire.rundir import diagnose
+from testctl.bench_options import BenchOptions
 from testctl.executor import TestSpec
 from testctl.result import TestResult
 from testctl.runner import PhysicsGone, TrialRunner

@@ -32,9 +32,9 @@ from dask.typing import Key
 from distributed import Client, Future, LocalCluster, get_worker
 from distributed.diagnostics.plugin import WorkerPlugin
 
-from hakoniwa.physics.options import BenchOptions
 from hakoniwa.wire.errors import HakoError
 from testctl.bench import Bench
+from testctl.bench_options import BenchOptions
 from testctl.executor import Executor, TestSpec
 from testctl.result import TestResult
 

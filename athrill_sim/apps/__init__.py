@@ -10,7 +10,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from athrill_sim.ev3api import Ev3Api
-from athrill_sim.programs import ProgramError
+from athrill_sim.program import ProgramError
 
 App = Callable[[Ev3Api], None]
 

@@ -82,15 +82,15 @@ def build_image(app: Path, *, sdk: Path | None = None, toolchain: Path | None = 
     compiler flags for the program (a tuned program's -DNAME=value, athrill_sim.tuning), added to its
     Makefile.inc's COPTS in the scratch copy."""
     root, files, lone = app_files(Path(app))
-    kind = program_kind(root, files, lone)
-    tools = find_tools(sdk, toolchain, spike=kind.spike)
+    traits = source_traits(root, files, lone)
+    tools = find_tools(sdk, toolchain, spike=traits.spike)
     entry = cache_root() / "v850" / cache_key(root, files, lone, tools, flags)
     if (entry / IMAGE).is_file():
         return entry / IMAGE
     check_build_tools()
     if announce is not None:
-        announce(f"building {root} with the {'SPIKE' if kind.spike else 'EV3RT'} SDK at {tools.sdk} and {tools.gcc}")
-    return cached_build(entry, IMAGE, lambda scratch: _build(root, files, lone, tools, scratch, kind.cxx, flags))
+        announce(f"building {root} with the {'SPIKE' if traits.spike else 'EV3RT'} SDK at {tools.sdk} and {tools.gcc}")
+    return cached_build(entry, IMAGE, lambda scratch: _build(root, files, lone, tools, scratch, traits.cxx, flags))
 
 
 def app_files(app: Path) -> tuple[Path, list[Path], bool]:
@@ -115,24 +115,24 @@ def app_files(app: Path) -> tuple[Path, list[Path], bool]:
 
 
 @dataclass(frozen=True)
-class ProgramKind:
+class SourceTraits:
     cxx: bool  # EV3RT builds it as C++: `SRCLANG := c++` (its main file app.cpp), or a lone .cpp file
     spike: bool  # written against the SPIKE API: built with ET Robocon's SPIKE SDK unless --sdk says otherwise
 
 
-def program_kind(root: Path, files: list[Path], lone: bool) -> ProgramKind:
+def source_traits(root: Path, files: list[Path], lone: bool) -> SourceTraits:
     """What the program's Makefile.inc (read by GNU make, as the SDK reads it) and sources say it is: the
     same rules as the native build's (`athrill_sim.native.spike`)."""
     make = NO_MAKEFILE
     if lone:
-        return ProgramKind(files[0].suffix == ".cpp", spike.is_spike_program(make, files))
+        return SourceTraits(files[0].suffix == ".cpp", spike.is_spike_program(make, files))
     if (root / "Makefile.inc").is_file():
         try:
             make = evaluate(root / "Makefile.inc")
         except NativeBuildError as e:
             raise ImageError(str(e)) from None
     is_spike = spike.is_spike_program(make, files)
-    return ProgramKind(make.words("SRCLANG") == ["c++"], is_spike)
+    return SourceTraits(make.words("SRCLANG") == ["c++"], is_spike)
 
 
 def cache_key(root: Path, files: list[Path], lone: bool, tools: Tools, flags: tuple[str, ...] = ()) -> str:

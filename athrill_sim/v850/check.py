@@ -17,8 +17,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from athrill_sim.programs import SyncMode, athrill_argv, athrill_config
-from hakoniwa.wire.protocol import EXT_OFF, MappedFile, Tx, open_athrill, open_unity
+from athrill_sim.athrill2 import athrill_argv, athrill_config
+from hakoniwa.wire.protocol import EXT_OFF, MappedFile, SyncMode, Tx, open_athrill, open_unity
 from hakoniwa.wire.timebase import US_PER_S
 from hakoniwa.wire.wallclock import WallCeiling
 

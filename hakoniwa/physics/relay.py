@@ -22,10 +22,9 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Protocol
 
-from athrill_sim.programs import UDP_DEVICE_CONFIG, Program
-from athrill_sim.vdev_udp import LinkError, UdpLink, bind_fixed, bind_pair, check_free
 from hakoniwa.physics.slots import Slots
 from hakoniwa.wire.packets import MAX_DATAGRAM, PacketError, decode_tx, rx_packet, store_tx
+from hakoniwa.wire.vdev_udp import UDP_DEVICE_CONFIG, LinkError, UdpLink, bind_fixed, bind_pair, check_free
 from hakoniwa.wire.waiting import CHECK_EVERY_S, wait_for
 
 FIRST_RESEND_S = 0.0005  # until athrill2's first packet: how long it may run unchecked after binding its port
@@ -154,6 +153,7 @@ class UdpRelay:
             self._sock = None
 
 
-def open_transport(program: Program, slots: Slots, run_dir: Path, log: Callable[[str], None]) -> Transport:
-    """The program's transport; LinkError (one line) for a port in use."""
-    return MappedFiles() if program.udp is None else UdpRelay(program.udp, slots, run_dir, log)
+def open_transport(udp: UdpLink | None, slots: Slots, run_dir: Path, log: Callable[[str], None]) -> Transport:
+    """The transport of a program whose UDP link is `udp` (None: the mapped files); LinkError (one line) for a
+    port in use."""
+    return MappedFiles() if udp is None else UdpRelay(udp, slots, run_dir, log)

@@ -1,6 +1,7 @@
 """The physics process's loop: owns the mapped files, runs tests on start = 1, resets on start = 0 (paper
 Fig. 4). It is a thin shell: the test itself is `environment.py`'s, the slots `slots.py`'s, the noise and
-sensor state `sensors.py`'s; this class starts Athrill, runs the sync loop, and logs.
+sensor state `sensors.py`'s; this class starts Athrill, runs the sync loop, and logs. What Athrill runs is
+not its business: it is given a `hakoniwa.wire.launch.Launcher` by whoever builds the bench.
 
 Physics time is the master. The world advances in whole 1 ms MuJoCo steps, batched up to the next moment
 anything has to happen: an event check, a trajectory sample, or (depending on the sync mode, see
@@ -29,9 +30,6 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from athrill_sim.bindings import BindingError
-from athrill_sim.launcher import AthrillLauncher, kill
-from athrill_sim.programs import Program
 from hakoniwa.physics.course import Course
 from hakoniwa.physics.environment import Environment
 from hakoniwa.physics.lcd import draw_screen, forget_screen
@@ -42,6 +40,8 @@ from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
 from hakoniwa.physics.scenario import Scenario
 from hakoniwa.physics.slots import Report, Slots
 from hakoniwa.physics.sync import SYNC_LOOPS, AthrillCrash, snapshot_end_us, unity_time_us
+from hakoniwa.wire.launch import Launcher, ProgramRefused
+from hakoniwa.wire.processes import kill
 from hakoniwa.wire.protocol import BenchCause, CrashKind, Event, Objective
 from hakoniwa.wire.rundir import PHYSICS_LOG, PROGRAM_OUTPUT_FILE, SERIAL_INPUT, TRAJECTORY_FILE
 from hakoniwa.wire.timebase import Scheduler
@@ -67,20 +67,20 @@ class TestOutcome:
 
 
 class PhysicsServer:
-    def __init__(self, run_dir: Path, course: Course, program: Program, *, athrill_timeout_s: float,
+    def __init__(self, run_dir: Path, course: Course, launcher: Launcher, *, athrill_timeout_s: float,
                  time_limit_us: int, robot: Robot = DEFAULT_ROBOT, scenario: Scenario = Scenario(),
                  objective: Objective = Objective.LAP) -> None:
+        """The server owns `launcher` from here on: it closes it when it stops serving."""
         self.run_dir = Path(run_dir)
         self.course = course
-        self.program = program
+        self.launcher = launcher
         self.athrill_timeout_s = athrill_timeout_s
         self.objective = objective
         self.env = Environment(course, time_limit_us, robot, scenario, objective)
         (self.run_dir / SERIAL_INPUT).write_text(scenario.serial_lines())
         self.slots = Slots(self.run_dir)
         self._log = open(self.run_dir / PHYSICS_LOG, "a")
-        self.transport = open_transport(program, self.slots, self.run_dir, self._note)
-        self.launcher = AthrillLauncher(self.run_dir, program)
+        self.transport = open_transport(launcher.udp, self.slots, self.run_dir, self._note)
         self.answer_before_start = 0
         self.tests_run = 0
         self._max_diff_us = 0
@@ -116,7 +116,7 @@ class PhysicsServer:
 
     def publish_sensors(self) -> None:
         now = self.env.now_us
-        self.slots.publish(self.env.read_sensors(), unity_time_us(self.program.sync, now), snapshot_end_us(now))
+        self.slots.publish(self.env.read_sensors(), unity_time_us(self.launcher.sync, now), snapshot_end_us(now))
         self.transport.published()
 
     def apply_actuators(self) -> None:
@@ -156,54 +156,47 @@ class PhysicsServer:
             return None
         return NoiseDraw(self.course.noise, seed, scale)
 
-    def _start_test(self, seq: int) -> tuple[NoiseDraw | None, Program | AthrillCrash]:
+    def _start_test(self, seq: int) -> tuple[NoiseDraw | None, AthrillCrash | None]:
         damaged = self.check_files("before the test")
         forget_screen(self.run_dir)
         (self.run_dir / PROGRAM_OUTPUT_FILE).unlink(missing_ok=True)
         noise = self._read_noise()
         self.env.begin(noise)
         self._max_diff_us = 0
-        self.answer_before_start = self.slots.begin(self.program.sync, self.course.info, self.objective)
+        self.answer_before_start = self.slots.begin(self.launcher.sync, self.course.info, self.objective)
         self.publish_sensors()
         # before the announcement: a waiting Athrill reads its files after it
-        program = damaged or self._tuned_program()
+        crash = damaged or self._prepare_program(seq)
         self.slots.announce(seq)
-        return noise, program
+        return noise, crash
 
-    def _tuned_program(self) -> Program | AthrillCrash:
-        """The program this test's parameter values make (the program itself unless it is tuned by kinds
-        other than `offset`), with its data files written. A value the program does not build with is the
-        program's failure; a file that cannot be written, the bench's."""
-        tuning = self.program.tuning
-        if tuning is None:
-            return self.program
-        values = tuning.values(self.slots.unity)
+    def _prepare_program(self, seq: int) -> AthrillCrash | None:
+        """Have the launcher make this test's program; a crash (the program's or the bench's) if it cannot."""
         try:
-            return tuning.for_test(self.run_dir, self.launcher.card(self.tests_run + 1), values)
-        except BindingError as e:
+            self.launcher.prepare(seq, self.slots.unity)
+        except ProgramRefused as e:
             self._write_program_output([str(e)])
             return AthrillCrash(CrashKind.PROGRAM, 0, str(e))
         except OSError as e:
-            return AthrillCrash(CrashKind.BENCH, 0, f"cannot prepare the program for {values}: {e}",
-                                BenchCause.ATHRILL_FAILED)
+            return AthrillCrash(CrashKind.BENCH, 0, str(e), BenchCause.ATHRILL_FAILED)
+        return None
 
     def run_test(self) -> TestOutcome:
         wall_start = time.monotonic()
         seq = self.tests_run + 1
-        noise, program = self._start_test(seq)
-        crash: AthrillCrash | None = program if isinstance(program, AthrillCrash) else None
+        noise, crash = self._start_test(seq)
         proc = None
         self._ceiling = WallCeiling(self.env.task.time_limit_us)
         try:
             if crash is None:
                 self.transport.launching()
-                proc = self._athrill_proc = self.launcher.take(seq, program)  # type: ignore[arg-type]
+                proc = self._athrill_proc = self.launcher.take(seq)
         except OSError as e:
             crash = AthrillCrash(CrashKind.BENCH, 0, f"cannot start athrill: {e}", BenchCause.ATHRILL_FAILED)
         else:
             try:
                 if proc is not None:
-                    SYNC_LOOPS[self.program.sync](self, proc)
+                    SYNC_LOOPS[self.launcher.sync](self, proc)
             except AthrillCrash as e:
                 crash = e
         crash = self.check_files("during the test") or crash  # whatever else the damage made of the test

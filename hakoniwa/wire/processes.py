@@ -11,6 +11,7 @@ from __future__ import annotations
 import ctypes
 import os
 import signal
+import subprocess
 from pathlib import Path
 from typing import NamedTuple
 
@@ -25,6 +26,13 @@ def die_with_parent() -> None:
         ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGTERM)
     except (OSError, AttributeError):  # not Linux: children merely outlive a killed parent
         pass
+
+
+def kill(proc: subprocess.Popen) -> None:
+    """Stop a child now and reap it (one that has exited already is only reaped)."""
+    if proc.poll() is None:
+        proc.kill()
+    proc.wait()
 
 
 def mark_bench_fault(run_dir: Path, reason: str) -> None:

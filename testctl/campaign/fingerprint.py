@@ -15,7 +15,7 @@ import os
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
-from hakoniwa.physics.options import BenchOptions
+from testctl.bench_options import BenchOptions
 
 FILES_KEY = "files"  # where the hashes live in the journal header's "bench"
 

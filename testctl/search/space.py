@@ -3,12 +3,13 @@ fixed, and how each reaches the robot program.
 
 The paper's programs read their parameters from guest memory, so a parameter is by default an `offset` in
 `unity_mmap.bin`'s parameter area: what the app reads (`read_f32(0x090F0000 + offset)`). A program written
-without the bench keeps its gains elsewhere, and a parameter may say so instead (`athrill_sim.bindings`):
-`define = "KP"` (built with -DKP=value), `symbol = "g_kp"` (a global's initial value), `file = "gains.csv"`
-(a data file written from a template) or `source = { file, match }` (a constant in the source, rewritten).
-Every parameter still travels through a slot of the parameter area (`hakoniwa.wire.params`): an `offset`
-one in its own, the others in slots allocated from the top of the area in the space's order, so the wire
-stays the one contract and a cluster needs nothing else. `type = "int"` makes a parameter an integer,
+without the bench keeps its gains elsewhere, and a parameter may say so instead, in another of the forms
+`athrill_sim.bindings.FORMS` lists: `define = "KP"` (built with -DKP=value), `symbol = "g_kp"` (a global's
+initial value), `file = "gains.csv"` (a data file written from a template) or `source = { file, match }` (a
+constant in the source, rewritten). Each form parses its own keys (`athrill_sim.forms`). Every parameter still
+travels through a slot of the parameter area (`hakoniwa.wire.params`): an `offset` one in its own, the others in
+slots allocated from the top of the area in the space's order, so the wire stays the one contract and a cluster
+needs nothing else. `type = "int"` makes a parameter an integer,
 rounded before it is used and recorded as used; `type = "f32" | "f64" | "i8" .. "u64"` names the storage.
 
 The paper's experiment (Kp, Ki, Kd in [0, 5], motor power 15) is `ParameterSpace.default()`; any other is a
@@ -26,25 +27,14 @@ from functools import cached_property
 from pathlib import Path
 from typing import Any
 
-from athrill_sim.bindings import KINDS, SPACE_TYPES, Binding, to_json
+from athrill_sim.bindings import DEFAULT_FORM, FORMS, SPACE_TYPES, to_json
+from athrill_sim.forms.form import Binding, BindingError, Form
+from athrill_sim.forms.offset import Offset
 from hakoniwa.conventions import FLOAT32_MAX
 from hakoniwa.wire.errors import HakoError
-from hakoniwa.wire.params import (
-    CARRIER,
-    FIRST_SLOT,
-    FLOAT_TYPES,
-    INT_TYPES,
-    SLOT_ALIGN,
-    fits_area,
-    int_range,
-    slot_size,
-)
+from hakoniwa.wire.params import CARRIER, FIRST_SLOT, FLOAT_TYPES, INT_TYPES, SLOT_ALIGN, int_range, slot_size
 from hakoniwa.wire.protocol import PARAM_END, Rx
 from testctl import paper
-
-_LAST_OFFSET = PARAM_END - 4
-_KIND_KEYS = ("offset", *KINDS)
-_VIA_KEYS = {"template", "template_file"}  # besides the kind's own key
 
 
 class SpaceError(HakoError, ValueError):
@@ -52,35 +42,22 @@ class SpaceError(HakoError, ValueError):
 
 
 @dataclass(frozen=True)
-class Via:
-    """How a parameter of a kind other than `offset` reaches the program."""
-
-    kind: str  # define, symbol, file, source
-    target: str  # the macro; the global; the data file; the source file
-    match: str | None = None  # source: the regular expression whose one group is the value
-    template: str | None = None  # file: its text with {Name} placeholders
-    template_file: str | None = None  # file: a copy of it with placeholders
-
-    def to_dict(self) -> dict[str, Any]:
-        if self.kind == "source":
-            return {"source": {"file": self.target, "match": self.match}}
-        extra = {k: v for k, v in (("template", self.template), ("template_file", self.template_file)) if v is not None}
-        return {self.kind: self.target, **extra}
-
-    def describe(self) -> str:
-        return f"{self.kind} {self.target}" + (f" {self.match!r}" if self.match else "")
-
-
-@dataclass(frozen=True)
 class Parameter:
     """A searched parameter: continuous, or an integer (`type = "int"` or an integer storage type)."""
 
     name: str
-    offset: int | None  # None: it reaches the program `via` another kind
+    offset: int | None  # None: it reaches the program `via` another form
     low: float
     high: float
     type: str = "float"
-    via: Via | None = None
+    via: Form | None = None  # the form it reaches the program by, when that is not its `offset`
+
+    @property
+    def form(self) -> Form:
+        if self.via is not None:
+            return self.via
+        assert self.offset is not None  # a space refuses a parameter with neither
+        return Offset(self.offset)
 
     @property
     def integer(self) -> bool:
@@ -88,27 +65,23 @@ class Parameter:
 
     @property
     def kind(self) -> str:
-        return self.via.kind if self.via is not None else "offset"
+        """Its form's name: `offset`, `define`, ..."""
+        return self.form.key
 
     @property
     def storage(self) -> str:
         """What its slot holds: an `offset` parameter's slot is the program's own variable (float32 unless the
-        type says otherwise); every other kind's slot carries the value exactly as an f64."""
-        if self.via is not None:
-            return CARRIER
-        return {"float": "f32", "int": "i32"}.get(self.type, self.type)
+        type says otherwise); every other form's slot carries the value exactly as an f64."""
+        return self.form.storage(self.type)
 
     @property
     def range_type(self) -> str:
-        """The type whose values the parameter must stay within: its storage, and for the other kinds what
-        the program reads (a float32 unless it says f64; an int unless it says which)."""
-        if self.via is None:
-            return self.storage
+        """The type whose values the parameter must stay within: what the program reads (a float32 unless it
+        says f64; an int unless it says which), which is also an `offset` parameter's storage."""
         return {"float": "f32", "int": "i32"}.get(self.type, self.type)
 
     def to_dict(self) -> dict[str, Any]:
-        where = self.via.to_dict() if self.via is not None else {"offset": self.offset}
-        return {"name": self.name, **where, "low": self.low, "high": self.high,
+        return {"name": self.name, **self.form.toml(), "low": self.low, "high": self.high,
                 **({"type": self.type} if self.type != "float" else {})}
 
 
@@ -116,7 +89,7 @@ class Parameter:
 class FixedParameter(Parameter):
     """A parameter written with the same value in every test (e.g. the paper's motor power 15)."""
 
-    def __init__(self, name: str, offset: int | None, value: float, type: str = "float", via: Via | None = None):
+    def __init__(self, name: str, offset: int | None, value: float, type: str = "float", via: Form | None = None):
         super().__init__(name, offset, value, value, type, via)
 
     @property
@@ -131,7 +104,7 @@ class FixedParameter(Parameter):
 
 @dataclass(frozen=True)
 class ParameterSpace:
-    """Searched and fixed parameters; construction validates kinds, slots, names and ranges."""
+    """Searched and fixed parameters; construction validates forms, slots, names and ranges."""
 
     params: tuple[Parameter, ...]
     fixed: tuple[FixedParameter, ...] = ()
@@ -150,19 +123,15 @@ class ParameterSpace:
             if p.type not in SPACE_TYPES:
                 raise SpaceError(f"{p.name!r}: type {p.type!r} is none of {', '.join(SPACE_TYPES)}")
             if (p.offset is None) == (p.via is None):
-                raise SpaceError(f"{p.name!r}: give exactly one of offset, {', '.join(KINDS)}")
-            if p.offset is not None:
-                _check_offset(p.name, p.offset, p.storage)
-            key = _target(p)
+                raise SpaceError(f"{p.name!r}: give exactly one of {', '.join(FORMS)}")
+            try:
+                p.form.check_param(p.name, p.storage)
+            except BindingError as e:
+                raise SpaceError(str(e)) from None
+            key = p.form.sets(p.name)
             if key in targets:
-                if p.via is None:
-                    raise SpaceError(f"{p.name!r} and {targets[key]!r} share offset {p.offset}")
-                raise SpaceError(f"{targets[key]!r} and {p.name!r} are two parameters on one target "
-                                 f"({p.via.describe()})")
+                raise SpaceError(p.form.conflict(p.name, targets[key]))
             targets[key] = p.name
-            if p.via is not None and p.via.kind == "file" and not p.name.isidentifier():
-                raise SpaceError(f"{p.name!r}: a file parameter's name is its {{placeholder}}: use letters, digits "
-                                 "and _")
         for p in self.params:
             _check_value(p, "low", p.low)
             _check_value(p, "high", p.high)
@@ -180,7 +149,7 @@ class ParameterSpace:
     def slots(self) -> dict[str, int]:
         """{name: slot offset}: an `offset` parameter's own; the others', 8 bytes each from the top of the
         parameter area down, in the space's order, around the `offset` ones."""
-        own = [(p, p.offset) for p in self.every if p.offset is not None]  # the others come `via` a kind
+        own = [(p, p.offset) for p in self.every if p.offset is not None]  # the others come `via` a form
         taken = [(offset, offset + slot_size(p.storage)) for p, offset in own]
         for i, (p, _) in enumerate(own):
             for (q, _), (start, end) in zip(own[:i], taken):
@@ -238,10 +207,9 @@ class ParameterSpace:
         return {self.slots[p.name]: p.storage for p in self.every if p.storage != "f32"}
 
     def bindings(self) -> str | None:
-        """How the parameters of other kinds than `offset` reach the program, for the bench
+        """How the parameters of other forms than `offset` reach the program, for the bench
         (`BenchOptions.bindings`); None when every parameter is an `offset`."""
-        bound = tuple(Binding(p.name, p.via.kind, p.via.target, self.slots[p.name], p.low, p.high, p.type,
-                              p.via.match, p.via.template, p.via.template_file)
+        bound = tuple(Binding(p.name, p.via, self.slots[p.name], p.low, p.high, p.type)
                       for p in self.every if p.via is not None)
         return to_json(bound) if bound else None
 
@@ -253,7 +221,7 @@ class ParameterSpace:
         return tuple(float(values[p.name]) for p in self.params)
 
     def to_dict(self) -> dict[str, Any]:
-        """The TOML file's structure, with each slot a kind other than `offset` got; used for the journal
+        """The TOML file's structure, with each slot a form other than `offset` got; used for the journal
         header, where equality means 'same space'."""
         def entry(p: Parameter) -> dict[str, Any]:
             return {**p.to_dict(), **({"slot": self.slots[p.name]} if p.via is not None else {})}
@@ -295,99 +263,63 @@ class ParameterSpace:
 
     def describe(self) -> str:
         """One line for error messages and summaries."""
-        def where(p: Parameter) -> str:
-            return f"@{p.offset}" if p.via is None else f"({p.via.describe()})"
-
-        parts = [f"{p.name}{where(p)}[{p.low:g},{p.high:g}]" for p in self.params]
-        parts += [f"{f.name}{where(f)}={f.value:g}" for f in self.fixed]
+        parts = [f"{p.name}{p.form.at()}[{p.low:g},{p.high:g}]" for p in self.params]
+        parts += [f"{f.name}{f.form.at()}={f.value:g}" for f in self.fixed]
         return " ".join(parts)
-
-
-def _target(p: Parameter) -> tuple:
-    """What a parameter sets: two parameters on one target would fight over it."""
-    if p.via is None:
-        return ("offset", p.offset)
-    if p.via.kind == "file":
-        return ("file", p.name)  # its placeholder; a file takes many
-    return (p.via.kind, p.via.target, p.via.match)
 
 
 def _check_value(p: Parameter, what: str, value: float) -> None:
     """A value its slot, or the program's variable, cannot hold would fail inside a worker, test after test."""
-    kind = p.range_type
-    if kind in FLOAT_TYPES:
-        limit = FLOAT32_MAX if kind == "f32" else math.inf
+    range_type = p.range_type
+    if range_type in FLOAT_TYPES:
+        limit = FLOAT32_MAX if range_type == "f32" else math.inf
         if not (math.isfinite(value) and abs(value) <= limit):
             raise SpaceError(f"{p.name!r}: {what} {value!r} does not fit a float32 slot (a finite number within "
-                             f"±{FLOAT32_MAX:.7g})" if kind == "f32" else f"{p.name!r}: {what} {value!r} is not finite")
+                             f"±{FLOAT32_MAX:.7g})" if range_type == "f32"
+                             else f"{p.name!r}: {what} {value!r} is not finite")
         return
-    lo, hi = int_range(kind)
+    lo, hi = int_range(range_type)
     if not (math.isfinite(value) and value == int(value) and lo <= value <= hi):
-        raise SpaceError(f"{p.name!r}: {what} {value!r} is not an integer of {kind} ({lo}..{hi})")
-
-
-def _check_offset(name: str, offset: int, storage: str) -> None:
-    if not Rx.PARAMS <= offset <= _LAST_OFFSET:
-        raise SpaceError(f"{name!r}: offset {offset} is outside the parameter area {Rx.PARAMS}..{_LAST_OFFSET}")
-    if offset % SLOT_ALIGN:
-        raise SpaceError(f"{name!r}: offset {offset} is not {SLOT_ALIGN}-byte aligned")
-    if not fits_area(offset, storage):
-        raise SpaceError(f"{name!r}: an {storage} at offset {offset} runs past the parameter area's end {PARAM_END}")
+        raise SpaceError(f"{p.name!r}: {what} {value!r} is not an integer of {range_type} ({lo}..{hi})")
 
 
 def _entries(data: Mapping[str, Any], key: str, own_keys: set[str]
-             ) -> list[tuple[Mapping[str, Any], str, int | None, str, Via | None]]:
+             ) -> list[tuple[Mapping[str, Any], str, int | None, str, Form | None]]:
     """The array of tables `key` as (table, name, offset, type, via), checking the keys every entry needs; an
     unknown key is an error, since a misspelt 'hihg' would otherwise silently be ignored."""
     entries = data.get(key, [])
     if not isinstance(entries, list) or not all(isinstance(t, Mapping) for t in entries):
         raise SpaceError(f"'{key}' must be an array of tables ([[{key}]])")
+    form_keys = {k for form in FORMS.values() for k in form.table_keys}
     out = []
     for i, t in enumerate(entries):
         name = t.get("name")
         if not isinstance(name, str):
             raise SpaceError(f"[[{key}]] #{i + 1}: missing or non-string 'name'")
-        unknown = set(t) - {"name", "type", "slot", *_KIND_KEYS, *_VIA_KEYS} - own_keys
+        unknown = set(t) - {"name", "type", "slot", *FORMS, *form_keys} - own_keys
         if unknown:
             raise SpaceError(f"{name!r}: unknown key(s): {', '.join(sorted(unknown))}")
-        kinds = [k for k in _KIND_KEYS if k in t]
-        if len(kinds) > 1:
-            raise SpaceError(f"{name!r}: {' and '.join(kinds)}: a parameter reaches the program one way; give one")
-        kind = kinds[0] if kinds else "offset"
+        given = [k for k in FORMS if k in t]
+        if len(given) > 1:
+            raise SpaceError(f"{name!r}: {' and '.join(given)}: a parameter reaches the program one way; give one")
+        form_class = FORMS[given[0]] if given else DEFAULT_FORM
         type_ = t.get("type", "float")
         if not isinstance(type_, str):
             raise SpaceError(f"{name!r}: type must be a string ({', '.join(SPACE_TYPES)})")
-        offset, via = None, None
-        if kind == "offset":
-            offset = t.get("offset")
-            if isinstance(offset, bool) or not isinstance(offset, int):
-                raise SpaceError(f"{name!r}: missing or non-integer 'offset' (or say how else it reaches the "
-                                 f"program: {', '.join(KINDS)})")
-        else:
-            via = _via(name, kind, t)
-        if via is None or via.kind != "file":
-            stray = sorted(_VIA_KEYS & set(t))
+        try:
+            form = form_class.parse(name, t)
+        except BindingError as e:
+            others = ", ".join(k for k, f in FORMS.items() if f is not form_class)
+            hint = "" if form_class is not DEFAULT_FORM else f" (or say how else it reaches the program: {others})"
+            raise SpaceError(f"{e}{hint}") from None
+        for other in FORMS.values():
+            stray = sorted(other.table_keys & set(t)) if other is not form_class else []
             if stray:
-                raise SpaceError(f"{name!r}: {', '.join(stray)} belongs to a file parameter (file = \"...\")")
-        out.append((t, name, offset, type_, via))
+                raise SpaceError(f"{name!r}: {', '.join(stray)} belongs to a {other.key} parameter ({other.key} = "
+                                 '"...")')
+        offset = form.own_offset
+        out.append((t, name, offset, type_, None if offset is not None else form))
     return out
-
-
-def _via(name: str, kind: str, t: Mapping[str, Any]) -> Via:
-    value = t[kind]
-    if kind == "source":
-        if not isinstance(value, Mapping) or set(value) != {"file", "match"} or not all(
-                isinstance(v, str) and v for v in value.values()):
-            raise SpaceError(f"{name!r}: source must be {{ file = \"app/pid.h\", match = \"KP = (.*);\" }}")
-        return Via(kind, value["file"], value["match"])
-    if not isinstance(value, str) or not value:
-        raise SpaceError(f"{name!r}: {kind} must be a non-empty string")
-    if kind == "file":
-        template, template_file = t.get("template"), t.get("template_file")
-        if not all(v is None or isinstance(v, str) for v in (template, template_file)):
-            raise SpaceError(f"{name!r}: template and template_file are strings")
-        return Via(kind, value, None, template, template_file)
-    return Via(kind, value)
 
 
 def _number(table: Mapping[str, Any], key: str, name: str) -> float:

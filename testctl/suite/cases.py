@@ -40,8 +40,8 @@ from typing import Any
 import click
 
 from hakoniwa.conventions import NOISE_SCALE
-from hakoniwa.physics.options import BENCH_FIELDS, BenchOptions, bench_options
 from hakoniwa.wire.errors import HakoError
+from testctl.bench_options import BENCH_FIELDS, BenchOptions, bench_options
 from testctl.campaign.journal import JOURNAL_FILE, JournalError, read_journal
 from testctl.noise_seed import SEED_BITS, noise_seed
 from testctl.search.space import ParameterSpace, SpaceError

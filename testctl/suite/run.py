@@ -13,8 +13,8 @@ from contextlib import AbstractContextManager, contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
-from hakoniwa.physics.options import BenchOptions
 from testctl.bench import Bench
+from testctl.bench_options import BenchOptions
 from testctl.executor import Executor, SerialExecutor, TestSpec, bench_fault, results_of
 from testctl.lapstats import LapStats, lap_or_inf
 from testctl.result import TestResult

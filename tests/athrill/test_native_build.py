@@ -12,7 +12,8 @@ from athrill_sim.native.appcfg import kernel_config
 from athrill_sim.native.build import build_app, first_error
 from athrill_sim.native.headers import generated_headers
 from athrill_sim.native.workspace import find_app
-from athrill_sim.programs import ProgramError, resolve_program
+from athrill_sim.program import ProgramError
+from athrill_sim.programs import resolve_program
 from hakoniwa.wire import protocol, waiting
 from hakoniwa.wire.timebase import PHYSICS_STEP_US
 from tests.helpers.commands import hako

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim.programs import SYNC_WAIT_KEY
+from athrill_sim.athrill2 import SYNC_WAIT_KEY
 from hakoniwa.wire.timebase import ALLOWED_TIME_DIFF_US
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
 from tests.helpers.athrill_fixtures import ASP_IMAGE

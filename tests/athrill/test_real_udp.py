@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim.vdev_udp import bench_link, bind_pair
+from hakoniwa.wire.vdev_udp import bench_link, bind_pair
 from tests.helpers.athrill_fixtures import ASP_IMAGE
 from tests.helpers.commands import hako, one_line_error
 from tests.helpers.paths import REPO

@@ -13,9 +13,11 @@ from pathlib import Path
 import pytest
 
 from athrill_sim import launcher as launcher_module
-from athrill_sim.launcher import AthrillLauncher, kill
-from athrill_sim.programs import Program, python_program
+from athrill_sim.kinds.python import python_program
+from athrill_sim.launcher import AthrillLauncher
+from athrill_sim.program import Program
 from athrill_sim.zygote import ForkedProcess, Zygote, ZygoteGone
+from hakoniwa.wire.processes import kill
 from hakoniwa.wire.protocol import SyncMode
 
 # Loaded by `athrill-sim --check`, which imports the program and exits: its module-level code is the test.

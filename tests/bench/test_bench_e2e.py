@@ -8,9 +8,9 @@ import sys
 
 import pytest
 
-from hakoniwa.physics.options import BenchOptions
 from hakoniwa.wire.protocol import CrashKind, Event, Rx, Tx
 from hakoniwa.wire.rundir import LOCK_FILE
+from testctl.bench_options import BenchOptions
 from tests.helpers.bench_fixtures import PAPER, ZERO, physics
 from tests.helpers.commands import hako
 from tests.helpers.waiting import wait_until

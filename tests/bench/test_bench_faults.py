@@ -13,10 +13,10 @@ from pathlib import Path
 
 import pytest
 
-from hakoniwa.physics.options import BenchOptions
 from hakoniwa.wire.protocol import ATHRILL_FILE, UNITY_FILE, BenchCause, CrashKind, Event, Tx
 from hakoniwa.wire.rundir import PHYSICS_LOG
 from testctl.bench import Bench
+from testctl.bench_options import BenchOptions
 from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
 from testctl.campaign.loop import Campaign, CampaignConfig
 from testctl.campaign.report import format_summary
@@ -133,13 +133,13 @@ def test_a_physics_process_killed_mid_campaign_is_counted_in_the_summary(tmp_pat
     """`hako run` on a Dask worker's bench: the kill is journaled as a bench fault, the test runs again on a
     fresh bench, and the summary line says so."""
     out, tag = tmp_path / "c", f"killed-physics-{os.getpid()}"
-    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--trials", "3", "--init-points", "2",
+    proc = subprocess.Popen([sys.executable, "-m", "testctl.hako", "run", "--trials", "3", "--init-points", "2",
                              "--repeats", "1", "--benches", "1", "--noise", "0", "--out", str(out)],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=tagged_env(tag))
     wait_until(lambda: (out / JOURNAL_FILE).exists() and len(read_journal(out / JOURNAL_FILE)[1]) >= 1, 300, 0.1,
                alive=lambda: proc.poll() is None, what="a first test")
     # the worker's bench; the campaign's own bench in OUT/run films and draws the best sets, not tested here
-    (physics_pid,) = [pid for pid in tagged_processes(tag, b"hakoniwa.physics.main")
+    (physics_pid,) = [pid for pid in tagged_processes(tag, b"testctl.physics_process")
                       if str(out).encode() not in Path(f"/proc/{pid}/cmdline").read_bytes()]
     os.kill(physics_pid, signal.SIGKILL)
     stdout, stderr = proc.communicate(timeout=300)

@@ -75,7 +75,7 @@ def start_trial(tmp_path: Path, *extra: str) -> subprocess.Popen:
     apps.mkdir(exist_ok=True)
     (apps / "idle_app.py").write_text(IDLE_APP)
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(apps), os.environ.get("PYTHONPATH", "")]))
-    return subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "trial", "--app", "idle_app:main_task",
+    return subprocess.Popen([sys.executable, "-m", "testctl.hako", "trial", "--app", "idle_app:main_task",
                              "--time-limit", "3000", "--run-dir", str(tmp_path / "run"), *extra],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
                             start_new_session=True, preexec_fn=interruptible)
@@ -113,7 +113,7 @@ def current_test_number(run_dir: Path) -> int:
 def test_a_killed_physics_process_is_named(tmp_path):
     proc = start_trial(tmp_path)
     wait_for_test(tmp_path / "run")
-    os.kill(pid_of("hakoniwa.physics.main", tmp_path / "run"), signal.SIGKILL)
+    os.kill(pid_of("testctl.physics_process", tmp_path / "run"), signal.SIGKILL)
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 128 + signal.SIGKILL
     assert "the physics process was killed by SIGKILL" in err and "Traceback" not in err
@@ -146,7 +146,7 @@ def test_ctrl_c_in_hako_trial_is_one_line_and_130(tmp_path, when):
     """Early: while the physics process is still starting (importing); mid-test: once test 1 runs."""
     proc = start_trial(tmp_path)
     if when == "early":
-        pid_of("hakoniwa.physics.main", tmp_path / "run")
+        pid_of("testctl.physics_process", tmp_path / "run")
     else:
         wait_for_test(tmp_path / "run")
     os.killpg(proc.pid, signal.SIGINT)  # what the terminal does on Ctrl-C
@@ -160,7 +160,7 @@ def test_ctrl_c_in_hako_trial_is_one_line_and_130(tmp_path, when):
                                                   (signal.SIGTERM, 143, "terminated")])
 def test_ctrl_c_or_sigterm_ends_a_campaign_with_the_resume_command(tmp_path, signum, status, word):
     out = tmp_path / "c"
-    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--trials", "20", "--repeats", "1",
+    proc = subprocess.Popen([sys.executable, "-m", "testctl.hako", "run", "--trials", "20", "--repeats", "1",
                              "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True, preexec_fn=interruptible)
     wait_until(lambda: (out / JOURNAL_FILE).exists() and len(read_journal(out / JOURNAL_FILE)[1]) >= 2, 300, 0.1,
@@ -182,7 +182,7 @@ def test_a_sigkilled_campaign_leaves_no_leaked_semaphore_warning(tmp_path):
     """The local workers' queues hold semaphores; multiprocessing's resource tracker, which outlives a
     SIGKILLed `hako run`, unlinks them, and says nothing about it."""
     out = tmp_path / "c"
-    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--trials", "20", "--repeats", "1",
+    proc = subprocess.Popen([sys.executable, "-m", "testctl.hako", "run", "--trials", "20", "--repeats", "1",
                              "--benches", "2", "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             text=True, start_new_session=True)
     deadline = time.monotonic() + 300

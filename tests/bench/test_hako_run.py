@@ -77,7 +77,7 @@ def test_sigkill_mid_campaign_then_resume_loses_and_repeats_nothing(tmp_path):
     args = ["--optimizer", "random", "--init-points", "2", "--trials", "4", "--repeats", "3", "--seed", "7",
             "--noise", "0"]
     killed = tmp_path / "killed"
-    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", *args, "--out", str(killed)],
+    proc = subprocess.Popen([sys.executable, "-m", "testctl.hako", "run", *args, "--out", str(killed)],
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     journal = killed / JOURNAL_FILE
     wait_until(lambda: journal.exists() and journal.read_text().count("\n") >= 1 + 3, 300,  # header + 3 tests: mid-set
@@ -107,7 +107,7 @@ def test_the_papers_arrangement_gives_the_same_campaign(tmp_path):
     via_hako = tmp_path / "hako"
     assert hako("run", "--smoke", "--out", str(via_hako)).returncode == 0
     paper = tmp_path / "paper"
-    r = subprocess.run([sys.executable, "-m", "hakoniwa.physics.main", "--run-dir", str(tmp_path / "run"), "--",
+    r = subprocess.run([sys.executable, "-m", "testctl.physics_process", "--run-dir", str(tmp_path / "run"), "--",
                         sys.executable, "-m", "testctl.cli", "campaign", "--smoke", "--out", str(paper)],
                        capture_output=True, text=True, timeout=600)
     assert r.returncode == 0, r.stderr

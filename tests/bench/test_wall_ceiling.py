@@ -46,7 +46,7 @@ def fake_athrill2(tmp_path: Path) -> Path:
 
 def hako_trial(tmp_path: Path, image: str, *extra: str) -> tuple[subprocess.CompletedProcess, float]:
     started = time.monotonic()
-    r = subprocess.run([sys.executable, "-m", "hakoniwa.cli", "trial", "--app", str(v850_image(tmp_path / image)),
+    r = subprocess.run([sys.executable, "-m", "testctl.hako", "trial", "--app", str(v850_image(tmp_path / image)),
                         "--athrill2", str(fake_athrill2(tmp_path)), "--sync", "hakoniwa", "--run-dir",
                         str(tmp_path / "run"), *extra], capture_output=True, text=True, timeout=120)
     return r, time.monotonic() - started

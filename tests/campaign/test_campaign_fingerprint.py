@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 from athrill_sim.python_sources import program_sources
 from hakoniwa.physics.course import COURSES_DIR
-from hakoniwa.physics.options import BenchOptions
+from testctl.bench_options import BenchOptions
 from testctl.campaign.fingerprint import FILES_KEY, changes, fingerprint
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
 from tests.helpers.commands import hako, one_line_error

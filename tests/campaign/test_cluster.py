@@ -102,7 +102,7 @@ def test_a_worker_killed_mid_campaign_loses_nothing(tmp_path, local_reference):
     cluster = LocalDask(tmp_path, 2)
     out = tmp_path / "campaign"
     try:
-        proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--scheduler", cluster.address,
+        proc = subprocess.Popen([sys.executable, "-m", "testctl.hako", "run", "--scheduler", cluster.address,
                                  *CAMPAIGN, "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                 text=True)
         wait_until(lambda: journaled(out, 4), 120, 0.2, alive=lambda: proc.poll() is None, what="4 tests")
@@ -143,7 +143,7 @@ def descendants(pid: int) -> list[int]:
 
 def is_physics(pid: int) -> bool:
     try:
-        return b"hakoniwa.physics.main" in Path(f"/proc/{pid}/cmdline").read_bytes()
+        return b"testctl.physics_process" in Path(f"/proc/{pid}/cmdline").read_bytes()
     except OSError:
         return False
 
@@ -152,7 +152,7 @@ def is_physics(pid: int) -> bool:
 def test_a_bench_killed_mid_campaign_is_rebuilt_and_its_test_rerun(tmp_path, local_reference):
     out = tmp_path / "campaign"
     tag = f"cluster-kill-{os.getpid()}-{time.monotonic_ns()}"
-    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--benches", "2", *CAMPAIGN, "--out",
+    proc = subprocess.Popen([sys.executable, "-m", "testctl.hako", "run", "--benches", "2", *CAMPAIGN, "--out",
                              str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             env=tagged_env(tag))
     wait_until(lambda: journaled(out, 3), 120, 0.2, alive=lambda: proc.poll() is None, what="3 tests")
@@ -164,7 +164,7 @@ def test_a_bench_killed_mid_campaign_is_rebuilt_and_its_test_rerun(tmp_path, loc
     assert essence(out) == essence(local_reference)
     # Every bench the campaign started, the rebuilt one too, ended with it (found by the environment tag:
     # once `hako run` is reaped its orphans would no longer be its descendants).
-    wait_until(lambda: tagged_processes(tag, b"hakoniwa.physics.main") == [], 30, 0.2, what="every bench to end")
+    wait_until(lambda: tagged_processes(tag, b"testctl.physics_process") == [], 30, 0.2, what="every bench to end")
 
 
 def journaled(out: Path, tests: int) -> bool:
@@ -173,7 +173,7 @@ def journaled(out: Path, tests: int) -> bool:
 
 
 def campaign_on(cluster: LocalDask, out: Path) -> subprocess.Popen:
-    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "run", "--scheduler", cluster.address,
+    proc = subprocess.Popen([sys.executable, "-m", "testctl.hako", "run", "--scheduler", cluster.address,
                              *CAMPAIGN, "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     wait_until(lambda: journaled(out, 1), 120, 0.2, alive=lambda: proc.poll() is None, what="a first test")
     return proc

@@ -40,7 +40,7 @@ class Dashboard:
     """`hako dashboard` in a process of its own on a free port, until the test ends."""
 
     def __init__(self, *run_dirs: Path) -> None:
-        self.proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "dashboard", *map(str, run_dirs),
+        self.proc = subprocess.Popen([sys.executable, "-m", "testctl.hako", "dashboard", *map(str, run_dirs),
                                       "--port", "0"], stderr=subprocess.PIPE, text=True, cwd=REPO)
         line = self.proc.stderr.readline()
         found = re.search(r"http://127\.0\.0\.1:(\d+)/dashboard", line)
@@ -132,7 +132,7 @@ def test_bad_input_is_one_line(tmp_path: Path) -> None:
 def test_without_optuna_dashboard_one_line_says_what_to_install(tmp_path: Path, monkeypatch) -> None:
     from click.testing import CliRunner
 
-    from hakoniwa.cli.main import main
+    from testctl.hako.main import main
 
     campaign(tmp_path / "a")
     real = importlib.util.find_spec

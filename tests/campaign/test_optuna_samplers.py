@@ -88,7 +88,7 @@ def test_a_missing_dependency_is_one_line_before_anything_runs(tmp_path: Path, m
     assert why is not None and "no_such_module_here" in why and "pip install it" in why
     with pytest.raises(OptimizerUnavailable, match="no_such_module_here"):
         make_sampler("optuna-gp", 0)
-    from hakoniwa.cli.main import main
+    from testctl.hako.main import main
 
     r = CliRunner().invoke(main, ["run", "--smoke", "--optimizer", "optuna-gp", "--out", str(tmp_path / "c")])
     assert r.exit_code == 1 and "Traceback" not in r.output

@@ -10,7 +10,7 @@ import shutil
 import pytest
 
 from hakoniwa.physics.course import COURSES_DIR
-from hakoniwa.physics.options import BenchOptions
+from testctl.bench_options import BenchOptions
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
 from tests.helpers.commands import hako
 

@@ -15,16 +15,13 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from athrill_sim.bindings import (
-    Binding,
-    BindingError,
-    as_float32,
-    fill_template,
-    from_json,
-    template_fields,
-    value_text,
-)
-from athrill_sim.tuning import Edit, apply_edits
+from athrill_sim.bindings import from_json
+from athrill_sim.forms.define import Define
+from athrill_sim.forms.file import fill_template, template_fields
+from athrill_sim.forms.form import Binding, BindingError, Edit
+from athrill_sim.forms.symbol import Symbol
+from athrill_sim.forms.values import as_float32, value_text
+from athrill_sim.tuning import apply_edits
 from hakoniwa.wire.params import PARAM_END, slot_size
 from hakoniwa.wire.protocol import open_athrill, open_unity
 from testctl.campaign.patch import unified_diff
@@ -181,8 +178,8 @@ def test_bindings_that_are_not_bindings_are_one_line() -> None:
                                           '"low": 0, "high": 1}]'):
         with pytest.raises(BindingError, match="--bindings"):
             from_json(text)
-    b = Binding("a", "define", "A", 1016, 0, 1)
-    assert b.text_type == "f32" and Binding("n", "symbol", "g", 1016, 0, 1, "int").integer
+    b = Binding("a", Define("A"), 1016, 0, 1)
+    assert b.text_type == "f32" and Binding("n", Symbol("g"), 1016, 0, 1, "int").integer
 
 
 # -- best.patch -----------------------------------------------------------------------------------------
@@ -306,5 +303,5 @@ def test_a_bench_that_was_not_told_the_bindings_refuses_them(tmp_path: Path) -> 
 
     controller = [sys.executable, "-m", "testctl.cli", "campaign", "--space", str(PROGRAMS / "define.toml"), "--smoke",
                   "--out", str(tmp_path / "out")]
-    r = run_module("hakoniwa.physics.main", "--run-dir", str(tmp_path / "run"), "--", *controller, timeout=300)
+    r = run_module("testctl.physics_process", "--run-dir", str(tmp_path / "run"), "--", *controller, timeout=300)
     assert r.returncode != 0 and "run the campaign with hako run" in r.stderr, r.stderr

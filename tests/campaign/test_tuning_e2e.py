@@ -15,10 +15,10 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim.bindings import as_float32
-from hakoniwa.physics.options import BenchOptions
+from athrill_sim.forms.values import as_float32
 from hakoniwa.wire.protocol import open_athrill
 from testctl.bench import Bench
+from testctl.bench_options import BenchOptions
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
 from testctl.executor import TestSpec
 from testctl.search.space import ParameterSpace

@@ -25,7 +25,7 @@ from tests.helpers.commands import run_module as run
     (["--app", "nosuch_module:main_task"], ["cannot load app", "nosuch_module"]),
 ])
 def test_hako_trial_refuses_bad_values_before_running(args, words):
-    one_line_error(run("hakoniwa.cli", "trial", *args), *words)
+    one_line_error(run("testctl.hako", "trial", *args), *words)
 
 
 @pytest.mark.parametrize("args, words", [
@@ -34,14 +34,14 @@ def test_hako_trial_refuses_bad_values_before_running(args, words):
     (["--time-limit", "0"], ["--time-limit"]),
 ])
 def test_hakoniwa_physics_validates_at_start(tmp_path, args, words):
-    one_line_error(run("hakoniwa.physics.main", "--run-dir", str(tmp_path), *args), *words)
+    one_line_error(run("testctl.physics_process", "--run-dir", str(tmp_path), *args), *words)
     assert not (tmp_path / "unity_mmap.bin").exists()
 
 
 def test_out_under_a_file_or_in_proc_is_one_line(tmp_path):
     (tmp_path / "afile").write_text("x")
     for out in (tmp_path / "afile" / "sub", "/proc/hako-campaign"):
-        one_line_error(run("hakoniwa.cli", "run", "--smoke", "--out", str(out)), "--out", "cannot write there")
+        one_line_error(run("testctl.hako", "run", "--smoke", "--out", str(out)), "--out", "cannot write there")
 
 
 def test_testctl_trial_refuses_non_finite_gains(tmp_path):
@@ -50,7 +50,7 @@ def test_testctl_trial_refuses_non_finite_gains(tmp_path):
 
 
 @pytest.mark.parametrize("module, args", [
-    ("hakoniwa.cli", []), ("hakoniwa.cli", ["trial"]), ("hakoniwa.cli", ["run"]), ("hakoniwa.physics.main", []),
+    ("testctl.hako", []), ("testctl.hako", ["trial"]), ("testctl.hako", ["run"]), ("testctl.physics_process", []),
     ("testctl.cli", []), ("testctl.cli", ["trial"]), ("testctl.cli", ["campaign"]), ("athrill_sim.main", []),
 ])
 def test_dash_h_is_help_everywhere(module, args):
@@ -62,10 +62,10 @@ def test_dash_h_is_help_everywhere(module, args):
 @pytest.mark.slow
 def test_resume_with_fewer_trials_says_the_campaign_has_more(tmp_path):
     out = tmp_path / "c"
-    first = run("hakoniwa.cli", "run", "--smoke", "--noise", "0", "--out", str(out), timeout=600)
+    first = run("testctl.hako", "run", "--smoke", "--noise", "0", "--out", str(out), timeout=600)
     assert first.returncode == 0, first.stderr
     n = (out / JOURNAL_FILE).read_text().count("\n")
-    again = run("hakoniwa.cli", "run", "--resume", str(out), "--trials", "0", timeout=600)
+    again = run("testctl.hako", "run", "--resume", str(out), "--trials", "0", timeout=600)
     assert again.returncode == 0, again.stderr
     assert "already has 4 sets, more than the 2" in again.stderr
     assert (out / JOURNAL_FILE).read_text().count("\n") == n  # nothing ran

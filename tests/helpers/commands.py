@@ -16,7 +16,7 @@ def run_module(module: str, *args: str, timeout: float = 600, **kwargs) -> subpr
 
 
 def hako(*args: str, timeout: float = 600, **kwargs) -> subprocess.CompletedProcess:
-    return run_module("hakoniwa.cli", *args, timeout=timeout, **kwargs)
+    return run_module("testctl.hako", *args, timeout=timeout, **kwargs)
 
 
 def one_line_error(r: subprocess.CompletedProcess, *words: str) -> None:

@@ -11,12 +11,11 @@ from pathlib import Path
 
 import pytest
 
-from hakoniwa.physics.bench import load_bench
 from hakoniwa.physics.course import COURSES_DIR, CourseError, load_course
 from hakoniwa.physics.course_check import check_course
-from hakoniwa.physics.options import BenchOptions
 from hakoniwa.physics.robot import EV3_BODY, HACKSPI_BODY
 from hakoniwa.physics.scenario import ScenarioError
+from testctl.bench_options import BenchOptions, load_bench
 from tests.helpers.commands import one_line_error
 
 START = "[start]                        # the robot's axle centre; its color sensor sits on the line's outer edge\n" \
@@ -103,7 +102,7 @@ def test_a_gap_narrower_than_the_robot_walls_the_checkpoints_off(tmp_path):
 def test_hako_trial_refuses_the_course_before_any_test(tmp_path):
     folder = course_with(tmp_path, start_at(0.0, 0.0))
     run_dir = tmp_path / "run"
-    r = subprocess.run([sys.executable, "-m", "hakoniwa.cli", "trial", "--course", str(folder), "--run-dir",
+    r = subprocess.run([sys.executable, "-m", "testctl.hako", "trial", "--course", str(folder), "--run-dir",
                         str(run_dir)], capture_output=True, text=True, timeout=120)
     one_line_error(r, str(folder / "course.toml"), "wall 'island'")
     assert not (run_dir / "unity_mmap.bin").exists()  # no bench was started

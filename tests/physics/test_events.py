@@ -6,10 +6,10 @@ import mujoco
 import pytest
 
 from hakoniwa.physics.course import load_course
-from hakoniwa.physics.options import DEFAULT_COURSE
 from hakoniwa.physics.task import LapTask
 from hakoniwa.physics.world import World
 from hakoniwa.wire.protocol import Event
+from testctl.bench_options import DEFAULT_COURSE
 
 
 @pytest.fixture(scope="module")

@@ -7,11 +7,11 @@ import pytest
 
 from hakoniwa.physics.course import load_course
 from hakoniwa.physics.noise import DEFAULT_NOISE, NoiseDraw, StartOffset
-from hakoniwa.physics.options import DEFAULT_COURSE
 from hakoniwa.physics.robot import ULTRASONIC_MAX_MM
 from hakoniwa.physics.sensors import SensorModel
 from hakoniwa.physics.world import World
 from hakoniwa.wire.protocol import ColorId, Rx, open_athrill, open_unity
+from testctl.bench_options import DEFAULT_COURSE
 from testctl.noise_seed import noise_seed
 from testctl.runner import TrialRunner
 

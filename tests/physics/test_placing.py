@@ -21,13 +21,13 @@ from hakoniwa.physics.course import COURSES_DIR, Pose, load_course
 from hakoniwa.physics.course_check import color_sensor_xy
 from hakoniwa.physics.environment import Environment
 from hakoniwa.physics.noise import NoiseDraw
-from hakoniwa.physics.options import BenchOptions
 from hakoniwa.physics.placing import shade_at, spot_over
 from hakoniwa.physics.plot import read_trajectory
 from hakoniwa.physics.robot import EV3_BODY, HACKSPI_BODY
 from hakoniwa.physics.robots import BUILT_IN
 from hakoniwa.physics.scenario import EV3_BUTTONS, ScenarioError, parse_scenario
 from hakoniwa.wire.protocol import Event
+from testctl.bench_options import BenchOptions
 from tests.helpers.commands import hako, one_line_error
 
 OVAL = load_course("oval")

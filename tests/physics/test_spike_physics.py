@@ -7,16 +7,15 @@ import struct
 
 import pytest
 
-from hakoniwa.physics.bench import load_bench
 from hakoniwa.physics.course import load_course
 from hakoniwa.physics.environment import Environment
-from hakoniwa.physics.options import BenchOptions
 from hakoniwa.physics.robot import EV3_BODY, HACKSPI_BODY, ULTRASONIC_MAX_MM
 from hakoniwa.physics.robots import BUILT_IN, DEFAULT_ROBOT, RobotError, parse_robot
 from hakoniwa.physics.scenario import ScenarioError, parse_scenario
 from hakoniwa.physics.sensors import hsv_of
 from hakoniwa.physics.slots import Slots
 from hakoniwa.wire.protocol import UNITY_FILE
+from testctl.bench_options import BenchOptions, load_bench
 from tests.helpers.commands import hako, one_line_error
 
 G_MM_S2 = 9806.65

@@ -142,8 +142,8 @@ def test_the_docs_repetition_rule_is_the_default_one():
 def test_the_campaign_help_gives_the_config_defaults():
     """`hako run --help` and `testctl campaign --help` show `CampaignConfig`'s defaults (they are formatted
     from it: this catches the help no longer being so)."""
-    from hakoniwa.cli.main import main as hako
     from testctl.cli import main as testctl
+    from testctl.hako.main import main as hako
 
     d = CampaignConfig()
     shown = {"--trials": f"[{d.trials}]", "--init-points": f"[{d.init_points}]", "--repeats": f"[{d.repeats}]",

@@ -105,11 +105,11 @@ def test_a_bench_killed_mid_run_is_exit_2_not_a_failed_case(tmp_path, benches):
     out = tmp_path / "out"
     tag = f"hako-test-kill-{benches}-{os.getpid()}-{time.monotonic_ns()}"
     env = tagged_env(tag, dict(os.environ, PYTHONPATH=os.pathsep.join([str(apps), os.environ.get("PYTHONPATH", "")])))
-    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "test", str(path), "--benches", benches, "--out",
+    proc = subprocess.Popen([sys.executable, "-m", "testctl.hako", "test", str(path), "--benches", benches, "--out",
                              str(out), "--junit", str(tmp_path / "out.xml")], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, env=env, start_new_session=True)
     try:
-        victims = wait_until(lambda: tagged_processes(tag, b"hakoniwa.physics.main"), 120,
+        victims = wait_until(lambda: tagged_processes(tag, b"testctl.physics_process"), 120,
                              alive=lambda: proc.poll() is None, what="a bench")
         os.kill(victims[0], signal.SIGKILL)
         stdout, err = proc.communicate(timeout=300)
@@ -131,11 +131,11 @@ def test_sigterm_ends_hako_test_with_one_line_and_143(tmp_path):
                            'expect = ["not HIT_WALL"]\n')
     tag = f"hako-test-term-{os.getpid()}-{time.monotonic_ns()}"
     env = tagged_env(tag, dict(os.environ, PYTHONPATH=os.pathsep.join([str(apps), os.environ.get("PYTHONPATH", "")])))
-    proc = subprocess.Popen([sys.executable, "-m", "hakoniwa.cli", "test", str(path), "--benches", "1", "--out",
+    proc = subprocess.Popen([sys.executable, "-m", "testctl.hako", "test", str(path), "--benches", "1", "--out",
                              str(tmp_path / "out")], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             env=env, start_new_session=True)
     try:
-        wait_until(lambda: tagged_processes(tag, b"hakoniwa.physics.main"), 120, alive=lambda: proc.poll() is None,
+        wait_until(lambda: tagged_processes(tag, b"testctl.physics_process"), 120, alive=lambda: proc.poll() is None,
                    what="a bench")
         proc.terminate()
         _, err = proc.communicate(timeout=120)

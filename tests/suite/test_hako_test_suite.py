@@ -9,8 +9,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from hakoniwa.physics.options import BenchOptions
 from hakoniwa.wire.protocol import Rx
+from testctl.bench_options import BenchOptions
 from testctl.search.space import ParameterSpace
 from testctl.suite.cases import DEFAULT_SEEDS, SuiteError, drawn_seeds, load_suite
 from testctl.suite.expect import Bound, EventExpectation

@@ -9,8 +9,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from athrill_sim.programs import ProgramError, resolve_program
-from athrill_sim.vdev_udp import (
+from athrill_sim.program import ProgramError
+from athrill_sim.programs import resolve_program
+from hakoniwa.wire.vdev_udp import (
     PORT_RANGE,
     Endpoint,
     Hex,

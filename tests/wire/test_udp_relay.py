@@ -10,12 +10,11 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim.programs import UDP_DEVICE_CONFIG
-from athrill_sim.vdev_udp import Endpoint, bench_link, lookup, parse_device_config, user_link
 from hakoniwa.physics.relay import UdpRelay
 from hakoniwa.physics.slots import Slots
 from hakoniwa.wire.packets import TX_BODY_SIZE, TxPacket, decode_rx, encode_tx
 from hakoniwa.wire.protocol import Rx, Tx
+from hakoniwa.wire.vdev_udp import UDP_DEVICE_CONFIG, Endpoint, bench_link, lookup, parse_device_config, user_link
 
 WAIT_S = 5.0
 

@@ -34,6 +34,7 @@ ENABLE_KEY, SYNC_TYPE_KEY = "DEBUG_FUNC_ENABLE_VDEV", "DEBUG_FUNC_VDEV_SIMSYNC_T
 COMPLEMENTAL_KEY = "DEVICE_CONFIG_COMPLEMENTAL_TX_SENDING"
 RESET_AREA_KEYS = ("DEVICE_CONFIG_RESET_AREA_OFFSET", "DEVICE_CONFIG_RESET_AREA_SIZE")
 DEFAULT_ADDR = "127.0.0.1"  # vdev_udp.c's default for both addresses
+UDP_DEVICE_CONFIG = "device_config.txt"  # the device config athrill2 runs with over UDP, as ET Robocon names it
 MAX_PARAMS = 128  # CPUEMU_DEVCFG_PARAM_MAXNUM: athrill2 does not check it, and overruns its table past it
 # A bench's own ports: an even port for the physics side and the odd one above it for athrill2, below Linux's
 # ephemeral ports (32768..60999 by default), so that no socket the kernel numbers itself (athrill2 sends from

@@ -1,5 +1,10 @@
-"""`hakoniwa-physics`: the physics process ("Unity" role). It starts first, owns the mapped files, and
-starts the test controller given after `--`, exiting when the controller sets end = 1 or exits."""
+"""`hakoniwa-physics`: the physics process of a bench ("Unity" role). It starts first, owns the mapped files,
+and starts the test controller given after `--`, exiting when the controller sets end = 1 or exits.
+
+This is where the two peers meet: the physics server (`hakoniwa.physics`) gets the robot program's launcher
+(`athrill_sim`) as a `hakoniwa.wire.launch.Launcher`. Neither imports the other, so the process that joins
+them belongs to the controller, which builds benches.
+"""
 
 from __future__ import annotations
 
@@ -11,12 +16,11 @@ from pathlib import Path
 import click
 
 from hakoniwa.conventions import HELP, OneLineErrors
-from hakoniwa.physics.bench import load_bench
-from hakoniwa.physics.options import BenchOptions, bench_options
 from hakoniwa.wire.exits import EXIT_INTERRUPTED, exit_status
 from hakoniwa.wire.processes import describe_exit, die_with_parent
 from hakoniwa.wire.rundir import COURSE_ENV, RUN_DIR_ENV, TIME_LIMIT_ENV, RunDirLock
 from hakoniwa.wire.timebase import US_PER_S
+from testctl.bench_options import BenchOptions, bench_options, load_bench
 
 
 @click.command(cls=OneLineErrors, context_settings={"ignore_unknown_options": True, **HELP})
@@ -43,9 +47,11 @@ def main(run_dir: Path, controller: tuple[str, ...], view_speed: float | None, *
         os.environ["MUJOCO_GL"] = "glfw"  # a window, whatever a headless film would have used
     view = None
     try:
+        from athrill_sim.launcher import AthrillLauncher
         from hakoniwa.physics.server import PhysicsServer  # MuJoCo: only once the arguments are known to be good
 
-        server = PhysicsServer(run_dir, world_course, program, athrill_timeout_s=options.athrill_timeout_s,
+        server = PhysicsServer(run_dir, world_course, AthrillLauncher(run_dir, program),
+                               athrill_timeout_s=options.athrill_timeout_s,
                                time_limit_us=options.time_limit_us(world_course.time_limit_us), robot=robot,
                                scenario=scenario, objective=options.scored_by)
         program.finish_check(check)

@@ -19,12 +19,12 @@ from typing import TYPE_CHECKING, Any, overload
 import click
 
 from hakoniwa.conventions import HELP, Float32, OneLineErrorsGroup, option_group, writable_file
-from hakoniwa.physics.options import BenchOptions, bench_options, pop_bench
 from hakoniwa.physics.video_options import VideoOptions, check_video_path, film_options
 from hakoniwa.wire.exits import exit_status
 from hakoniwa.wire.processes import describe_exit
 from hakoniwa.wire.rundir import TRAJECTORY_FILE, diagnose
 from testctl import paper
+from testctl.bench_options import BenchOptions, bench_options, pop_bench
 from testctl.launch import controller_command, run_physics
 from testctl.options import (
     DEFAULT_DRAWS,
@@ -416,8 +416,8 @@ def check_bench(bench: BenchOptions, benches: int | None = 1):
         LinkError: its UDP ports are taken.
         click.ClickException: fixed UDP ports and several benches.
     """
-    from athrill_sim.vdev_udp import RX_PORT_KEY, TX_PORT_KEY, check_free
-    from hakoniwa.physics.bench import load_bench
+    from hakoniwa.wire.vdev_udp import RX_PORT_KEY, TX_PORT_KEY, check_free
+    from testctl.bench_options import load_bench
 
     load_bench(bench)
     program = bench.program()
@@ -465,7 +465,7 @@ def campaign_benches(bench: BenchOptions, wave: int) -> int:
     Raises:
         ProgramError: --app names nothing that can run.
     """
-    from athrill_sim.programs import udp_link
+    from athrill_sim.athrill2 import udp_link
     from hakoniwa.wire.protocol import SyncMode
 
     link = udp_link(bench.transport, bench.device_config)

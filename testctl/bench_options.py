@@ -1,8 +1,10 @@
-"""The physics process's command line: what a bench needs to know besides its run directory.
+"""The physics process's command line: what a bench needs to know besides its run directory, the world
+(`hakoniwa.physics`) and the robot program (`athrill_sim`) alike.
 
 This is the one declaration of the bench options and their defaults. `hakoniwa-physics` parses them,
 `hako trial` and `hako run` offer the same options to the user, and the controller turns a `BenchOptions`
-back into the command line that starts a bench (`physics_command`), so the three can never disagree.
+back into the command line that starts a bench (`physics_command`), so the three can never disagree. It
+lives with the controller, above both peers its options configure.
 """
 
 from __future__ import annotations
@@ -16,16 +18,21 @@ from typing import TYPE_CHECKING
 
 import click
 
-from athrill_sim.programs import EMULATORS, REAL_SYNCS, REPEATABLE_DIR, TRANSPORTS, UDP_DEVICE_CONFIG
+from athrill_sim.athrill2 import REAL_SYNCS, REPEATABLE_DIR, TRANSPORTS
+from athrill_sim.kinds.kind import EMULATORS
 from hakoniwa.conventions import SECONDS, option_group
 from hakoniwa.wire.protocol import Objective
-from hakoniwa.wire.timebase import US_PER_S
+from hakoniwa.wire.vdev_udp import UDP_DEVICE_CONFIG
 
 if TYPE_CHECKING:
-    from athrill_sim.programs import Program
+    from athrill_sim.program import Program
+    from hakoniwa.physics.course import Course
+    from hakoniwa.physics.robots import Robot
+    from hakoniwa.physics.scenario import Scenario
 
 DEFAULT_COURSE = "oval"
 DEFAULT_APP = "line_trace"
+PHYSICS_MODULE = "testctl.physics_process"  # `python -m` this: the physics process of a bench
 
 
 @dataclass(frozen=True)
@@ -53,7 +60,7 @@ class BenchOptions:
 
     def physics_command(self, run_dir: Path, controller: list[str], extra: tuple[str, ...] = ()) -> list[str]:
         """`extra`: options of the physics process alone, which are not the bench's (`--view`)."""
-        cmd = [sys.executable, "-m", "hakoniwa.physics.main", "--run-dir", str(run_dir), *extra]
+        cmd = [sys.executable, "-m", PHYSICS_MODULE, "--run-dir", str(run_dir), *extra]
         for option in _OPTIONS:
             value = getattr(self, option.field)
             if value is not None:
@@ -68,9 +75,10 @@ class BenchOptions:
                                transport=self.transport, device_config=self.device_config, bindings=self.bindings)
 
     def time_limit_us(self, course_limit_us: int) -> int:
-        """The simulated time a test may take: the override if one was given, else the course's. A campaign
-        scores a failed test as this long, so the two can never disagree."""
-        return course_limit_us if self.time_limit_s is None else round(self.time_limit_s * US_PER_S)
+        """The simulated time a test may take (`hakoniwa.physics.bench.time_limit_us`)."""
+        from hakoniwa.physics.bench import time_limit_us
+
+        return time_limit_us(course_limit_us, self.time_limit_s)
 
 
 @dataclass(frozen=True)
@@ -135,3 +143,10 @@ BENCH_FIELDS = tuple(o.field for o in _OPTIONS)
 def pop_bench(kwargs: dict) -> BenchOptions:
     """Take the bench options out of a command's keyword arguments."""
     return BenchOptions(**{name: kwargs.pop(name) for name in BENCH_FIELDS})
+
+
+def load_bench(options: BenchOptions) -> tuple[Course, Robot, Scenario]:
+    """The world the bench serves (`hakoniwa.physics.bench.load_world`): its errors are one line each."""
+    from hakoniwa.physics.bench import load_world
+
+    return load_world(options.course, options.robot, options.scenario, options.time_limit_s)

@@ -1,0 +1,5 @@
+"""`python -m testctl.hako`: `hako` with this interpreter, as the tests and benchmark scripts start it."""
+
+from testctl.hako.main import main
+
+main()
