@@ -16,7 +16,6 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from PIL import Image
 
-from hakoniwa.physics.bench import load_bench
 from hakoniwa.physics.course import COURSES_DIR, Pose, load_course
 from hakoniwa.physics.course_check import color_sensor_xy
 from hakoniwa.physics.environment import Environment
@@ -27,7 +26,7 @@ from hakoniwa.physics.robot import EV3_BODY, HACKSPI_BODY
 from hakoniwa.physics.robots import BUILT_IN
 from hakoniwa.physics.scenario import EV3_BUTTONS, ScenarioError, parse_scenario
 from hakoniwa.wire.protocol import Event
-from testctl.bench_options import BenchOptions
+from testctl.bench_options import BenchOptions, load_bench
 from tests.helpers.commands import hako, one_line_error
 
 OVAL = load_course("oval")
