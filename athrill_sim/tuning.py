@@ -27,7 +27,7 @@ from typing import Any, TypeVar
 
 from athrill_sim.build_cache import CacheKey, cache_root, cached_build, cached_folder
 from athrill_sim.elf_symbols import patched_copy
-from athrill_sim.forms.form import Binding, BindingError, Edit
+from athrill_sim.forms.form import Binding, BindingError, Edit, file_bytes, file_text
 from athrill_sim.forms.values import value_text
 from athrill_sim.kinds.kind import IMAGE, REBUILD, ProgramKind, Recipe
 from athrill_sim.program import Program, ProgramError
@@ -71,7 +71,7 @@ class Tuning:
             target = card / path
             target.parent.mkdir(parents=True, exist_ok=True)
             tmp = target.with_name(target.name + ".tmp")
-            tmp.write_text(text, newline="")
+            tmp.write_bytes(file_bytes(text))
             tmp.replace(target)
         return self.variant(values, run_dir)
 
@@ -193,7 +193,7 @@ class Tuning:
         for path, start, end, text in edits:
             by_file.setdefault(path, []).append((start, end, text))
         base = Path(os.path.commonpath([self.root, *self.files]))
-        contents = {f: apply_edits(f.read_text(), by_file[f]).encode() if f in by_file else f.read_bytes()
+        contents = {f: file_bytes(apply_edits(file_text(f), by_file[f])) if f in by_file else f.read_bytes()
                     for f in self.files}
         key = CacheKey()
         for f, data in sorted(contents.items()):

@@ -1,4 +1,5 @@
-"""The cells of teams' command files: found as a person finds them, replaced with every other byte kept."""
+"""The cells of teams' command files: found as a person finds them, replaced with every other byte kept; the
+`row` and `ini` parameter forms that name them, read back from what they write."""
 
 from __future__ import annotations
 
@@ -6,7 +7,11 @@ import pytest
 from hypothesis import example, given
 from hypothesis import strategies as st
 
+from athrill_sim.bindings import from_json, to_json
 from athrill_sim.command_files import NUMBER, CellError, ini_cell, replace_cells, row_cell
+from athrill_sim.forms.form import Binding
+from athrill_sim.forms.ini import Ini
+from athrill_sim.forms.row import Row
 
 CSV = """# section,name,distance,speed,kp,ki,kd
 LineTrace,S001,500.0,0,0.03,0.001,0.008
@@ -106,3 +111,16 @@ def test_replacing_a_cell_keeps_every_other_byte_and_reads_back(text, data, new)
     assert changed[:cell.start] == text[:cell.start]
     assert changed[cell.start + len(new):] == text[cell.end:]
     assert row_cell(changed, "f", line=line, column=column).text == new
+
+
+paths = st.from_regex(r"[a-z]{1,8}(/[a-z]{1,8}){0,2}\.(csv|txt|ini)", fullmatch=True)
+rows = st.builds(lambda f, k, line, c, o: Row(f, k, None, c, o) if line is None else Row(f, None, line, c, 1),
+                 paths, names, st.none() | st.integers(1, 99), st.integers(1, 20), st.integers(1, 5))
+inis = st.builds(Ini, paths, names, st.none() | names)
+
+
+@given(st.one_of(rows, inis), st.floats(-10, 10), st.floats(10, 20))
+def test_a_row_or_ini_parameter_reads_back_from_its_space_table_and_its_bindings_json(form, low, high):
+    assert type(form).parse("p", form.toml()) == form
+    binding = Binding("p", form, 560, low, high)
+    assert from_json(to_json((binding,))) == (binding,)
