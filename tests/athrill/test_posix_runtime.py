@@ -349,3 +349,39 @@ def test_the_cxx_standard_librarys_threads_futures_and_locks_run_on_simulated_ti
         # its reads took, which end at the next step
         "reader saw go at 51",
         "joined at 51 in thread main"]
+
+
+def test_a_forked_child_goes_on_alone_and_detached_and_never_reaches_the_bench(tmp_path):
+    extra = r"""
+    #include <sys/wait.h>
+    static void *ticker(void *unused) { for (;;) { usleep(1000); printf("= ticker %lld\n", mono_us()); } }
+    """
+    body = r"""
+    pthread_t t; pthread_create(&t, NULL, ticker, NULL);
+    usleep(2500);
+    pid_t child = fork();
+    if (child == 0) {
+        ev3_motor_config(EV3_PORT_A, LARGE_MOTOR);
+        ev3_motor_set_power(EV3_PORT_A, 77);  /* never reaches the TX file */
+        usleep(50000);
+        printf("= child at %lld\n", mono_us());
+        _exit(5);
+    }
+    int status; waitpid(child, &status, 0);
+    printf("= parent saw %d at %lld\n", WEXITSTATUS(status), mono_us());
+    slp_tsk();
+    """
+    folder = tmp_path / "app"
+    folder.mkdir()
+    (folder / "app.h").write_text("#include \"ev3api.h\"\nvoid main_task(intptr_t exinf);\n")
+    exe = build(folder, HEADER + extra + "void main_task(intptr_t unused) {\n" + body + "\n}\n", CFG)
+    from hakoniwa.wire.protocol import Tx
+    bench = FakePhysics(tmp_path / "run")
+    proc = bench.start(exe)
+    bench.wakes(proc, 4 * STEP)
+    log = finish(proc, stdout=True)
+    said = lines_with(log, "= ")
+    assert said[:2] == ["ticker 1000", "ticker 2000"]
+    assert "child at 53000" in said  # 50 ms of its own after the fork at the tick of 3 ms, its ticker gone
+    assert "parent saw 5 at 3000" in said  # the parent's clock stood still while it waited for the child
+    assert bench.athrill.read_i32(Tx.MOTOR_POWER) == 0

@@ -498,6 +498,19 @@ void **hako_task_specific(hako_task *t, unsigned key)
     return &t->specific[key];
 }
 
+void hako_kernel_forked(void)
+{
+    SERVICE;
+    for (long i = 0; i < task_count; i++)
+        if (tasks[i] != NULL && tasks[i] != running) {
+            tasks[i]->state = tasks[i]->thread ? ENDED : DORMANT;
+            tasks[i]->activations = 0;
+            tasks[i]->timed = false;
+        }
+    for (uint_t i = 0; i < hako_cyclic_count; i++)
+        cyclics[i].active = false;
+}
+
 int hako_tasks_stuck(void)
 {
     int stuck = 0;

@@ -55,6 +55,9 @@ int hako_thread_release(hako_task *t); /* joined or detached: 0, or EINVAL if it
 /* Per-thread values (pthread keys). */
 void **hako_task_specific(hako_task *t, unsigned key);
 
+/* In a forked child: the running task goes on alone, as the forking thread does on Linux. */
+void hako_kernel_forked(void);
+
 /* Tasks that the kernel's exit finds still waiting for one another (not for a time or a wake-up call). */
 int hako_tasks_stuck(void);
 
