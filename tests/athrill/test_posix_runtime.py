@@ -385,3 +385,57 @@ def test_a_forked_child_goes_on_alone_and_detached_and_never_reaches_the_bench(t
     assert "child at 53000" in said  # 50 ms of its own after the fork at the tick of 3 ms, its ticker gone
     assert "parent saw 5 at 3000" in said  # the parent's clock stood still while it waited for the child
     assert bench.athrill.read_i32(Tx.MOTOR_POWER) == 0
+
+
+def test_popen_hands_the_program_a_commands_output_and_a_command_what_it_wrote(tmp_path):
+    body = r"""
+    char line[64] = "";
+    FILE *in = popen("echo from the shell; exit 3", "r");
+    fgets(line, sizeof line, in);
+    int status = pclose(in);
+    printf("= read %s", line);
+    printf("= status %d\n", WEXITSTATUS(status));
+    FILE *out = popen("cat > piped.txt", "w");
+    fprintf(out, "to the shell\n");
+    printf("= wrote %d\n", WEXITSTATUS(pclose(out)));
+    FILE *back = fopen("piped.txt", "r");
+    fgets(line, sizeof line, back);
+    printf("= file %s", line);
+    slp_tsk();
+    """
+    _, log = run_program(tmp_path, body, STEP, "#include <sys/wait.h>\n")
+    assert lines_with(log, "= ") == ["read from the shell", "status 3", "wrote 0", "file to the shell"]
+
+
+def test_poll_looks_at_descriptors_once_a_step_until_its_timeout(tmp_path):
+    body = r"""
+    int p[2]; pipe(p);
+    struct pollfd fd = {p[0], POLLIN, 0};
+    int none = poll(&fd, 1, 5);
+    printf("= %d at %lld\n", none, mono_us());
+    write(p[1], "x", 1);
+    int one = poll(&fd, 1, 5);
+    printf("= %d at %lld\n", one, mono_us());
+    slp_tsk();
+    """
+    _, log = run_program(tmp_path, body, 6 * STEP)
+    assert lines_with(log, "= ") == ["0 at 5000", "1 at 5001"]
+
+
+def test_a_network_peer_beyond_this_machine_fails_at_once_and_says_so(tmp_path):
+    body = r"""
+    struct addrinfo *found;
+    int lookup = getaddrinfo("robot-server.example", "80", NULL, &found);
+    int s = socket(AF_INET, SOCK_STREAM, 0);
+    struct sockaddr_in far = {.sin_family = AF_INET, .sin_port = htons(8080)};
+    inet_pton(AF_INET, "203.0.113.7", &far.sin_addr);
+    int r = connect(s, (struct sockaddr *)&far, sizeof far);
+    printf("= lookup %s, connect %d %s at %lld\n", gai_strerror(lookup), r, strerror(errno), mono_us());
+    slp_tsk();
+    """
+    extra = "#include <arpa/inet.h>\n#include <netdb.h>\n#include <sys/socket.h>\n"
+    _, log = run_program(tmp_path, body, STEP, extra)
+    assert lines_with(log, "= ") == [
+        "lookup Temporary failure in name resolution, connect -1 Network is unreachable at 0"]
+    assert 'getaddrinfo("robot-server.example"): the bench has no network' in log
+    assert "connect(203.0.113.7 port 8080): the bench has no network: it fails with ENETUNREACH" in log
