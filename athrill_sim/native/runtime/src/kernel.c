@@ -107,18 +107,14 @@ static int64_t ready_tail, ready_head;
 static int64_t step_used_at = -1; /* the tick whose step a task spent whole: time must move on first */
 static volatile sig_atomic_t in_service; /* a kernel service is changing the kernel's state: never preempted */
 
-static int enter_service(void)
+int hako_enter_service(void)
 {
     int was = in_service;
     in_service = 1;
     return was;
 }
-static void leave_service(int *was) { in_service = *was; }
-/* Marks a kernel service for the rest of its scope (GCC's cleanup runs on every return), inside another one
- * too. */
-#define SERVICE                                                                                                        \
-    __attribute__((cleanup(leave_service))) int service_guard_ = enter_service();                                      \
-    (void)service_guard_
+
+void hako_leave_service(int *was) { in_service = *was; }
 
 /* The C++ runtime's per-thread exception record, where the program is C++ (libstdc++'s __cxa_get_globals). */
 extern void *__cxa_get_globals(void) __attribute__((weak));
@@ -200,7 +196,7 @@ static int block(enum wait_kind wait, const void *object, bool timed, int64_t du
 
 ER act_tsk(ID tskid)
 {
-    SERVICE;
+    HAKO_SERVICE;
     struct task *t = task_of(tskid);
     if (t == NULL || t->thread)
         return E_ID;
@@ -230,7 +226,7 @@ static void end_running(void)
 
 ER ext_tsk(void)
 {
-    SERVICE;
+    HAKO_SERVICE;
     if (running == NULL)
         return E_CTX;
     end_running();
@@ -238,7 +234,7 @@ ER ext_tsk(void)
 
 ER ter_tsk(ID tskid)
 {
-    SERVICE;
+    HAKO_SERVICE;
     struct task *t = task_of(tskid);
     if (t == NULL)
         return E_ID;
@@ -275,7 +271,7 @@ ER get_tid(ID *p_tskid)
 
 ER slp_tsk(void)
 {
-    SERVICE;
+    HAKO_SERVICE;
     if (running == NULL)
         return E_CTX;
     if (running->wakeups > 0) {
@@ -287,7 +283,7 @@ ER slp_tsk(void)
 
 ER tslp_tsk(TMO tmout)
 {
-    SERVICE;
+    HAKO_SERVICE;
     if (running == NULL)
         return E_CTX;
     if (running->wakeups > 0) {
@@ -303,7 +299,7 @@ ER tslp_tsk(TMO tmout)
 
 ER dly_tsk(RELTIM dlytim)
 {
-    SERVICE;
+    HAKO_SERVICE;
     if (running == NULL)
         return E_CTX;
     if (dlytim == 0)
@@ -313,7 +309,7 @@ ER dly_tsk(RELTIM dlytim)
 
 ER wup_tsk(ID tskid)
 {
-    SERVICE;
+    HAKO_SERVICE;
     struct task *t = task_of(tskid);
     if (t == NULL || t->thread)
         return E_ID;
@@ -348,9 +344,9 @@ const char *hako_task_name(const hako_task *t) { return t != NULL ? t->name : "t
 
 void hako_spend_call(void)
 {
-    if (!hako_time_spend(HAKO_CALL_COST_US) || running == NULL || in_service)
-        return; /* a handler's calls, or the kernel's own, are never preempted */
-    SERVICE;
+    HAKO_SERVICE;
+    if (!hako_time_spend(HAKO_CALL_COST_US) || running == NULL)
+        return; /* a handler's calls are never preempted */
     struct task *self = running;
     step_used_at = hako_tick();
     make_ready(self, false);
@@ -359,7 +355,7 @@ void hako_spend_call(void)
 
 int hako_block_on(const void *object, int64_t due)
 {
-    SERVICE;
+    HAKO_SERVICE;
     if (running == NULL)
         return EDEADLK;
     if (due <= hako_now())
@@ -370,7 +366,7 @@ int hako_block_on(const void *object, int64_t due)
 
 hako_task *hako_wake_first(const void *object)
 {
-    SERVICE;
+    HAKO_SERVICE;
     struct task *first = NULL;
     for (long i = 0; i < task_count; i++) {
         struct task *t = tasks[i];
@@ -396,7 +392,7 @@ int hako_wake(const void *object, int max)
 void hako_yield(void)
 {
     hako_spend_call();
-    SERVICE;
+    HAKO_SERVICE;
     if (running == NULL)
         return;
     struct task *self = running;
@@ -445,7 +441,7 @@ static struct task *new_task(void)
 
 hako_task *hako_thread_create(void *(*entry)(void *), void *arg, size_t stack_size)
 {
-    SERVICE;
+    HAKO_SERVICE;
     struct task *t = new_task();
     if (t == NULL)
         return NULL;
@@ -465,7 +461,7 @@ hako_task *hako_thread_create(void *(*entry)(void *), void *arg, size_t stack_si
 
 void hako_thread_exit(void *result)
 {
-    SERVICE;
+    HAKO_SERVICE;
     running->result = result;
     end_running();
 }
@@ -500,7 +496,7 @@ void **hako_task_specific(hako_task *t, unsigned key)
 
 void hako_kernel_forked(void)
 {
-    SERVICE;
+    HAKO_SERVICE;
     for (long i = 0; i < task_count; i++)
         if (tasks[i] != NULL && tasks[i] != running) {
             tasks[i]->state = tasks[i]->thread ? ENDED : DORMANT;
@@ -544,7 +540,7 @@ static void schedule(struct cyclic *c)
 
 static ER start_cyclic(struct cyclic *c)
 {
-    SERVICE;
+    HAKO_SERVICE;
     if (c == NULL)
         return E_ID;
     c->active = true;
@@ -556,7 +552,7 @@ static ER start_cyclic(struct cyclic *c)
 
 static ER stop_cyclic(struct cyclic *c)
 {
-    SERVICE;
+    HAKO_SERVICE;
     if (c == NULL)
         return E_ID;
     c->active = false;

@@ -45,6 +45,7 @@ static int kind_of(const pthread_mutex_t *m) { return m->__data.__kind & 3; } /*
 
 int pthread_mutex_init(pthread_mutex_t *m, const pthread_mutexattr_t *attr)
 {
+    HAKO_SERVICE;
     int kind = PTHREAD_MUTEX_NORMAL;
     if (attr != NULL)
         pthread_mutexattr_gettype(attr, &kind);
@@ -58,6 +59,7 @@ int pthread_mutex_destroy(pthread_mutex_t *m) { return m->__data.__owner != 0 ? 
 /* Take `m` for `self`, waiting until `due`; the lock is handed over to the first waiter on unlock. */
 static int lock_until(pthread_mutex_t *m, int64_t due, const char *call)
 {
+    HAKO_SERVICE;
     int self = me();
     if (m->__data.__owner == self) {
         if (kind_of(m) == PTHREAD_MUTEX_RECURSIVE) {
@@ -88,16 +90,19 @@ int pthread_mutex_lock(pthread_mutex_t *m) { return lock_until(m, HAKO_FOREVER, 
 
 int pthread_mutex_timedlock(pthread_mutex_t *restrict m, const struct timespec *restrict at)
 {
+    HAKO_SERVICE;
     return lock_until(m, hako_clock_time_us(CLOCK_REALTIME, at), __func__);
 }
 
 int pthread_mutex_clocklock(pthread_mutex_t *restrict m, clockid_t clock, const struct timespec *restrict at)
 {
+    HAKO_SERVICE;
     return lock_until(m, hako_clock_time_us(clock, at), __func__);
 }
 
 int pthread_mutex_trylock(pthread_mutex_t *m)
 {
+    HAKO_SERVICE;
     int self = me();
     if (m->__data.__owner == self && kind_of(m) == PTHREAD_MUTEX_RECURSIVE) {
         m->__data.__count++;
@@ -120,6 +125,7 @@ static void hand_over(pthread_mutex_t *m)
 
 int pthread_mutex_unlock(pthread_mutex_t *m)
 {
+    HAKO_SERVICE;
     if (m->__data.__owner != me() && kind_of(m) != PTHREAD_MUTEX_NORMAL)
         return EPERM;
     if (m->__data.__owner == 0)
@@ -132,6 +138,7 @@ int pthread_mutex_unlock(pthread_mutex_t *m)
 
 int pthread_mutex_consistent(pthread_mutex_t *m)
 {
+    HAKO_SERVICE;
     (void)m;
     return EINVAL; /* no mutex here is robust: a thread only ends by returning or pthread_exit */
 }
@@ -145,6 +152,7 @@ _Static_assert(sizeof(struct cond) <= sizeof(pthread_cond_t), "a condition varia
 
 int pthread_cond_init(pthread_cond_t *restrict c, const pthread_condattr_t *restrict attr)
 {
+    HAKO_SERVICE;
     clockid_t clock = CLOCK_REALTIME;
     if (attr != NULL)
         pthread_condattr_getclock(attr, &clock);
@@ -155,12 +163,14 @@ int pthread_cond_init(pthread_cond_t *restrict c, const pthread_condattr_t *rest
 
 int pthread_cond_destroy(pthread_cond_t *c)
 {
+    HAKO_SERVICE;
     (void)c;
     return 0;
 }
 
 static int wait_until(pthread_cond_t *c, pthread_mutex_t *m, int64_t due, const char *call)
 {
+    HAKO_SERVICE;
     int self = me();
     if (m->__data.__owner != self)
         return EPERM;
@@ -176,28 +186,33 @@ static int wait_until(pthread_cond_t *c, pthread_mutex_t *m, int64_t due, const 
 
 int pthread_cond_wait(pthread_cond_t *restrict c, pthread_mutex_t *restrict m)
 {
+    HAKO_SERVICE;
     return wait_until(c, m, HAKO_FOREVER, __func__);
 }
 
 int pthread_cond_timedwait(pthread_cond_t *restrict c, pthread_mutex_t *restrict m, const struct timespec *restrict at)
 {
+    HAKO_SERVICE;
     return wait_until(c, m, hako_clock_time_us(((struct cond *)c)->clock, at), __func__);
 }
 
 int pthread_cond_clockwait(pthread_cond_t *restrict c, pthread_mutex_t *restrict m, clockid_t clock,
                            const struct timespec *restrict at)
 {
+    HAKO_SERVICE;
     return wait_until(c, m, hako_clock_time_us(clock, at), __func__);
 }
 
 int pthread_cond_signal(pthread_cond_t *c)
 {
+    HAKO_SERVICE;
     hako_wake(c, 1);
     return 0;
 }
 
 int pthread_cond_broadcast(pthread_cond_t *c)
 {
+    HAKO_SERVICE;
     hako_wake(c, INT_MAX);
     return 0;
 }
@@ -212,6 +227,7 @@ _Static_assert(sizeof(struct rwlock) <= sizeof(pthread_rwlock_t), "a read-write 
 
 int pthread_rwlock_init(pthread_rwlock_t *restrict rw, const pthread_rwlockattr_t *restrict attr)
 {
+    HAKO_SERVICE;
     (void)attr;
     memset(rw, 0, sizeof *rw);
     return 0;
@@ -219,12 +235,14 @@ int pthread_rwlock_init(pthread_rwlock_t *restrict rw, const pthread_rwlockattr_
 
 int pthread_rwlock_destroy(pthread_rwlock_t *rw)
 {
+    HAKO_SERVICE;
     const struct rwlock *l = (const struct rwlock *)rw;
     return l->writer != 0 || l->readers != 0 ? EBUSY : 0;
 }
 
 static int take(pthread_rwlock_t *rw, bool write, int64_t due, const char *call)
 {
+    HAKO_SERVICE;
     struct rwlock *l = (struct rwlock *)rw;
     if (l->writer == me())
         return EDEADLK;
@@ -248,37 +266,44 @@ int pthread_rwlock_wrlock(pthread_rwlock_t *rw) { return take(rw, true, HAKO_FOR
 
 int pthread_rwlock_tryrdlock(pthread_rwlock_t *rw)
 {
+    HAKO_SERVICE;
     return ((struct rwlock *)rw)->writer != 0 ? EBUSY : take(rw, false, 0, __func__);
 }
 
 int pthread_rwlock_trywrlock(pthread_rwlock_t *rw)
 {
+    HAKO_SERVICE;
     const struct rwlock *l = (const struct rwlock *)rw;
     return l->writer != 0 || l->readers != 0 ? EBUSY : take(rw, true, 0, __func__);
 }
 
 int pthread_rwlock_timedrdlock(pthread_rwlock_t *restrict rw, const struct timespec *restrict at)
 {
+    HAKO_SERVICE;
     return take(rw, false, hako_clock_time_us(CLOCK_REALTIME, at), __func__);
 }
 
 int pthread_rwlock_timedwrlock(pthread_rwlock_t *restrict rw, const struct timespec *restrict at)
 {
+    HAKO_SERVICE;
     return take(rw, true, hako_clock_time_us(CLOCK_REALTIME, at), __func__);
 }
 
 int pthread_rwlock_clockrdlock(pthread_rwlock_t *restrict rw, clockid_t clock, const struct timespec *restrict at)
 {
+    HAKO_SERVICE;
     return take(rw, false, hako_clock_time_us(clock, at), __func__);
 }
 
 int pthread_rwlock_clockwrlock(pthread_rwlock_t *restrict rw, clockid_t clock, const struct timespec *restrict at)
 {
+    HAKO_SERVICE;
     return take(rw, true, hako_clock_time_us(clock, at), __func__);
 }
 
 int pthread_rwlock_unlock(pthread_rwlock_t *rw)
 {
+    HAKO_SERVICE;
     struct rwlock *l = (struct rwlock *)rw;
     if (l->writer == me())
         l->writer = 0;
@@ -301,6 +326,7 @@ _Static_assert(sizeof(struct barrier) <= sizeof(pthread_barrier_t), "a barrier's
 
 int pthread_barrier_init(pthread_barrier_t *restrict b, const pthread_barrierattr_t *restrict attr, unsigned count)
 {
+    HAKO_SERVICE;
     (void)attr;
     if (count == 0)
         return EINVAL;
@@ -311,12 +337,14 @@ int pthread_barrier_init(pthread_barrier_t *restrict b, const pthread_barrieratt
 
 int pthread_barrier_destroy(pthread_barrier_t *b)
 {
+    HAKO_SERVICE;
     (void)b;
     return 0;
 }
 
 int pthread_barrier_wait(pthread_barrier_t *b)
 {
+    HAKO_SERVICE;
     struct barrier *s = (struct barrier *)b;
     if (++s->arrived == s->count) {
         s->arrived = 0;
@@ -334,6 +362,7 @@ int pthread_barrier_wait(pthread_barrier_t *b)
 /* A spin lock held across a wait: the spinner gives way (and takes a call's time) until it is let go. */
 int pthread_spin_init(pthread_spinlock_t *lock, int pshared)
 {
+    HAKO_SERVICE;
     (void)pshared;
     *lock = 0;
     return 0;
@@ -341,12 +370,14 @@ int pthread_spin_init(pthread_spinlock_t *lock, int pshared)
 
 int pthread_spin_destroy(pthread_spinlock_t *lock)
 {
+    HAKO_SERVICE;
     (void)lock;
     return 0;
 }
 
 int pthread_spin_lock(pthread_spinlock_t *lock)
 {
+    HAKO_SERVICE;
     while (*lock != 0) {
         if (hako_self() == NULL)
             return cannot_wait(__func__);
@@ -358,6 +389,7 @@ int pthread_spin_lock(pthread_spinlock_t *lock)
 
 int pthread_spin_trylock(pthread_spinlock_t *lock)
 {
+    HAKO_SERVICE;
     if (*lock != 0)
         return EBUSY;
     *lock = 1;
@@ -366,6 +398,7 @@ int pthread_spin_trylock(pthread_spinlock_t *lock)
 
 int pthread_spin_unlock(pthread_spinlock_t *lock)
 {
+    HAKO_SERVICE;
     *lock = 0;
     return 0;
 }
@@ -385,6 +418,7 @@ static int fail(int err)
 
 int sem_init(sem_t *s, int pshared, unsigned value)
 {
+    HAKO_SERVICE;
     (void)pshared;
     if (value > SEM_VALUE_MAX)
         return fail(EINVAL);
@@ -395,12 +429,14 @@ int sem_init(sem_t *s, int pshared, unsigned value)
 
 int sem_destroy(sem_t *s)
 {
+    HAKO_SERVICE;
     (void)s;
     return 0;
 }
 
 static int sem_wait_until(sem_t *s, int64_t due, const char *call)
 {
+    HAKO_SERVICE;
     struct sem *v = (struct sem *)s;
     while (v->value == 0) {
         int err = hako_block_on(s, due);
@@ -417,6 +453,7 @@ int sem_wait(sem_t *s) { return sem_wait_until(s, HAKO_FOREVER, __func__); }
 
 int sem_trywait(sem_t *s)
 {
+    HAKO_SERVICE;
     struct sem *v = (struct sem *)s;
     if (v->value == 0)
         return fail(EAGAIN);
@@ -426,16 +463,19 @@ int sem_trywait(sem_t *s)
 
 int sem_timedwait(sem_t *restrict s, const struct timespec *restrict at)
 {
+    HAKO_SERVICE;
     return sem_wait_until(s, hako_clock_time_us(CLOCK_REALTIME, at), __func__);
 }
 
 int sem_clockwait(sem_t *restrict s, clockid_t clock, const struct timespec *restrict at)
 {
+    HAKO_SERVICE;
     return sem_wait_until(s, hako_clock_time_us(clock, at), __func__);
 }
 
 int sem_post(sem_t *s)
 {
+    HAKO_SERVICE;
     struct sem *v = (struct sem *)s;
     if (v->value == SEM_VALUE_MAX)
         return fail(EOVERFLOW);
@@ -446,12 +486,14 @@ int sem_post(sem_t *s)
 
 int sem_getvalue(sem_t *restrict s, int *restrict value)
 {
+    HAKO_SERVICE;
     *value = (int)((struct sem *)s)->value;
     return 0;
 }
 
 sem_t *sem_open(const char *name, int flags, ...)
 {
+    HAKO_SERVICE;
     (void)name, (void)flags;
     hako_uncovered(__func__, "named semaphores are shared between processes; it fails with ENOSYS");
     errno = ENOSYS;
@@ -462,6 +504,7 @@ sem_t *sem_open(const char *name, int flags, ...)
 
 static long futex(uint32_t *word, int op, uint32_t value, const struct timespec *timeout, uint32_t value3)
 {
+    HAKO_SERVICE;
     (void)value3;
     int command = op & FUTEX_CMD_MASK;
     if (command == FUTEX_WAKE || command == FUTEX_WAKE_BITSET)
@@ -487,6 +530,7 @@ static long futex(uint32_t *word, int op, uint32_t value, const struct timespec 
 
 long syscall(long number, ...)
 {
+    HAKO_SERVICE;
     va_list args;
     va_start(args, number);
     long a[6];

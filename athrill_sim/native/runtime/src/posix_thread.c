@@ -66,6 +66,7 @@ static void *thread_main(void *arg)
 int pthread_create(pthread_t *restrict thread, const pthread_attr_t *restrict attr, void *(*entry)(void *),
                    void *restrict arg)
 {
+    HAKO_SERVICE;
     size_t stack = 0;
     int detach = PTHREAD_CREATE_JOINABLE;
     if (attr != NULL) {
@@ -90,6 +91,7 @@ int pthread_create(pthread_t *restrict thread, const pthread_attr_t *restrict at
 /* Wait until `thread` ends, at most until `due`. */
 static int join_until(pthread_t thread, void **result, int64_t due)
 {
+    HAKO_SERVICE;
     hako_task *t = thread_of(thread);
     if (t == NULL || !hako_thread_is_thread(t))
         return ESRCH;
@@ -111,6 +113,7 @@ int pthread_join(pthread_t thread, void **result) { return join_until(thread, re
 
 int pthread_tryjoin_np(pthread_t thread, void **result)
 {
+    HAKO_SERVICE;
     hako_task *t = thread_of(thread);
     if (t == NULL || !hako_thread_is_thread(t))
         return ESRCH;
@@ -119,16 +122,19 @@ int pthread_tryjoin_np(pthread_t thread, void **result)
 
 int pthread_clockjoin_np(pthread_t thread, void **result, clockid_t clock, const struct timespec *at)
 {
+    HAKO_SERVICE;
     return join_until(thread, result, hako_clock_time_us(clock, at));
 }
 
 int pthread_timedjoin_np(pthread_t thread, void **result, const struct timespec *at)
 {
+    HAKO_SERVICE;
     return pthread_clockjoin_np(thread, result, CLOCK_REALTIME, at);
 }
 
 int pthread_detach(pthread_t thread)
 {
+    HAKO_SERVICE;
     hako_task *t = thread_of(thread);
     if (t == NULL || !hako_thread_is_thread(t))
         return ESRCH;
@@ -140,6 +146,7 @@ static pthread_t kernel_thread;
 
 pthread_t pthread_self(void)
 {
+    HAKO_SERVICE;
     hako_task *self = hako_self();
     if (self != NULL)
         return (pthread_t)hako_task_number(self);
@@ -150,6 +157,7 @@ pthread_t pthread_self(void)
 
 void pthread_exit(void *result)
 {
+    HAKO_SERVICE;
     if (hako_self() == NULL) {
         hako_uncovered(__func__, "where no task runs it ends the program");
         hako_kernel_exit();
@@ -160,6 +168,7 @@ void pthread_exit(void *result)
 
 int sched_yield(void)
 {
+    HAKO_SERVICE;
     hako_yield();
     return 0;
 }
@@ -170,6 +179,7 @@ enum { ONCE_NEW, ONCE_RUNNING, ONCE_DONE }; /* PTHREAD_ONCE_INIT is 0 */
 
 int pthread_once(pthread_once_t *once, void (*routine)(void))
 {
+    HAKO_SERVICE;
     while (*once == ONCE_RUNNING) /* another task is in it and waits for something: wait for it */
         if (hako_block_on(once, HAKO_FOREVER) == EDEADLK)
             return EDEADLK;
@@ -186,6 +196,7 @@ int pthread_once(pthread_once_t *once, void (*routine)(void))
 
 int pthread_key_create(pthread_key_t *key, void (*destructor)(void *))
 {
+    HAKO_SERVICE;
     for (unsigned k = 0; k < MAX_KEYS; k++) {
         if (key_used[k])
             continue;
@@ -199,6 +210,7 @@ int pthread_key_create(pthread_key_t *key, void (*destructor)(void *))
 
 int pthread_key_delete(pthread_key_t key)
 {
+    HAKO_SERVICE;
     if (key >= MAX_KEYS || !key_used[key])
         return EINVAL;
     key_used[key] = false;
@@ -223,12 +235,14 @@ static void **specific(pthread_key_t key)
 
 void *pthread_getspecific(pthread_key_t key)
 {
+    HAKO_SERVICE;
     void **slot = specific(key);
     return slot != NULL ? *slot : NULL;
 }
 
 int pthread_setspecific(pthread_key_t key, const void *value)
 {
+    HAKO_SERVICE;
     void **slot = specific(key);
     if (slot == NULL)
         return EINVAL;
@@ -250,6 +264,7 @@ static char *name_of(pthread_t thread)
 
 int pthread_setname_np(pthread_t thread, const char *name)
 {
+    HAKO_SERVICE;
     char *slot = name_of(thread);
     if (slot == NULL)
         return ESRCH;
@@ -261,6 +276,7 @@ int pthread_setname_np(pthread_t thread, const char *name)
 
 int pthread_getname_np(pthread_t thread, char *name, size_t size)
 {
+    HAKO_SERVICE;
     const char *slot = name_of(thread);
     if (slot == NULL)
         return ESRCH;
@@ -272,12 +288,14 @@ int pthread_getname_np(pthread_t thread, char *name, size_t size)
 
 int pthread_setschedparam(pthread_t thread, int policy, const struct sched_param *param)
 {
+    HAKO_SERVICE;
     (void)policy, (void)param;
     return thread_of(thread) != NULL || thread == kernel_thread ? 0 : ESRCH;
 }
 
 int pthread_getschedparam(pthread_t thread, int *restrict policy, struct sched_param *restrict param)
 {
+    HAKO_SERVICE;
     if (thread_of(thread) == NULL && thread != kernel_thread)
         return ESRCH;
     *policy = SCHED_OTHER;
@@ -287,18 +305,21 @@ int pthread_getschedparam(pthread_t thread, int *restrict policy, struct sched_p
 
 int pthread_setschedprio(pthread_t thread, int priority)
 {
+    HAKO_SERVICE;
     (void)priority;
     return thread_of(thread) != NULL || thread == kernel_thread ? 0 : ESRCH;
 }
 
 int pthread_setaffinity_np(pthread_t thread, size_t size, const cpu_set_t *set)
 {
+    HAKO_SERVICE;
     (void)size, (void)set;
     return thread_of(thread) != NULL || thread == kernel_thread ? 0 : ESRCH;
 }
 
 int pthread_getaffinity_np(pthread_t thread, size_t size, cpu_set_t *set)
 {
+    HAKO_SERVICE;
     if (thread_of(thread) == NULL && thread != kernel_thread)
         return ESRCH;
     memset(set, 0, size);
@@ -310,6 +331,7 @@ int pthread_getaffinity_np(pthread_t thread, size_t size, cpu_set_t *set)
 
 int pthread_kill(pthread_t thread, int sig)
 {
+    HAKO_SERVICE;
     (void)thread;
     if (sig == 0)
         return thread_of(thread) != NULL || thread == kernel_thread ? 0 : ESRCH;
@@ -319,6 +341,7 @@ int pthread_kill(pthread_t thread, int sig)
 
 int pthread_cancel(pthread_t thread)
 {
+    HAKO_SERVICE;
     (void)thread;
     hako_uncovered(__func__, "threads are not cancelled; it fails with ENOSYS");
     return ENOSYS;

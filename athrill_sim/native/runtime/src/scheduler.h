@@ -15,6 +15,15 @@
 
 typedef struct task hako_task;
 
+/* A service of the kernel's, or of a layer above it, changing state the tasks share: the kernel's CPU-time
+ * rescue never preempts a task in one (kernel.c). Marks the rest of its scope (GCC's cleanup runs on every
+ * return), inside another one too. */
+#define HAKO_SERVICE                                                                                                   \
+    __attribute__((cleanup(hako_leave_service))) int hako_service_guard_ = hako_enter_service();                       \
+    (void)hako_service_guard_
+int hako_enter_service(void);
+void hako_leave_service(int *was);
+
 /* The task running now; NULL in a handler, in the kernel, or before the first task runs. */
 hako_task *hako_self(void);
 
