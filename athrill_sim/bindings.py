@@ -15,13 +15,15 @@ from dataclasses import asdict
 from athrill_sim.forms.define import Define
 from athrill_sim.forms.file import File
 from athrill_sim.forms.form import Binding, BindingError, Form
+from athrill_sim.forms.ini import Ini
 from athrill_sim.forms.offset import Offset
+from athrill_sim.forms.row import Row
 from athrill_sim.forms.source import Source
 from athrill_sim.forms.symbol import Symbol
 from hakoniwa.wire.params import FLOAT_TYPES, INT_TYPES
 
 # By the key that names each in a [[param]] table; a parameter that names none is the first's.
-FORMS: dict[str, type[Form]] = {form.key: form for form in (Offset, Define, Symbol, File, Source)}
+FORMS: dict[str, type[Form]] = {form.key: form for form in (Offset, Define, Symbol, File, Source, Row, Ini)}
 DEFAULT_FORM = next(iter(FORMS.values()))
 SPACE_TYPES = ("float", "int", *FLOAT_TYPES, *INT_TYPES)  # what a space's `type` may say
 

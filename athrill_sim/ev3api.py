@@ -82,7 +82,7 @@ class Ev3Api(LcdApi, SerialApi, FsApi, BrickApi):
 
     def syslog(self, message: str) -> None:
         """EV3RT's syslog: a line in the run's athrill.log, stamped with the simulation time."""
-        print(f"[{self.kernel.now_us / 1e6:10.3f} s] {message}", file=sys.stderr, flush=True)
+        print(f"[{self.kernel.now() / 1e6:10.3f} s] {message}", file=sys.stderr, flush=True)
 
     # -- kernel --------------------------------------------------------------------------------------
     def tslp_tsk(self, timeout_us: int) -> int:
@@ -98,8 +98,10 @@ class Ev3Api(LcdApi, SerialApi, FsApi, BrickApi):
         return E_OK
 
     def get_tim(self) -> int:
-        """SYSTIM in microseconds since the test started."""
-        return self.kernel.now_us
+        """SYSTIM in microseconds since the test started; the read takes its time after it."""
+        now = self.kernel.now()
+        self.kernel.spend_call()
+        return now
 
     # -- configuration -------------------------------------------------------------------------------
     def ev3_sensor_config(self, port: int, sensor_type: int) -> int:
@@ -141,6 +143,7 @@ class Ev3Api(LcdApi, SerialApi, FsApi, BrickApi):
         return slot0 + (Rx.COLOR1_AMBIENT - Rx.COLOR0_AMBIENT if self._index(port, COLOR_SENSOR) == 1 else 0)
 
     def _color(self, port: int, slot0: int, name: str) -> int:
+        self.kernel.spend_call()  # a device read takes its time
         if self._sensor_error(port, COLOR_SENSOR, name):
             return 0
         return int(self.bus.read("B", rx(self._color_slot(port, slot0))))
@@ -156,12 +159,14 @@ class Ev3Api(LcdApi, SerialApi, FsApi, BrickApi):
 
     def ev3_color_sensor_get_rgb_raw(self, port: int, val: RgbRaw) -> None:
         """Fills `val` as EV3RT fills its rgb_raw_t (16 bits of each slot); on an error `val` is left alone."""
+        self.kernel.spend_call()  # a device read takes its time
         if self._sensor_error(port, COLOR_SENSOR, "ev3_color_sensor_get_rgb_raw"):
             return
         base = self._color_slot(port, Rx.COLOR0_RGB)
         val.r, val.g, val.b = (int(self.bus.read("H", rx(base + 4 * i))) for i in range(3))
 
     def _gyro(self, port: int, slot: int, name: str) -> int:
+        self.kernel.spend_call()  # a device read takes its time
         return 0 if self._sensor_error(port, GYRO_SENSOR, name) else int(self.bus.read("h", rx(slot)))
 
     def ev3_gyro_sensor_get_angle(self, port: int) -> int:
@@ -181,24 +186,28 @@ class Ev3Api(LcdApi, SerialApi, FsApi, BrickApi):
         return E_OK
 
     def ev3_ultrasonic_sensor_get_distance(self, port: int) -> int:
+        self.kernel.spend_call()  # a device read takes its time
         if self._sensor_error(port, ULTRASONIC_SENSOR, "ev3_ultrasonic_sensor_get_distance"):
             return 0
         return c_div(int(self.bus.read("h", rx(Rx.ULTRASONIC_MM))), 10)
 
     def ev3_ultrasonic_sensor_listen(self, port: int) -> bool:
         """Whether another ultrasonic sensor is heard: its slot nonzero (uart_dri_get_data_ultrasonic, mode 2)."""
+        self.kernel.spend_call()  # a device read takes its time
         if self._sensor_error(port, ULTRASONIC_SENSOR, "ev3_ultrasonic_sensor_listen"):
             return False
         return self.bus.read("I", rx(Rx.ULTRASONIC_LISTEN)) != 0
 
     def ev3_touch_sensor_is_pressed(self, port: int) -> bool:
         """The first touch sensor in port order reads slot 0, any later one slot 1 (uart_dri_get_data_touch)."""
+        self.kernel.spend_call()  # a device read takes its time
         if self._sensor_error(port, TOUCH_SENSOR, "ev3_touch_sensor_is_pressed"):
             return False
         slot = Rx.TOUCH0 if self._index(port, TOUCH_SENSOR) == 0 else Rx.TOUCH1
         return int(self.bus.read("h", rx(slot))) > TOUCH_THRESHOLD
 
     def ev3_button_is_pressed(self, button: int) -> bool:
+        self.kernel.spend_call()  # a device read takes its time
         if not LEFT_BUTTON <= button <= BACK_BUTTON:
             return False
         return bool(int(self.bus.read("I", rx(Rx.BUTTONS))) >> button & 1)
@@ -210,6 +219,7 @@ class Ev3Api(LcdApi, SerialApi, FsApi, BrickApi):
         return E_OBJ if self._motors[port] == NONE_MOTOR else E_OK
 
     def ev3_motor_get_counts(self, port: int) -> int:
+        self.kernel.spend_call()  # a device read takes its time
         if err := self._motor_error(port):
             self.syslog(f"ev3_motor_get_counts(): Failed to get motor counts, ercd: {err}")
             return 0
@@ -237,6 +247,7 @@ class Ev3Api(LcdApi, SerialApi, FsApi, BrickApi):
     def ev3_motor_get_power(self, port: int) -> int:
         """EV3RT answers the power last set (ev3api_motor.c's motor_power[]), not the TX slot, which
         ev3_motor_config zeroes behind its back."""
+        self.kernel.spend_call()  # a device read takes its time
         if err := self._motor_error(port):
             self.syslog(f"ev3_motor_get_power(): Failed to get motor power, ercd: {err}")
             return 0

@@ -64,7 +64,9 @@ class BrickApi:
         return E_OK
 
     def ev3_battery_current_mA(self) -> int:
+        self.kernel.spend_call()  # a device read takes its time
         return int(self.bus.read("i", RX_GUEST_BASE + Rx.BATTERY_CURRENT))
 
     def ev3_battery_voltage_mV(self) -> int:
+        self.kernel.spend_call()  # a device read takes its time
         return int(self.bus.read("i", RX_GUEST_BASE + Rx.BATTERY_VOLTAGE))

@@ -31,7 +31,7 @@ class LcdApi:
     def _draw(self, line: str) -> None:
         if self._lcd_log is None:
             self._lcd_log = open(self.run_dir / LCD_LOG, "w")
-        self._lcd_log.write(f"{self.kernel.now_us} {line}\n")
+        self._lcd_log.write(f"{self.kernel.now()} {line}\n")
         self._lcd_log.flush()  # the process is killed at the test's end
 
     def ev3_lcd_set_font(self, font: int) -> int:

@@ -1,11 +1,13 @@
 """The virtual clock of the mock EV3RT kernel and its lockstep with the physics process.
 
-Athrill's time does not run on its own: it is the wake-up time of the robot task. `tslp_tsk` is the only
-place where time passes. It publishes the task's outputs together with the time it will wake up
-(`Tx.NEXT_WAKE`, then `Tx.ANSWER_SEQ`), then waits until the physics process has published the sensor
-snapshot for exactly that instant (the unity time in the RX header reaches it). Computation takes zero
-simulated time, so the result of a trial depends only on the parameters, never on how fast either process
-happens to run. See `hakoniwa/physics/sync.py` for the physics side.
+Athrill's time does not run on its own: it is the wake-up time of the robot task. `tslp_tsk` is where time
+passes. It publishes the task's outputs together with the time it will wake up (`Tx.NEXT_WAKE`, then
+`Tx.ANSWER_SEQ`), then waits until the physics process has published the sensor snapshot for exactly that
+instant (the unity time in the RX header reaches it). Computation takes zero simulated time, except that each
+call reading a clock or a device spends `CALL_COST_US` (a loop that polls without sleeping then sees time pass,
+and moves on to the next physics step once it has spent a whole one), so the result of a trial depends only on
+the parameters, never on how fast either process happens to run. This is the native runtime's clock
+(runtime/src/sim_time.h, kernel.c), for one task. See `hakoniwa/physics/sync.py` for the physics side.
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ from collections.abc import Callable
 from typing import NoReturn
 
 from hakoniwa.wire.protocol import HEADER_SIZE, NEVER_WAKES, Header, MappedFile, Rx, Tx
-from hakoniwa.wire.timebase import BUTTON_POLL_US, PHYSICS_STEP_US
+from hakoniwa.wire.timebase import BUTTON_POLL_US, CALL_COST_US, PHYSICS_STEP_US
 from hakoniwa.wire.waiting import futex_wake, pid_alive, wait_for, wait_word
 
 TEST_WAIT_NAP_S = 0.005  # a spare Athrill waits a whole test, mostly for nothing
@@ -39,7 +41,9 @@ class Kernel:
     def __init__(self, unity: MappedFile, athrill: MappedFile) -> None:
         self.unity = unity
         self.athrill = athrill
-        self.now_us = unity.unity_time_us
+        self.now_us = unity.unity_time_us  # the tick: the time of the snapshot the program sees
+        self.spent_us = 0  # what the program's calls spent since the tick, always below one step
+        self._serving = False  # the snapshot's hooks run: a call there cannot move time on
         self._check_physics = _watch(unity)
         self._snapshot_address = unity.address(Header.UNITY_TIME)  # the physics side rings here
         self._answer_address = athrill.address(HEADER_SIZE + Tx.ANSWER_SEQ)
@@ -49,6 +53,20 @@ class Kernel:
         # While this says so, the kernel wakes at every multiple of BUTTON_POLL_US too, as EV3RT's button
         # cyclic runs whatever the task does (the hooks see each such snapshot).
         self.watch_buttons: Callable[[], bool] = lambda: False
+
+    def now(self) -> int:
+        """What the program's clocks read: the tick and what its calls spent since."""
+        return self.now_us + self.spent_us
+
+    def spend_call(self) -> None:
+        """A call that reads a clock or a device: it takes `CALL_COST_US`; a step spent whole moves time on to
+        the next physics step first."""
+        self.spent_us += CALL_COST_US
+        if self.spent_us < PHYSICS_STEP_US:
+            return
+        self.spent_us = PHYSICS_STEP_US - 1
+        if not self._serving:
+            self._await_snapshot(self.now_us + PHYSICS_STEP_US)
 
     def sleep(self, duration_us: int) -> None:
         """tslp_tsk: sleep at least `duration_us`, rounded up to whole physics steps."""
@@ -71,8 +89,13 @@ class Kernel:
         wait_word(self._snapshot_address, lambda: unity.unity_time_us & 0xFFFFFFFF,
                   lambda: unity.unity_time_us >= wake, self._check_physics)
         self.now_us = wake
-        for hook in self.on_snapshot:
-            hook()
+        self.spent_us = 0
+        self._serving = True
+        try:
+            for hook in self.on_snapshot:
+                hook()
+        finally:
+            self._serving = False
 
     def finish(self) -> None:
         """The task returned (or sleeps for good): while a click handler is set the kernel still wakes for the

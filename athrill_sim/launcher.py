@@ -6,15 +6,20 @@ one test ahead: when test N starts, the process for N+1 is launched too, imports
 (without touching the files) until the physics side announces test N+1. The real emulator cannot wait like
 that: it starts running the moment it is launched, so it is started with its test.
 
-Each process's output reaches `athrill.log` through `CappedOutput`, capped per test.
+Each process's output reaches `athrill.log` through `CappedOutput`, capped per test. A program with a working
+folder (`athrill_sim.working_folder`) gets a fresh copy of it per test, made before its test starts, and the
+test's end keeps it in the run directory once the process is gone; a program that takes a Ctrl-C at the end of
+its test (a native one, which may close its logs then) gets SIGINT and END_BOUND_S to end before it is stopped.
 """
 
 from __future__ import annotations
 
+import signal
 import subprocess
 import threading
 from pathlib import Path
 
+from athrill_sim import working_folder
 from athrill_sim.forms.form import BindingError
 from athrill_sim.program import MOCK_ARGV, Program
 from athrill_sim.zygote import ForkedProcess, Zygote
@@ -22,8 +27,10 @@ from hakoniwa.wire.launch import ProgramRefused
 from hakoniwa.wire.output import CappedOutput
 from hakoniwa.wire.processes import kill
 from hakoniwa.wire.protocol import MappedFile, SyncMode
-from hakoniwa.wire.rundir import ATHRILL_LOG
+from hakoniwa.wire.rundir import ATHRILL_LOG, SDCARD_DIR
 from hakoniwa.wire.vdev_udp import UdpLink
+
+END_BOUND_S = 2.0  # how long an interrupted program may take to end, in wall time
 
 
 class AthrillLauncher:
@@ -38,6 +45,8 @@ class AthrillLauncher:
         self._forks = True  # until the zygote fails once
         self._taken: int | None = None  # the pid of the process running the current test
         self._prepared = program  # what the current test runs (`prepare`)
+        self._running: tuple[int, subprocess.Popen, Program] | None = None  # the current test's
+        self._folders: dict[int, Path] = {}  # each test's working folder, until it is kept or discarded
         program.prepare(run_dir)
 
     @property
@@ -48,23 +57,35 @@ class AthrillLauncher:
     def udp(self) -> UdpLink | None:
         return self.program.udp
 
-    def prepare(self, unity: MappedFile) -> None:
-        """The program this test's parameter values make (the program itself unless it is tuned by forms
-        other than `offset`), with its data files written. A value the program does not build with is the
-        program's failure; a file that cannot be written, the bench's."""
+    def prepare(self, seq: int, unity: MappedFile) -> None:
+        """The program test `seq`'s parameter values make (the program itself unless it is tuned by forms
+        other than `offset`), with its data files written onto its SD card: its working folder, made now if
+        its process is not started yet, or the run directory's SD card. A value the program does not build
+        with is the program's failure; a file that cannot be written, the bench's."""
         tuning = self.program.tuning
         if tuning is None:
             return
         values = tuning.values(unity)
+        card = self._folder(seq) if self.program.working_folder is not None else self.run_dir / SDCARD_DIR
         try:
-            self._prepared = tuning.for_test(self.run_dir, values)
+            self._prepared = tuning.for_test(self.run_dir, card, values)
         except BindingError as e:
             raise ProgramRefused(str(e)) from None
         except OSError as e:
             raise OSError(f"cannot prepare the program for {values}: {e}") from e
 
+    def _folder(self, seq: int) -> Path:
+        assert self.program.working_folder is not None
+        if seq not in self._folders:
+            folder = working_folder.test_folder(self.run_dir, seq)
+            working_folder.discard(folder)  # a run before this one in the same directory may have left it
+            self._folders[seq] = self.program.working_folder.make(folder)
+        return self._folders[seq]
+
     def _spawn(self, seq: int, program: Program) -> subprocess.Popen:
-        proc = (program.forkable and self._fork(seq, program)) or program.spawn(self.run_dir, seq, subprocess.PIPE)
+        cwd = self._folder(seq) if program.working_folder is not None else None
+        proc = (program.forkable and self._fork(seq, program)) or program.spawn(self.run_dir, seq, subprocess.PIPE,
+                                                                                cwd)
         # Kept: outputs still being copied (`close` waits for them), and the test's own process, which may
         # have crashed, and so ended its output, before the spare for the next test is started here.
         self._outputs = {pid: out for pid, out in self._outputs.items() if out.running or pid == self._taken}
@@ -109,6 +130,7 @@ class AthrillLauncher:
                 kill(spare)
         proc = proc or self._spawn(seq, program)
         self._taken = proc.pid
+        self._running = (seq, proc, program)
         if program.prelaunch:
             try:
                 self._spare = (seq + 1, program, self._spawn(seq + 1, program))
@@ -116,10 +138,32 @@ class AthrillLauncher:
                 self._spare = None
         return proc
 
+    def end(self, proc: subprocess.Popen) -> None:
+        """The test of `proc` is over: stop it (after a Ctrl-C, for a program that takes one), and keep its
+        working folder in the run directory."""
+        running = self._running if self._running is not None and self._running[1] is proc else None
+        if running is not None and running[2].interrupted_at_end and proc.poll() is None:
+            proc.send_signal(signal.SIGINT)
+            try:
+                proc.wait(timeout=END_BOUND_S)
+            except subprocess.TimeoutExpired:
+                pass
+        kill(proc)
+        if running is not None:
+            self._running = None
+            folder = self._folders.pop(running[0], None)
+            if folder is not None:
+                working_folder.keep(self.run_dir, folder)
+
     def close(self) -> None:
+        if self._running is not None:
+            self.end(self._running[1])
         if self._spare is not None:
             kill(self._spare[2])
             self._spare = None
+        for folder in self._folders.values():
+            working_folder.discard(folder)
+        self._folders.clear()
         if self._zygote is not None:
             self._zygote.close()
             self._zygote = None

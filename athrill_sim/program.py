@@ -7,18 +7,22 @@ makes variants of them for a test's parameter values. This module imports none o
 
 from __future__ import annotations
 
+import os
 import shutil
 import subprocess
 import sys
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.processes import die_with_parent
 from hakoniwa.wire.protocol import SyncMode
 from hakoniwa.wire.rundir import SDCARD_DIR
 from hakoniwa.wire.vdev_udp import UdpLink
+
+if TYPE_CHECKING:
+    from athrill_sim.working_folder import WorkingFolder
 
 MOCK_ARGV = (sys.executable, "-m", "athrill_sim.main")  # the mock Athrill, whose arguments follow
 
@@ -44,6 +48,9 @@ class Program:
     sdcard: Path | None = None  # the program's own sdcard/ folder, copied onto the bench's SD card
     tuning: Any = field(default=None, compare=False)  # athrill_sim.tuning.Tuning: the parameters' bindings
     forkable: bool = False  # argv is MOCK_ARGV + arguments: `athrill_sim.zygote` can fork it instead
+    working_folder: WorkingFolder | None = None  # a scratch copy of the program's workspace per test, its cwd
+    interrupted_at_end: bool = False  # a test's end sends SIGINT (Ctrl-C) before the process is stopped
+    env: tuple[tuple[str, str], ...] = ()  # set in the process's environment
 
     def prepare(self, run_dir: Path) -> None:
         for name, text in self.config_files.items():
@@ -77,12 +84,14 @@ class Program:
     def args(self, run_dir: Path, test_seq: int) -> list[str]:
         return [a.format(test=test_seq, run_dir=run_dir) for a in self.argv]
 
-    def spawn(self, run_dir: Path, test_seq: int, output) -> subprocess.Popen:
-        """Start the process for test `test_seq`. It gets a session of its own, so that a Ctrl-C meant for
-        the campaign does not kill it mid-test (the physics process stops it), and dies with the physics
-        process, so that nothing is left running if that is killed."""
+    def spawn(self, run_dir: Path, test_seq: int, output, cwd: Path | None = None) -> subprocess.Popen:
+        """Start the process for test `test_seq` (in `cwd`, its working folder, if it has one). It gets a
+        session of its own, so that a Ctrl-C meant for the campaign does not kill it mid-test (the physics
+        process stops it), and dies with the physics process, so that nothing is left running if that is
+        killed."""
         return subprocess.Popen(self.args(run_dir, test_seq), stdin=subprocess.DEVNULL, stdout=output,
-                                stderr=subprocess.STDOUT, cwd=run_dir if self.in_run_dir else None,
+                                stderr=subprocess.STDOUT, cwd=cwd or (run_dir if self.in_run_dir else None),
+                                env={**os.environ, **dict(self.env)} if self.env else None,
                                 start_new_session=True, preexec_fn=die_with_parent)
 
 

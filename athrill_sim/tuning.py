@@ -5,7 +5,7 @@ pattern that matches twice, a template placeholder no parameter fills, a `#defin
 line each, with the fix), and returns the program with its `Tuning`. At each test start the physics process
 calls `Tuning.for_test`, which reads the values from their slots and
 
-- writes the data files the forms make onto the run directory's SD card;
+- writes the data files the forms make onto the test's SD card (a native program's: its working folder);
 - picks the variant the rebuilding forms' values make (their compiler flags, their source rewrites), building
   it when it is new (`build_cache`: cached per value, shared by every bench on the machine, so a set that
   repeats builds once);
@@ -27,13 +27,12 @@ from typing import Any, TypeVar
 
 from athrill_sim.build_cache import CacheKey, cache_root, cached_build, cached_folder
 from athrill_sim.elf_symbols import patched_copy
-from athrill_sim.forms.form import Binding, BindingError, Edit
+from athrill_sim.forms.form import Binding, BindingError, Edit, file_bytes, file_text
 from athrill_sim.forms.values import value_text
 from athrill_sim.kinds.kind import IMAGE, REBUILD, ProgramKind, Recipe
 from athrill_sim.program import Program, ProgramError
 from hakoniwa.wire.params import CARRIER, SLOT_FORMATS
 from hakoniwa.wire.protocol import MappedFile
-from hakoniwa.wire.rundir import SDCARD_DIR
 
 TUNED_IMAGE = "tuned-{key}.elf"  # a v850 image with a test's initial values, in the run directory
 T = TypeVar("T")
@@ -65,13 +64,14 @@ class Tuning:
         """What the controller wrote into the slots for this test."""
         return {b.name: float(unity.read(SLOT_FORMATS[CARRIER], b.slot)) for b in self.bindings}
 
-    def for_test(self, run_dir: Path, values: dict[str, float]) -> Program:
-        """Write this test's data files, and return the program variant its values make."""
+    def for_test(self, run_dir: Path, card: Path, values: dict[str, float]) -> Program:
+        """Write this test's data files onto its SD card `card`, and return the program variant its values
+        make."""
         for path, text in self.data_files(values).items():
-            target = run_dir / SDCARD_DIR / path
+            target = card / path
             target.parent.mkdir(parents=True, exist_ok=True)
             tmp = target.with_name(target.name + ".tmp")
-            tmp.write_text(text, newline="")
+            tmp.write_bytes(file_bytes(text))
             tmp.replace(target)
         return self.variant(values, run_dir)
 
@@ -193,7 +193,7 @@ class Tuning:
         for path, start, end, text in edits:
             by_file.setdefault(path, []).append((start, end, text))
         base = Path(os.path.commonpath([self.root, *self.files]))
-        contents = {f: apply_edits(f.read_text(), by_file[f]).encode() if f in by_file else f.read_bytes()
+        contents = {f: file_bytes(apply_edits(file_text(f), by_file[f])) if f in by_file else f.read_bytes()
                     for f in self.files}
         key = CacheKey()
         for f, data in sorted(contents.items()):

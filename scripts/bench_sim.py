@@ -11,6 +11,10 @@
     does, `athrill_sim.zygote`), native C tracer, and the real TOPPERS athrill2 running
     the EV3RT sample image (spawn to its clock first moving; it is started with its test, never ahead).
 (d) the real emulator's trials (hakoniwa sync) on the sample image, which drives until TIME_OVER.
+(e) HackSPi tracers natively, in the same run: ET Robocon's official sample_c5_spike (one task woken by a cyclic
+    handler every 100 ms) and tests/programs/spike_thread_tracer, its control written as teams write for
+    RasPike-ART (a std::thread paced by sleep_until on steady_clock every 100 ms, started through a condition
+    variable); the second's rate over the first's: what the threads and clocks cost.
 Rows that need something absent (no C compiler, no athrill2, no ../shared) print why instead of a number.
 """
 
@@ -42,6 +46,9 @@ from testctl.runner import TrialRunner
 PAPER = line_trace_params(*BEST_GAINS)
 REPO = Path(__file__).resolve().parents[1]
 ASP_IMAGE = REPO.parent / "shared" / "third_party" / "athrill" / "ev3rt-ble_sample" / "asp"
+SAMPLE_C5_SPIKE = REPO.parent / "shared" / "third_party" / "raspike" / "raspike-art-samples" / "sample_c5_spike"
+THREADED_TRACER = REPO / "tests" / "programs" / "spike_thread_tracer"
+FORCE_START = str(REPO / "tests" / "programs" / "scenarios" / "force-start.toml")
 START_TIMEOUT_S = 60.0
 
 
@@ -196,6 +203,20 @@ def main(sim_seconds: float, tests: int, starts: int, real_tests: int, athrill2:
         rows.append((f"(d) trial, {real}, hakoniwa sync, {real_tests} tests",
                      f"{rate:8.1f} sim-s per wall-s ({describe(results)}, "
                      f"{statistics.mean(r.distance_m for r in results):.2f} m)"))
+
+    spike = {"sample_c5_spike": BenchOptions(app=str(SAMPLE_C5_SPIKE), robot="hackspi", scenario=FORCE_START),
+             "spike_thread_tracer": BenchOptions(app=str(THREADED_TRACER), robot="hackspi", scenario=FORCE_START)}
+    spike_rates = {}
+    for label, bench in spike.items():
+        if not Path(bench.app).is_dir():
+            rows.append((f"(e) HackSPi trial, {label}", f"skipped: no {bench.app} (../shared)"))
+            continue
+        spike_rates[label], results = trial_rate(bench, tests)
+        rows.append((f"(e) HackSPi trial, {label}, {tests} tests",
+                     f"{spike_rates[label]:8.1f} x real time ({describe(results)})"))
+    if len(spike_rates) == 2:
+        rows.append(("(e) threaded tracer / sample_c5_spike trial rate",
+                     f"{spike_rates['spike_thread_tracer'] / spike_rates['sample_c5_spike']:8.2f}"))
 
     width = max(len(name) for name, _ in rows)
     for name, value in rows:

@@ -119,8 +119,9 @@ _OPTIONS = [
             "Wall seconds a silent Athrill is waited for before the test counts as a crash.", SECONDS),
     _Option("robot", "--robot", "The robot's wiring: a built-in name (default, hackev) or a robot TOML file "
             "[default: the default robot, wheels as the course says]."),
-    _Option("scenario", "--scenario", "A scenario TOML: touch and button presses and serial input at simulated "
-            "times, the same in every test."),
+    _Option("scenario", "--scenario", "A scenario TOML: touch and button presses, serial input, the robot "
+            "placed by hand and a hand in front of the ultrasonic sensor at simulated times, the same in every "
+            "test."),
     _Option("time_limit_s", "--time-limit", "Simulated seconds before a test ends as TIME_OVER; a campaign "
             "scores a failed test as this many seconds [default: the course's time_limit_s].", SECONDS),
     _Option("bindings", "--bindings", "How the parameters of kinds other than offset (define, symbol, file, "

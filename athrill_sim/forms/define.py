@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from athrill_sim.elf_symbols import loaded_bytes
-from athrill_sim.forms.form import Binding, BindingError, Edit, NamedForm, TunedProgram
+from athrill_sim.forms.form import Binding, BindingError, Edit, NamedForm, TunedProgram, file_text
 from athrill_sim.forms.values import literal
 from athrill_sim.kinds.kind import REBUILD
 
@@ -59,6 +59,6 @@ class Define(NamedForm):
         for f in files:
             pattern = flag if f.name == "Makefile.inc" else define if f.suffix in TEXT_SUFFIXES else None
             if pattern is not None:
-                text = f.read_text(errors="replace")
+                text = file_text(f)
                 for m in pattern.finditer(text):
                     yield f, m.start(1), m.end(1), m.group(1)

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from athrill_sim.forms.form import Binding, BindingError, Edit, Form, TunedProgram, string_value
+from athrill_sim.forms.form import Binding, BindingError, Edit, Form, TunedProgram, file_text, string_value
 from athrill_sim.kinds.kind import DATA_FILE
 from hakoniwa.wire.rundir import SDCARD_DIR
 
@@ -64,7 +64,7 @@ class File(Form):
         if group[0] != b:
             return [], []
         original = program.inside(b, self.file)
-        old = original.read_text() if original.is_file() else ""
+        old = file_text(original) if original.is_file() else ""
         return [Edit(original, 0, len(old), fill_template(self._template(b, program), texts),
                      ", ".join(f"{x.name}={texts[x.name]}" for x in group) + " (data file)")], []
 
@@ -119,7 +119,7 @@ class File(Form):
         path = program.inside(b, self.template_file or "")
         if not path.is_file():
             raise BindingError(f"{b.name!r}: template_file {self.template_file} does not exist in {program.root}")
-        return path.read_text()
+        return file_text(path)
 
 
 def template_fields(text: str) -> list[str]:

@@ -208,6 +208,17 @@ class TunedProgram(Protocol):
         ...
 
 
+def file_text(path: Path) -> str:
+    """A file of the user's as its bytes are: its line endings kept, and bytes that are not UTF-8 (a Shift-JIS
+    comment) kept as they were, so that an edit at an offset in it changes those characters and no others."""
+    return path.read_bytes().decode("utf-8", "surrogateescape")
+
+
+def file_bytes(text: str) -> bytes:
+    """What `file_text` read, or an edit of it, as the file's bytes."""
+    return text.encode("utf-8", "surrogateescape")
+
+
 def string_value(key: str, name: str, table: Mapping[str, Any]) -> str:
     """The non-empty string a form's key holds in parameter `name`'s table."""
     value = table[key]

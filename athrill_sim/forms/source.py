@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from athrill_sim.forms.form import Binding, BindingError, Edit, Form, TunedProgram
+from athrill_sim.forms.form import Binding, BindingError, Edit, Form, TunedProgram, file_text
 from athrill_sim.forms.values import literal
 from athrill_sim.kinds.kind import REBUILD
 
@@ -70,7 +70,7 @@ class Source(Form):
         if pattern.groups != 1:
             raise BindingError(f"{b.name!r}: match {self.match!r} must have exactly one group, (...), around the "
                                "value")
-        text = path.read_text()
+        text = file_text(path)
         found = list(pattern.finditer(text))
         if len(found) != 1:
             lines = "; ".join(f"line {text.count(chr(10), 0, m.start()) + 1}: {_line_at(text, m.start())!r}"

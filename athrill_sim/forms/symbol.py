@@ -10,7 +10,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from athrill_sim.elf_symbols import Global, find_global
-from athrill_sim.forms.form import Binding, BindingError, Edit, NamedForm, TunedProgram
+from athrill_sim.forms.form import Binding, BindingError, Edit, NamedForm, TunedProgram, file_text
 from athrill_sim.forms.values import literal, typed_value
 from athrill_sim.kinds.kind import IMAGE
 from hakoniwa.wire.params import FLOAT_TYPES, SLOT_FORMATS, int_range
@@ -52,7 +52,7 @@ class Symbol(NamedForm):
         pattern = re.compile(rf"\b{short}\s*(?:\[[^\]]*\]\s*)?(?:=\s*([^;,{{}}]+?)|\{{\s*([^;{{}}]+?)\s*\}})\s*[;,]")
         candidates = [f for f in program.files if f.name == g.decl_file] if g.decl_file else []
         for f in candidates:
-            text = f.read_text(errors="replace")
+            text = file_text(f)
             lines = text.split("\n")
             if g.decl_line is None or g.decl_line > len(lines):
                 continue

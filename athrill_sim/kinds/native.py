@@ -11,6 +11,7 @@ from athrill_sim.program import Program, ProgramError, card_files, program_sdcar
 from hakoniwa.wire.protocol import SyncMode
 
 NATIVE_DIR = Path(__file__).resolve().parents[1] / "native"  # the bench's runtime and libraries, not the user's
+NATIVE_ENV = (("TZ", "UTC0"),)  # localtime() of the simulated clock: the same on every machine (docs/NATIVE.md)
 
 
 class NativeKind(ProgramKind):
@@ -48,16 +49,18 @@ def native_program(source: Path, flags: tuple[str, ...] = ()) -> Program:
     from athrill_sim.native import NativeBuildError
     from athrill_sim.native.build import build_app
     from athrill_sim.native.workspace import find_app
+    from athrill_sim.working_folder import WorkingFolder, WorkingFolderError
 
     try:
         exe = build_app(source, flags=flags)
         files = tuple(f for f in find_app(source).hashed if not f.is_relative_to(NATIVE_DIR))  # the user's
-    except NativeBuildError as e:
+        card = program_sdcard(source)
+        folder = WorkingFolder.of(source, card)
+    except (NativeBuildError, WorkingFolderError) as e:
         raise ProgramError(str(e)) from None
-    card = program_sdcard(source)
     return Program(f"native C app {source}", SyncMode.LOCKSTEP, True,
                    (str(exe), "--run-dir", "{run_dir}", "--test", "{test}"), files=(*files, *card_files(card)),
-                   image=exe, sdcard=card)
+                   image=exe, working_folder=folder, interrupted_at_end=True, env=NATIVE_ENV)
 
 
 NATIVE = NativeKind()

@@ -46,7 +46,7 @@ STRICT_FLAGS = ("-O2", "-ffp-contract=off", "-fno-fast-math", "-fno-strict-alias
 C_STD = "-std=gnu11"
 CXX_STD = "-std=gnu++17"
 CXX_FLAGS = ("-D__dso_handle=hako_program_dso_handle",)
-LIBS = ("-lm",)
+LIBS = ("-lm", "-ldl")
 EXECUTABLE = "athrill-native"
 BUILD_LOG = "build.log"
 OBJECTS = "objects"

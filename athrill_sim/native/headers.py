@@ -8,7 +8,7 @@ from __future__ import annotations
 from athrill_sim import kernel as mock_kernel
 from hakoniwa.wire import rundir, waiting
 from hakoniwa.wire.protocol import c_header
-from hakoniwa.wire.timebase import BUTTON_POLL_US, PHYSICS_STEP_US
+from hakoniwa.wire.timebase import BUTTON_POLL_US, CALL_COST_US, CLOCK_EPOCH_S, PHYSICS_STEP_US
 
 LAYOUT_HEADER = "hako_layout.h"
 TIMING_HEADER = "hako_timing.h"
@@ -18,6 +18,8 @@ def timing_header() -> str:
     values = {
         "PHYSICS_STEP_US": PHYSICS_STEP_US,
         "BUTTON_POLL_US": BUTTON_POLL_US,
+        "CALL_COST_US": CALL_COST_US,
+        "CLOCK_EPOCH_S": f"{CLOCK_EPOCH_S}LL",
         "TEST_WAIT_NAP_S": mock_kernel.TEST_WAIT_NAP_S,
         "CHECK_EVERY_S": waiting.CHECK_EVERY_S,
     }
@@ -25,7 +27,7 @@ def timing_header() -> str:
              "SERIAL_INPUT": rundir.SERIAL_INPUT, "SDCARD_DIR": rundir.SDCARD_DIR}
     lines = ["/* Generated from hakoniwa.wire.timebase, hakoniwa.wire.waiting and athrill_sim.kernel; do not edit. */",
              "#ifndef HAKO_TIMING_H", "#define HAKO_TIMING_H"]
-    lines += [f"#define HAKO_{name} {value!r}" for name, value in values.items()]
+    lines += [f"#define HAKO_{name} {value}" for name, value in values.items()]
     lines += [f'#define HAKO_{name} "{value}"' for name, value in files.items()]
     # serial_port_t order: EV3_SERIAL_DEFAULT, _UART, _BT, as the scenario names them
     lines.append("#define HAKO_SERIAL_PORT_NAMES " + ", ".join(f'"{port}"' for port in rundir.SERIAL_PORTS))

@@ -7,8 +7,9 @@ import dataclasses
 
 from hakoniwa.physics.course import Course, course_file, load_course
 from hakoniwa.physics.course_check import check_course
+from hakoniwa.physics.placing import placements
 from hakoniwa.physics.robots import Robot, load_robot
-from hakoniwa.physics.scenario import Scenario, ScenarioError, load_scenario
+from hakoniwa.physics.scenario import Scenario, load_scenario
 from hakoniwa.wire.timebase import US_PER_S
 
 
@@ -25,7 +26,8 @@ def load_world(course_name: str, robot_name: str | None, scenario_file: str | No
     course's limit).
 
     Raises CourseError, RobotError or ScenarioError, each one line: also for a course the robot cannot run
-    (`course_check`) and a scenario whose stimuli come after the time limit, which no test would see."""
+    (`course_check`), a scenario whose stimuli come after the time limit, which no test would see, or that the
+    robot cannot take (a place where it cannot stand, a button or sensor it does not have)."""
     course = load_course(course_name)
     robot = load_robot(robot_name)
     scenario = load_scenario(scenario_file)
@@ -33,9 +35,6 @@ def load_world(course_name: str, robot_name: str | None, scenario_file: str | No
     scenario.check_within(time_limit_us(course.time_limit_us, time_limit_s))
     if robot.wiring is not None:
         course = dataclasses.replace(course, wiring=robot.wiring)
-    for press in scenario.presses:
-        if press.sensor is not None and robot.press_slot(press.sensor, press.port) is None:
-            where = "" if press.port is None else f" on port {press.port}"
-            what = "touch or force" if press.sensor == "touch" and robot.spike else press.sensor
-            raise ScenarioError(f"scenario: robot {robot.name!r} has no {what} sensor{where} to press")
+    scenario.check_robot(robot)
+    placements(course, robot.body, scenario)
     return course, robot, scenario

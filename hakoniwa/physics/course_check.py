@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hakoniwa.physics.course import Box, Course, CourseError
+from hakoniwa.physics.course import Box, Course, CourseError, Pose
 from hakoniwa.physics.robot import CHASSIS_BACK_M, Body
 
 CELL_M = 0.02  # the flood fill's grid
@@ -33,16 +33,13 @@ def check_course(course: Course, body: Body, file: Path) -> None:
     where = f"{file}: "
     s = course.start
     xmin, xmax, ymin, ymax = course.extent
-    yaw = math.radians(s.yaw_deg)
-    sensor = (s.x + body.color_sensor_forward * math.cos(yaw), s.y + body.color_sensor_forward * math.sin(yaw))
-    for what, (x, y) in (("the start pose", (s.x, s.y)), ("the colour sensor at the start", sensor)):
-        if not (xmin <= x <= xmax and ymin <= y <= ymax):
-            raise CourseError(f"{where}{what} ({x:.3f}, {y:.3f}) is off the floor image (x {xmin:g}..{xmax:g}, "
-                              f"y {ymin:g}..{ymax:g})")
-    for wall in course.walls:
-        if _footprint_touches(body, s.x, s.y, yaw, wall):
-            raise CourseError(f"{where}the robot at the start pose ({s.x:g}, {s.y:g}, {s.yaw_deg:g} deg) is inside "
-                              f"or touching wall {wall.name!r}: every test would end HIT_WALL at 0.00 m")
+    off = off_floor(course, body, s, "the start")
+    if off is not None:
+        raise CourseError(where + off)
+    wall = wall_touched(course, body, s)
+    if wall is not None:
+        raise CourseError(f"{where}the robot at the start pose ({s.x:g}, {s.y:g}, {s.yaw_deg:g} deg) is inside "
+                          f"or touching wall {wall.name!r}: every test would end HIT_WALL at 0.00 m")
     for cp in course.checkpoints:
         if not (xmin <= cp.x <= xmax and ymin <= cp.y <= ymax):
             raise CourseError(f"{where}checkpoint {cp.name!r} at ({cp.x:g}, {cp.y:g}) is outside the floor image")
@@ -54,6 +51,29 @@ def check_course(course: Course, body: Body, file: Path) -> None:
             raise CourseError(f"{where}checkpoint {i + 1} ({cp.name!r}) cannot be reached from the start: it is "
                               f"walled off, inside a wall, or behind a gap narrower than the robot "
                               f"({2 * _half_width(body) * 1000:.0f} mm)")
+
+
+def color_sensor_xy(body: Body, pose: Pose) -> tuple[float, float]:
+    """Where the colour sensor of `body` standing at `pose` looks at the floor."""
+    yaw = math.radians(pose.yaw_deg)
+    return pose.x + body.color_sensor_forward * math.cos(yaw), pose.y + body.color_sensor_forward * math.sin(yaw)
+
+
+def off_floor(course: Course, body: Body, pose: Pose, at: str) -> str | None:
+    """Why `body` cannot stand at `pose` for being off the floor image (`at` names the pose: "the start"),
+    or None: the robot there, or its colour sensor, would read the image's border."""
+    xmin, xmax, ymin, ymax = course.extent
+    for what, (x, y) in ((f"{at} pose", (pose.x, pose.y)), (f"the colour sensor at {at}", color_sensor_xy(body, pose))):
+        if not (xmin <= x <= xmax and ymin <= y <= ymax):
+            return f"{what} ({x:.3f}, {y:.3f}) is off the floor image (x {xmin:g}..{xmax:g}, y {ymin:g}..{ymax:g})"
+    return None
+
+
+def wall_touched(course: Course, body: Body, pose: Pose) -> Box | None:
+    """The first wall that `body` standing at `pose` is inside or touching, or None: the first event check
+    would end the test HIT_WALL."""
+    yaw = math.radians(pose.yaw_deg)
+    return next((w for w in course.walls if _footprint_touches(body, pose.x, pose.y, yaw, w)), None)
 
 
 def _half_width(body: Body) -> float:

@@ -13,7 +13,8 @@ from collections.abc import Sequence
 
 from hakoniwa.physics.course import Course
 from hakoniwa.physics.etrobocon_task import EtRoboconTask
-from hakoniwa.physics.noise import NoiseDraw
+from hakoniwa.physics.noise import NoiseDraw, StartOffset
+from hakoniwa.physics.placing import placements
 from hakoniwa.physics.replay import Replay, RobotLook, State
 from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
 from hakoniwa.physics.scenario import Scenario
@@ -21,10 +22,11 @@ from hakoniwa.physics.sensors import SensorModel, Sensors
 from hakoniwa.physics.task import Task
 from hakoniwa.physics.world import World
 from hakoniwa.wire.etrobocon_rules import Score
-from hakoniwa.wire.protocol import Event
+from hakoniwa.wire.protocol import NEVER_WAKES, Event
 from hakoniwa.wire.timebase import EVENT_CHECK_PERIOD_US, PHYSICS_STEP_US, TRACE_PERIOD_US, Scheduler
 
 Pose = tuple[int, float, float, float]  # time [us], x, y [m], yaw [rad]
+EXACT = StartOffset(0.0, 0.0, 0.0)  # where the noise-free bench's person puts the robot: on the spot
 
 
 class Environment:
@@ -37,6 +39,9 @@ class Environment:
         self.task = task
         self.sensors = SensorModel(self.course, robot, scenario)
         self.scheduler = Scheduler(PHYSICS_STEP_US)
+        # A place happens at the first physics step at or after its time, which the world steps to exactly.
+        self.places = tuple((self.scheduler.quantize(at_us), pose)
+                            for at_us, pose in placements(self.course, robot.body, scenario))
         self.scheduler.add("event-check", EVENT_CHECK_PERIOD_US, self._check_events)
         self.scheduler.add("trace", TRACE_PERIOD_US, self._trace)
         self._clear(None)
@@ -46,6 +51,9 @@ class Environment:
         self.event, self.event_us = Event.NONE, 0
         self.completed_us: int | None = None
         self.sensors.begin(noise)
+        self.noise = noise
+        self.next_place = 0
+        self.place_us = self.places[0][0] if self.places else NEVER_WAKES  # when the next place happens
         self.trajectory: list[Pose] = []
         self.states: list[tuple[int, State]] = []  # the replay's samples: at the trajectory's, and at the end
         self.object_states: list[tuple[float, ...]] = []  # the course's objects at the same samples
@@ -57,6 +65,7 @@ class Environment:
         self.task.reset(self.world.position())
         self._clear(noise)
         self._trace(0)
+        self._place_due()
 
     def reset(self) -> None:
         """Back to the state saved at start-up, between tests (the paper saves Robot and env once)."""
@@ -71,13 +80,32 @@ class Environment:
         period is one call from the sync loop: the Python work per physics step is what the test needs."""
         sched, step = self.scheduler, self.world.step
         while self.now_us < target_us and self.event == Event.NONE:
-            tick = sched.next_tick()
+            tick = min(sched.next_tick(), self.place_us)
             if tick > target_us:
                 tick = target_us
             step((tick - self.now_us) // PHYSICS_STEP_US)
             self.now_us = tick
             sched.advance_to(tick)
+            if tick == self.place_us and self.event == Event.NONE:
+                self._place_due()
         return self.event != Event.NONE
+
+    def _place_due(self) -> None:
+        """Carry out the places due now, after the tick's event check and trajectory sample: the replay shows
+        the robot where it was lifted and where it was set down at the same instant, a jump."""
+        places = self.places
+        while self.place_us == self.now_us:
+            pose = places[self.next_place][1]
+            self.next_place += 1
+            self.place_us = places[self.next_place][0] if self.next_place < len(places) else NEVER_WAKES
+            lifted = self.world.position()
+            if self.trajectory[-1][0] < self.now_us:
+                self._trace(self.now_us)
+            self.sensors.follow_turn(self.world)
+            self.world.place(pose, EXACT if self.noise is None else self.noise.placement())
+            self.sensors.follow_turn(self.world)
+            self.task.carried(lifted, self.world.position())
+            self._trace(self.now_us)
 
     def end(self, event: Event) -> None:
         """End the test now with `event` (a crash, which the task cannot see)."""

@@ -4,9 +4,9 @@ The paper repeats every parameter set because its Unity bench is not repeatable;
 microsecond, so without noise a repetition says nothing. Noise here is *seeded*: the controller writes a
 seed and a scale for each test (`Rx.NOISE_SEED`, `Rx.NOISE_SCALE`), and everything random in that test is
 drawn from generators made from that seed, in a fixed order, at instants the lockstep fixes (test start,
-sensor snapshots, motor commands). So the same (parameters, seed, scale) still give the same event and goal
-time to the microsecond under any machine load, and scale 0 draws nothing at all: the bench is the
-noise-free bench, bit for bit.
+sensor snapshots, motor commands, a scenario's places). So the same (parameters, seed, scale) still give the
+same event and goal time to the microsecond under any machine load, and scale 0 draws nothing at all: the
+bench is the noise-free bench, bit for bit.
 
 Every source is zero-mean Gaussian with a standard deviation from the course's `[noise]` table
 (`NoiseLevels`), multiplied by the scale. Draws happen outside MuJoCo's stepping, so the hot loop costs the
@@ -96,10 +96,10 @@ class NoiseDraw:
     """One test's noise, drawn from its seed.
 
     Three independent streams are spawned from the seed, so that the number of draws one kind of event
-    makes never shifts another's: per-test values (drawn here, in the order of `NoiseLevels`' per-test
-    fields), sensor readings (three normals per snapshot: reflect, gyro rate, ultrasonic) and motor
-    commands (two normals per command: left, right). Draws are made even where a level is 0, so changing
-    one level leaves the others' draws as they were.
+    makes never shifts another's: per-test values (drawn here, in the order of `NoiseLevels`' per-test fields,
+    then one put-down per scenario place as it happens), sensor readings (three normals per snapshot: reflect,
+    gyro rate, ultrasonic) and motor commands (two normals per command: left, right). Draws are made even where
+    a level is 0, so changing one level leaves the others' draws as they were.
     """
 
     def __init__(self, levels: NoiseLevels, seed: int, scale: float) -> None:
@@ -109,15 +109,24 @@ class NoiseDraw:
         self.scale = scale
         lv = self.levels = levels.scaled(scale)
         per_test, readings, motors = (np.random.default_rng(s) for s in np.random.SeedSequence(seed).spawn(3))
-        self._readings, self._motors = _Normals(readings), _Normals(motors)
+        self._per_test, self._readings, self._motors = per_test, _Normals(readings), _Normals(motors)
         z = per_test.standard_normal(7).tolist()
         self.reflect_offset = lv.reflect_offset_sd * z[0]
         self.gyro_bias_dps = lv.gyro_bias_sd_dps * z[1]
         # A wheel cannot turn backwards for a forward command: however large the scale, a gain stays >= 0.
         self.motor_gain = (max(0.0, 1.0 + lv.motor_gain_sd * z[2]), max(0.0, 1.0 + lv.motor_gain_sd * z[3]))
-        self.start = StartOffset(lv.start_xy_sd_mm / 1000 * z[4], lv.start_xy_sd_mm / 1000 * z[5],
-                                 lv.start_yaw_sd_deg * z[6])
+        self.start = self._put_down(z[4:7])
         self._reflect_flicker = 0.0  # the last reading's reflect flicker (`shift_reflect`)
+
+    def _put_down(self, z: list[float]) -> StartOffset:
+        lv = self.levels
+        return StartOffset(lv.start_xy_sd_mm / 1000 * z[0], lv.start_xy_sd_mm / 1000 * z[1], lv.start_yaw_sd_deg * z[2])
+
+    def placement(self) -> StartOffset:
+        """Where the person who put the robot down at the start puts it down again, off the spot aimed at (a
+        scenario's `[[place]]`): as noisy as the start, drawn from the per-test stream after the start's
+        values, one place after another, so a test's places never shift its other draws."""
+        return self._put_down(self._per_test.standard_normal(3).tolist())
 
     def reading(self, reflect: float, rate_dps: float, ultrasonic_mm: int) -> tuple[float, float, int]:
         """Noisy (reflect, gyro rate, ultrasonic distance) for one snapshot of the true values.

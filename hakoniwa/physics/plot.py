@@ -12,8 +12,17 @@ from hakoniwa.physics.course import Course
 
 
 def read_trajectory(path: Path) -> list[tuple[float, float]]:
+    """The path's points; where two share a time the robot was carried (a scenario's place), and a point of
+    NaNs between them makes the drawn path jump there instead of crossing the course."""
+    points: list[tuple[float, float]] = []
+    last_us = None
     with open(path, newline="") as f:
-        return [(float(r["x"]), float(r["y"])) for r in csv.DictReader(f)]
+        for r in csv.DictReader(f):
+            if r["time_us"] == last_us:
+                points.append((math.nan, math.nan))
+            points.append((float(r["x"]), float(r["y"])))
+            last_us = r["time_us"]
+    return points
 
 
 def draw_trajectory(course: Course, path_xy: list[tuple[float, float]], out: Path, title: str = "") -> None:

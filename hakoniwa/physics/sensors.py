@@ -71,6 +71,9 @@ class SensorModel:
     def read(self, world: World, now_us: int) -> Sensors:
         truth = world.measure()
         reflect, colour, rate_dps, ultrasonic_mm = truth.reflect, truth.colour, truth.rate_dps, truth.ultrasonic_mm
+        hand_mm = self.scenario.hand_mm(now_us)
+        if hand_mm is not None:  # the sensor hears the nearer echo: the hand, or a wall in front of it
+            ultrasonic_mm = min(ultrasonic_mm, hand_mm)
         if self.noise is not None:
             reflect, rate_dps, ultrasonic_mm = self.noise.reading(reflect, rate_dps, ultrasonic_mm)
             if colour is not None:
@@ -135,10 +138,20 @@ class SensorModel:
     def reset_gyro(self, world: World, now_us: int) -> None:
         self._gyro_zero = self._gyro_reading(world.gyro_angle_deg(), now_us)
 
-    def _gyro_reading(self, wrapped_deg: float, now_us: int) -> float:
-        """The gyro's whole-turn angle now, with the drift of this test's gyro bias."""
+    def follow_turn(self, world: World) -> None:
+        """Count the gyro's turn to the world's heading now. Called on both sides of a place: the drive before
+        it counts as driven, and the person's turn as the gyro would integrate it, the short way round."""
+        self._count_turn(world.gyro_angle_deg())
+
+    def _count_turn(self, wrapped_deg: float) -> float:
+        """The heading's whole-turn angle, counted from the wrapped one (`World.gyro_angle_deg`)."""
         last, total = self._yaw
         total += (wrapped_deg - last + 180.0) % 360.0 - 180.0
         self._yaw = (wrapped_deg, total)
+        return total
+
+    def _gyro_reading(self, wrapped_deg: float, now_us: int) -> float:
+        """The gyro's whole-turn angle now, with the drift of this test's gyro bias."""
+        total = self._count_turn(wrapped_deg)
         return total if self.noise is None else total + self.noise.gyro_drift_deg(now_us)
 

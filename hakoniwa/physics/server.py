@@ -160,14 +160,14 @@ class PhysicsServer:
         self.answer_before_start = self.slots.begin(self.launcher.sync, self.course.info, self.env.task.objective)
         self.publish_sensors()
         # before the announcement: a waiting Athrill reads its files after it
-        crash = damaged or self._prepare_program()
+        crash = damaged or self._prepare_program(seq)
         self.slots.announce(seq)
         return noise, crash
 
-    def _prepare_program(self) -> AthrillCrash | None:
+    def _prepare_program(self, seq: int) -> AthrillCrash | None:
         """Have the launcher make this test's program; a crash (the program's or the bench's) if it cannot."""
         try:
-            self.launcher.prepare(self.slots.unity)
+            self.launcher.prepare(seq, self.slots.unity)
         except ProgramRefused as e:
             self._write_program_output([str(e)])
             return AthrillCrash(CrashKind.PROGRAM, 0, str(e))
@@ -247,7 +247,7 @@ class PhysicsServer:
     def reset(self) -> None:
         """start = 0: stop Athrill, restore the saved initial state, clear event and goal time."""
         if self._athrill_proc is not None:
-            kill(self._athrill_proc)
+            self.launcher.end(self._athrill_proc)
             self._athrill_proc = None
         self.transport.ended()
         self.env.reset()

@@ -58,6 +58,11 @@ class Task(Protocol):
         completion notice (ET Robocon's `ETRoboc_notifyCompletedToSimulator()`)."""
         ...
 
+    def carried(self, lifted_xy: tuple[float, float], set_xy: tuple[float, float]) -> None:
+        """The robot was lifted at `lifted_xy` and set down at `set_xy` (a scenario's place): a carry is not
+        driven."""
+        ...
+
 
 @dataclass
 class LapTask:
@@ -86,12 +91,21 @@ class LapTask:
     def distance_mm(self) -> int:
         return round(self.distance_m * 1000)
 
+    def carried(self, lifted_xy: tuple[float, float], set_xy: tuple[float, float]) -> None:
+        """The robot was lifted at `lifted_xy` and set down at `set_xy` (a scenario's place): its path counts to
+        where it was lifted and goes on from where it was set down, as a carry is not driven distance."""
+        self._walk(lifted_xy)
+        self._last_xy = set_xy
+
     def _travel(self, world: World) -> tuple[float, float]:
         """Where the robot is now; the way there is added to the path driven."""
         x, y = world.position()
-        self.distance_m += math.hypot(x - self._last_xy[0], y - self._last_xy[1])
-        self._last_xy = (x, y)
+        self._walk((x, y))
         return x, y
+
+    def _walk(self, xy: tuple[float, float]) -> None:
+        self.distance_m += math.hypot(xy[0] - self._last_xy[0], xy[1] - self._last_xy[1])
+        self._last_xy = xy
 
     def check(self, world: World, time_us: int, completed: bool = False) -> Event:
         """Wall contact wins over a goal seen at the same tick: a robot that crashes into the wall at the line

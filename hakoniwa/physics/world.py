@@ -20,7 +20,7 @@ import mujoco
 import numpy as np
 
 from hakoniwa.physics import robot
-from hakoniwa.physics.course import Course
+from hakoniwa.physics.course import Course, Pose
 from hakoniwa.physics.course_items import CourseObject
 from hakoniwa.physics.noise import StartOffset
 from hakoniwa.wire.timebase import PHYSICS_STEP_US, US_PER_S
@@ -95,6 +95,14 @@ class ObjectState:
     y: float
     upright: bool
     speed: float  # m/s, of its centre
+
+
+def _turned(quaternion: np.ndarray, deg: float) -> np.ndarray:
+    """`quaternion` turned by `deg` about the world's z axis (counter-clockwise seen from above)."""
+    half = math.radians(deg) / 2
+    turned = np.empty(4)
+    mujoco.mju_mulQuat(turned, np.array([math.cos(half), 0.0, 0.0, math.sin(half)]), np.array(quaternion))
+    return turned
 
 
 @dataclass(frozen=True)
@@ -191,11 +199,20 @@ class World:
         q = self.data.qpos
         q[0] += offset.dx_m
         q[1] += offset.dy_m
-        half = math.radians(offset.dyaw_deg) / 2
-        turned = np.empty(4)
-        mujoco.mju_mulQuat(turned, np.array([math.cos(half), 0.0, 0.0, math.sin(half)]), q[3:7].copy())
-        q[3:7] = turned
+        q[3:7] = _turned(q[3:7], offset.dyaw_deg)
         mujoco.mj_forward(self.model, self.data)
+
+    def place(self, pose: Pose, offset: StartOffset) -> None:
+        """Lift the robot and set it down at `pose`, `offset` away (a person's aim), at rest and standing as it
+        stood at the start (its saved height and lean, turned to the new heading). Only the free joint moves:
+        the wheels keep their angles, so the encoders count on, and the motors keep their commands."""
+        q, d = self.data.qpos, self.data
+        start = self._initial[0]
+        q[0], q[1], q[2] = pose.x + offset.dx_m, pose.y + offset.dy_m, start[2]
+        q[3:7] = _turned(start[3:7], pose.yaw_deg + offset.dyaw_deg - self.course.start.yaw_deg)
+        d.qvel[:6] = 0.0  # the robot's free joint; the course's objects go on as they were
+        d.qvel[self._wheel_dof] = 0.0
+        mujoco.mj_forward(self.model, d)
 
     # -- geometry ------------------------------------------------------------------------------------
     def position(self) -> tuple[float, float]:

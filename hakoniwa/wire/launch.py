@@ -33,8 +33,8 @@ class Launcher(Protocol):
     def udp(self) -> UdpLink | None:
         """athrill2's UDP endpoints for a program run over UDP; None where the mapped files carry everything."""
 
-    def prepare(self, unity: MappedFile) -> None:
-        """Make the program this test's parameter values (in `unity`'s parameter area) ask for, with its data
+    def prepare(self, seq: int, unity: MappedFile) -> None:
+        """Make the program test `seq`'s parameter values (in `unity`'s parameter area) ask for, with its data
         files written, before the test is announced.
 
         Raises:
@@ -44,6 +44,10 @@ class Launcher(Protocol):
 
     def take(self, seq: int) -> subprocess.Popen:
         """The Athrill process of test `seq`, running the program `prepare` made; OSError if it cannot start."""
+
+    def end(self, proc: subprocess.Popen) -> None:
+        """The test of `proc` is over: stop it as the robot's program is stopped (a Ctrl-C first, for a program
+        that takes one), and keep what it leaves."""
 
     def last_lines(self, proc: subprocess.Popen, n: int) -> list[str]:
         """The last lines an ended process printed: a crashed program's own error."""

@@ -27,6 +27,10 @@ SERIAL_LOG = "serial-{port}.log"  # what the program wrote to ev3_serial_open_fi
 SERIAL_PORTS = ("default", "uart", "bt")  # serial_port_t order (EV3_SERIAL_DEFAULT, _UART, _BT): SERIAL_LOG's names
 SERIAL_INPUT = "serial-input.txt"  # the scenario's [[serial]] input: "<at_us> <port> <hex bytes>" per line
 SDCARD_DIR = "sdcard"  # the folder standing in for the SD card: the program's working directory
+# A native program's working folder, a scratch copy of its workspace per test (athrill_sim/working_folder.py): the
+# test being run's under WORKSPACES_DIR, the last test's, with what the program wrote, kept as WORKSPACE_DIR.
+WORKSPACES_DIR = "workspaces"
+WORKSPACE_DIR = "workspace"
 
 # What the physics process tells the controller it starts (the paper's arrangement), in its environment.
 RUN_DIR_ENV = "HAKO_RUN_DIR"  # the run directory

@@ -19,6 +19,13 @@ ALLOWED_TIME_DIFF_US = 20_000  # the largest Unity-Athrill time difference the p
 EVENT_CHECK_PERIOD_US = 10_000  # goal, wall and time-limit checks
 BUTTON_POLL_US = 10_000  # EV3RT's brick_button_cyc, which sees clicks (brick_dri.cfg: CRE_CYC(BRICK_BTN_CYC, 10000))
 TRACE_PERIOD_US = 50_000  # trajectory samples
+# A robot program's computation takes no simulated time, except that each call that reads a clock or uses a
+# device (a sensor read, a motor command, a button, a yield) takes this much: a loop that polls without ever
+# sleeping then advances simulated time, as on the robot, the same way on every machine (docs/NATIVE.md).
+CALL_COST_US = 1
+# What a native program's wall clock (CLOCK_REALTIME, std::chrono::system_clock, time()) reads when its test
+# starts: 2026-01-01T00:00:00Z, so that the timestamps a program writes repeat from run to run.
+CLOCK_EPOCH_S = 1_767_225_600
 
 
 @dataclass

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from athrill_sim.forms.form import file_bytes, file_text
 from athrill_sim.tuning import Tuning, apply_edits
 
 BEST_PATCH = "best.patch"
@@ -51,12 +52,12 @@ def write_patch(path: Path, tuning: Tuning, values: dict[str, float]) -> PatchIn
     root = Path(os.path.commonpath([tuning.root, *(p.parent for p in by_file)]))
     chunks, sets = [], []
     for f in sorted(by_file):
-        old = f.read_text() if f.is_file() else None
+        old = file_text(f) if f.is_file() else None
         new = apply_edits(old or "", [(e.start, e.end, e.text) for e in by_file[f]])
         rel = f.relative_to(root).as_posix()
         sets += [f"{e.what} in {rel}" for e in by_file[f]]
         chunks.append(unified_diff(old, new, rel))
-    path.write_text("".join(chunks))
+    path.write_bytes(file_bytes("".join(chunks)))
     return PatchInfo(root, tuple(f.relative_to(root).as_posix() for f in sorted(by_file)), tuple(sets),
                      tuple(missing))
 

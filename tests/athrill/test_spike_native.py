@@ -262,7 +262,8 @@ PROBE_HEAD = r"""
 #define TXW(offset) (*(volatile int32_t *)(HAKO_TX_GUEST_BASE + (offset)))
 #define TXB(offset) (*(volatile uint8_t *)(HAKO_TX_GUEST_BASE + (offset)))
 #define HSV3(c) ({ pup_color_hsv_t c_ = (c); c_.h * 1000000 + c_.s * 1000 + c_.v; })
-#define ELAPSED_MS(call) ({ SYSTIM a_, b_; get_tim(&a_); call; get_tim(&b_); (int)((b_ - a_) / 1000); })
+/* to the nearest ms: the reads around the call take their microseconds (a wait counts from its step) */
+#define ELAPSED_MS(call) ({ SYSTIM a_, b_; get_tim(&a_); call; get_tim(&b_); (int)((b_ - a_ + 500) / 1000); })
 static pup_device_t *color, *force, *sonar;
 static pup_motor_t *ma, *mb, *mc;
 """

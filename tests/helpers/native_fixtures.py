@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 
 from hakoniwa.wire.protocol import Header, MappedFile, Rx, Tx, open_athrill, open_unity
+from hakoniwa.wire.rundir import SDCARD_DIR
 from hakoniwa.wire.waiting import futex_wake
 
 NO_CC = "needs a C compiler (cc) to build native apps"
@@ -54,8 +55,10 @@ class FakePhysics:
 
     def start(self, exe: Path, test: int | None = None) -> subprocess.Popen:
         args = [str(exe), "--run-dir", str(self.run_dir)] + (["--test", str(test)] if test is not None else [])
+        card = self.run_dir / SDCARD_DIR  # the program's working folder: its SD card, as the bench's copy is
+        card.mkdir(exist_ok=True)
         return subprocess.Popen(args, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                text=True)
+                                text=True, cwd=card)
 
     def next_wake(self, proc: subprocess.Popen, timeout_s: float = 10.0) -> int:
         """Wait for the program's next answer and return the wake-up time it published."""

@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 
 from hakoniwa.physics.robot import DEFAULT_WIRING
 from hakoniwa.physics.robots import BUILT_IN, RobotError, load_robot, parse_robot
-from hakoniwa.physics.scenario import Press, Scenario, ScenarioError, parse_scenario
+from hakoniwa.physics.scenario import EV3_BUTTONS, Press, Scenario, ScenarioError, parse_scenario
 from hakoniwa.wire.protocol import NEVER_WAKES
 
 
@@ -25,7 +25,7 @@ def test_a_touch_press_and_a_button_press_hold_for_their_time():
        st.integers(0, 80))
 def test_the_buttons_hold_until_the_instant_the_scenario_says(presses, now_ms):
     """A patched athrill2 reads the buttons without a new snapshot before `buttons_until`: they must not change."""
-    s = Scenario(tuple(Press(f"press {i}", None, None, button, at * 1000, held * 1000)
+    s = Scenario(tuple(Press(f"press {i}", None, None, EV3_BUTTONS[button], at * 1000, held * 1000)
                        for i, (button, at, held) in enumerate(presses)))
     until = s.buttons_until(now_ms * 1000)
     assert until > now_ms * 1000

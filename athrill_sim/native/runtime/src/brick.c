@@ -8,8 +8,10 @@
  * in slp_tsk, is seen as on EV3RT.
  */
 #include "athrill_syscall.h"
+#include "devices.h"
 #include "ev3api.h"
 #include "runtime.h"
+#include "scheduler.h"
 
 static ISR click_handlers[TNUM_BUTTON];
 static intptr_t click_exinfs[TNUM_BUTTON];
@@ -24,7 +26,7 @@ ER ev3_button_set_on_clicked(button_t button, ISR handler, intptr_t exinf)
     return E_OK;
 }
 
-bool hako_buttons_watched(void)
+static bool buttons_watched(void)
 {
     for (int b = LEFT_BUTTON; b <= BACK_BUTTON; b++)
         if (click_handlers[b] != NULL)
@@ -32,7 +34,8 @@ bool hako_buttons_watched(void)
     return false;
 }
 
-void hako_buttons_poll(void)
+/* At every snapshot: the click handlers of the buttons just released. */
+static void poll_buttons(void)
 {
     uint32_t now = *(volatile const uint32_t *)((uintptr_t)HAKO_RX_GUEST_BASE + HAKO_RX_BUTTONS);
     uint32_t released = buttons_before & ~now;
@@ -41,6 +44,14 @@ void hako_buttons_poll(void)
         if ((released >> b & 1) && click_handlers[b] != NULL)
             click_handlers[b](click_exinfs[b]);
 }
+
+/* While a click handler is set, the kernel wakes every HAKO_BUTTON_POLL_US, as EV3RT's button cyclic runs. */
+static int64_t next_poll(int64_t tick)
+{
+    return buttons_watched() ? (tick / HAKO_BUTTON_POLL_US + 1) * HAKO_BUTTON_POLL_US : HAKO_FOREVER;
+}
+
+HAKO_DEVICE(buttons_device) = {.serve = poll_buttons, .next_due = next_poll};
 
 ER ev3_speaker_set_volume(uint8_t volume)
 {
@@ -68,9 +79,17 @@ ER ev3_speaker_stop(void)
     return E_OK;
 }
 
-int ev3_battery_current_mA(void) { return *(volatile const int32_t *)((uintptr_t)HAKO_RX_GUEST_BASE + HAKO_RX_BATTERY_CURRENT); }
+int ev3_battery_current_mA(void)
+{
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
+    return *(volatile const int32_t *)((uintptr_t)HAKO_RX_GUEST_BASE + HAKO_RX_BATTERY_CURRENT);
+}
 
-int ev3_battery_voltage_mV(void) { return *(volatile const int32_t *)((uintptr_t)HAKO_RX_GUEST_BASE + HAKO_RX_BATTERY_VOLTAGE); }
+int ev3_battery_voltage_mV(void)
+{
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
+    return *(volatile const int32_t *)((uintptr_t)HAKO_RX_GUEST_BASE + HAKO_RX_BATTERY_VOLTAGE);
+}
 
 static int64_t stopwatch_us;
 

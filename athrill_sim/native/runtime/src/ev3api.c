@@ -7,6 +7,7 @@
  */
 #include "ev3api.h"
 #include "runtime.h"
+#include "scheduler.h"
 
 #define RX(offset) ((uintptr_t)HAKO_RX_GUEST_BASE + (offset))
 #define TX(offset) ((uintptr_t)HAKO_TX_GUEST_BASE + (offset))
@@ -78,7 +79,7 @@ static bool sensor_ready(sensor_port_t port, sensor_type_t kind, const char *nam
 static int sensor_index(sensor_port_t port, sensor_type_t kind)
 {
     int index = 0;
-    for (int p = 0; p < port; p++)
+    for (int p = 0; p < (int)port; p++)
         index += sensors[p] == kind;
     return index;
 }
@@ -91,16 +92,19 @@ static uintptr_t color_slot(sensor_port_t port, uint32_t slot0)
 
 uint8_t ev3_color_sensor_get_reflect(sensor_port_t port)
 {
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
     return sensor_ready(port, COLOR_SENSOR, __func__) ? read_u8(color_slot(port, HAKO_RX_COLOR0_REFLECT)) : 0;
 }
 
 uint8_t ev3_color_sensor_get_ambient(sensor_port_t port)
 {
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
     return sensor_ready(port, COLOR_SENSOR, __func__) ? read_u8(color_slot(port, HAKO_RX_COLOR0_AMBIENT)) : 0;
 }
 
 colorid_t ev3_color_sensor_get_color(sensor_port_t port)
 {
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
     return sensor_ready(port, COLOR_SENSOR, __func__) ? (colorid_t)read_u8(color_slot(port, HAKO_RX_COLOR0_COLOR))
                                                       : COLOR_NONE;
 }
@@ -108,6 +112,7 @@ colorid_t ev3_color_sensor_get_color(sensor_port_t port)
 /* On an error *val is left alone, as EV3RT leaves it. */
 void ev3_color_sensor_get_rgb_raw(sensor_port_t port, rgb_raw_t *val)
 {
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
     if (!sensor_ready(port, COLOR_SENSOR, __func__))
         return;
     val->r = read_u16(color_slot(port, HAKO_RX_COLOR0_RGB + 0));
@@ -117,11 +122,13 @@ void ev3_color_sensor_get_rgb_raw(sensor_port_t port, rgb_raw_t *val)
 
 int16_t ev3_gyro_sensor_get_angle(sensor_port_t port)
 {
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
     return sensor_ready(port, GYRO_SENSOR, __func__) ? read_i16(RX(HAKO_RX_GYRO_ANGLE)) : 0;
 }
 
 int16_t ev3_gyro_sensor_get_rate(sensor_port_t port)
 {
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
     return sensor_ready(port, GYRO_SENSOR, __func__) ? read_i16(RX(HAKO_RX_GYRO_RATE)) : 0;
 }
 
@@ -140,22 +147,26 @@ ER ev3_gyro_sensor_reset(sensor_port_t port)
 
 int16_t ev3_ultrasonic_sensor_get_distance(sensor_port_t port)
 {
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
     return sensor_ready(port, ULTRASONIC_SENSOR, __func__) ? (int16_t)(read_i16(RX(HAKO_RX_ULTRASONIC_MM)) / 10) : 0;
 }
 
 bool_t ev3_ultrasonic_sensor_listen(sensor_port_t port)
 {
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
     return sensor_ready(port, ULTRASONIC_SENSOR, __func__) && read_u32(RX(HAKO_RX_ULTRASONIC_LISTEN)) != 0;
 }
 
 bool_t ev3_touch_sensor_is_pressed(sensor_port_t port)
 {
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
     return sensor_ready(port, TOUCH_SENSOR, __func__) &&
            read_i16(RX(sensor_index(port, TOUCH_SENSOR) == 0 ? HAKO_RX_TOUCH0 : HAKO_RX_TOUCH1)) > ADC_RES / 2;
 }
 
 bool_t ev3_button_is_pressed(button_t button)
 {
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
     if ((int)button < LEFT_BUTTON || (int)button > BACK_BUTTON)
         return false;
     return (read_u32(RX(HAKO_RX_BUTTONS)) >> button) & 1;
@@ -172,6 +183,7 @@ static ER motor_error(motor_port_t port)
 
 int32_t ev3_motor_get_counts(motor_port_t port)
 {
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
     ER ercd = motor_error(port);
     if (ercd == E_OK)
         return read_i32(RX(HAKO_RX_MOTOR_ANGLE + 4 * port));
@@ -205,6 +217,7 @@ ER ev3_motor_set_power(motor_port_t port, int power)
 
 int ev3_motor_get_power(motor_port_t port)
 {
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
     ER ercd = motor_error(port);
     if (ercd == E_OK)
         return motor_power[port];

@@ -7,43 +7,42 @@
  *   the RX header's unity time until it reaches `wake` (the physics process wakes us when it writes it).
  * The sleeps are futexes on the shared file mapping, as in hakoniwa/waiting.py, with a timeout to check every
  * HAKO_CHECK_EVERY_S that the physics process lives; the process leaves (status 0) when it is gone.
+ *
+ * Once the test is over and the program was interrupted (SIGINT, as Ctrl-C ends a program on the robot, and the
+ * program has a handler that returned: posix_process.c), the lockstep is *detached*: the program goes on in
+ * simulated time with the last snapshot and without waiting, and nothing reaches the files any more, so that
+ * a handler that only raises a flag lets the program's loops see it, end and write their logs, while the
+ * next test already runs. Past HAKO_AFTER_INTERRUPT_US of simulated time it leaves.
  */
-#include <signal.h>
 #include <errno.h>
 #include <limits.h>
 #include <linux/futex.h>
+#include <signal.h>
 #include <string.h>
 #include <sys/syscall.h>
 #include <time.h>
 #include <unistd.h>
 
+#include "real.h"
 #include "runtime.h"
 
+#define HAKO_AFTER_INTERRUPT_US (10 * 1000000LL) /* how long a detached program may go on */
+
 static uint32_t physics_pid;
+static volatile sig_atomic_t detached;
+static int64_t detached_until = -1; /* the simulated time it leaves at, set at its first wait detached */
 
-static double wall_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
+void hako_lockstep_detach(void) { detached = 1; }
 
-static void nap(double seconds)
-{
-    struct timespec ts = {(time_t)seconds, (long)((seconds - (double)(time_t)seconds) * 1e9)};
-    nanosleep(&ts, NULL);
-}
+bool hako_lockstep_detached(void) { return detached != 0; }
 
-static void futex_wake(uint32_t *word)
-{
-    syscall(SYS_futex, word, FUTEX_WAKE, INT_MAX, NULL, NULL, 0);
-}
+static void futex_wake(uint32_t *word) { hako_real()->syscall(SYS_futex, word, FUTEX_WAKE, INT_MAX, NULL, NULL, 0); }
 
 /* Sleep while *word still holds `expected`, at most `seconds` (the kernel compares before it sleeps). */
 static void futex_wait(uint32_t *word, uint32_t expected, double seconds)
 {
     struct timespec ts = {(time_t)seconds, (long)((seconds - (double)(time_t)seconds) * 1e9)};
-    syscall(SYS_futex, word, FUTEX_WAIT, expected, &ts, NULL, 0);
+    hako_real()->syscall(SYS_futex, word, FUTEX_WAIT, expected, &ts, NULL, 0);
 }
 
 static void check_physics(void)
@@ -62,7 +61,7 @@ void hako_wait_for_test(uint32_t test)
         check_physics();
         if (current > test)
             hako_leave("test %u will not run (physics is at test %u)", test, current);
-        nap(HAKO_TEST_WAIT_NAP_S);
+        hako_wall_nap(HAKO_TEST_WAIT_NAP_S);
     }
 }
 
@@ -75,6 +74,8 @@ void hako_announce(void)
 
 void hako_publish(int64_t now_us, int64_t wake_us)
 {
+    if (detached)
+        return;
     uint8_t *tx = hako_tx_file();
     uint64_t athrill_time = (uint64_t)now_us, unity_time = hako_rx_unity_time();
     memcpy(tx + HAKO_HEADER_SIZE + HAKO_TX_NEXT_WAKE, &wake_us, sizeof wake_us);
@@ -85,19 +86,30 @@ void hako_publish(int64_t now_us, int64_t wake_us)
     futex_wake(answer);
 }
 
+static void go_on_detached(int64_t wake_us)
+{
+    if (detached_until < 0)
+        detached_until = wake_us + HAKO_AFTER_INTERRUPT_US;
+    else if (wake_us > detached_until)
+        hako_leave("the program was interrupted and did not end within %lld s of simulated time",
+                   (long long)(HAKO_AFTER_INTERRUPT_US / 1000000));
+}
+
 void hako_wait_snapshot(int64_t wake_us)
 {
     uint32_t *low_word = (uint32_t *)(hako_rx_file() + HAKO_HDR_UNITY_TIME); /* little-endian: the low half */
-    double next_check = wall_s() + HAKO_CHECK_EVERY_S;
-    while ((int64_t)hako_rx_unity_time() < wake_us) {
+    double next_check = hako_wall_s() + HAKO_CHECK_EVERY_S;
+    while (!detached && (int64_t)hako_rx_unity_time() < wake_us) {
         uint32_t expected = __atomic_load_n(low_word, __ATOMIC_ACQUIRE);
         if ((int64_t)hako_rx_unity_time() >= wake_us)
             break;
         futex_wait(low_word, expected, HAKO_CHECK_EVERY_S);
-        double now = wall_s();
+        double now = hako_wall_s();
         if (now > next_check) {
             next_check = now + HAKO_CHECK_EVERY_S;
             check_physics();
         }
     }
+    if (detached)
+        go_on_detached(wake_us);
 }

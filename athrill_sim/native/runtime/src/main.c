@@ -60,7 +60,4 @@ __attribute__((constructor(101))) static void hako_start(int argc, char **argv)
     hako_kernel_start((int64_t)hako_rx_unity_time());
 }
 
-int main(void)
-{
-    hako_kernel_run();
-}
+int main(void) { hako_kernel_run(); }

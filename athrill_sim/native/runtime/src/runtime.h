@@ -12,6 +12,7 @@
 
 #include "hako_layout.h"
 #include "hako_timing.h"
+#include "sim_time.h"
 
 _Static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "the bench files are little-endian, as is the guest");
 
@@ -36,27 +37,18 @@ void hako_wait_for_test(uint32_t test);
 void hako_announce(void);
 void hako_publish(int64_t now_us, int64_t wake_us);
 void hako_wait_snapshot(int64_t wake_us);
+void hako_lockstep_detach(void); /* async-signal-safe: the test is over, go on without the files */
+bool hako_lockstep_detached(void);
 
 /* kernel.c: the tasks and cyclic handlers of app.cfg in simulated time; leaving it as when every task has
  * ended (the outputs flushed, NEVER_WAKES published). */
-int64_t hako_now(void);
-void hako_kernel_start(int64_t start_us); /* the tables, TA_ACT tasks and TA_STA handlers; the SD card folder */
+void hako_kernel_start(int64_t start_us); /* the tables, TA_ACT tasks and TA_STA handlers; the devices' start */
 void hako_kernel_run(void) __attribute__((noreturn));
 void hako_kernel_exit(void) __attribute__((noreturn));
 
-/* spike/src/motor.c, linked into SPIKE programs only (so weak here): the motors' service at each snapshot,
- * before any task runs at that instant, and when it must run next (HAKO_NEVER_WAKES: not before a task's). */
-void hako_spike_serve(void) __attribute__((weak));
-int64_t hako_spike_next_due(int64_t now_us) __attribute__((weak));
-
-/* main.c: the run directory (absolute: the program's working directory is the SD card folder). */
+/* main.c: the run directory (absolute: the program's working directory is its own, the bench's copy of its
+ * workspace). */
 const char *hako_run_dir(void);
-
-/* sdcard.c: enter the SD card folder; brick.c: call the click handlers of the buttons just released, and
- * whether any is set (then the kernel wakes every HAKO_BUTTON_POLL_US, as EV3RT's button cyclic runs). */
-void hako_sdcard_enter(void);
-void hako_buttons_poll(void);
-bool hako_buttons_watched(void);
 
 /* syslog.c: lines on stderr, each written at once. */
 void hako_vline(const char *prefix, const char *format, va_list args);

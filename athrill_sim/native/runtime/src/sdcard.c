@@ -1,6 +1,7 @@
 /*
- * The SD card: the run directory's sdcard/ folder, which is the program's working directory, so that fopen
- * of a relative path and EV3RT's ev3_sdcard_* and ev3_memfile_* see the same files. Argument checks and error
+ * The SD card: the program's working directory (the bench starts it in a copy of its workspace, which holds its
+ * own sdcard/ folder's contents: athrill_sim/working_folder.py), so that fopen of a relative path and EV3RT's
+ * ev3_sdcard_* and ev3_memfile_* see the same files. Argument checks and error
  * codes are EV3RT's (ev3api_fs.c): memfile_load with no path is E_PAR, with no memfile E_NOMEM, a file that
  * does not open E_PAR; memfile_free of NULL E_PAR, of a freed one E_OBJ.
  */
@@ -9,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "ev3api.h"
 #include "runtime.h"
@@ -109,13 +111,4 @@ ER ev3_sdcard_closedir(ID dirid)
     closedir(dirs[dirid]);
     dirs[dirid] = NULL;
     return E_OK;
-}
-
-void hako_sdcard_enter(void)
-{
-    char path[4096];
-    snprintf(path, sizeof path, "%s/%s", hako_run_dir(), HAKO_SDCARD_DIR);
-    mkdir(path, 0755);
-    if (chdir(path) != 0)
-        hako_bench_fault("cannot enter the SD card folder %s", path);
 }

@@ -23,7 +23,7 @@ int athrill_serial_send(DrvInt32Type channel, const char *at_cmd)
 {
     static int said;
     if (!said++)
-        hako_log("athrill_serial_send(%d, \"%s\"): no serial device in the native mock; output dropped",
-                 (int)channel, at_cmd);
+        hako_log("athrill_serial_send(%d, \"%s\"): no serial device in the native mock; output dropped", (int)channel,
+                 at_cmd);
     return (int)strlen(at_cmd);
 }

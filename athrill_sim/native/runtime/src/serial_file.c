@@ -13,7 +13,6 @@
 #include "ev3api.h"
 #include "runtime.h"
 
-
 struct input {
     int64_t at_us;
     char *bytes;

@@ -7,8 +7,8 @@
 #include <stdio.h>
 #include <unistd.h>
 
-#include "t_syslog.h"
 #include "runtime.h"
+#include "t_syslog.h"
 
 void hako_vline(const char *prefix, const char *format, va_list args)
 {

@@ -16,8 +16,8 @@
 #define MAX_DETECTABLE 30 /* SPIKE-RT's CB_COLOR_MAP_SIZE */
 
 static pup_color_hsv_t detectable[MAX_DETECTABLE] = {
-    {PBIO_COLOR_HUE_RED, 100, 100}, {PBIO_COLOR_HUE_YELLOW, 100, 100}, {PBIO_COLOR_HUE_GREEN, 100, 100},
-    {PBIO_COLOR_HUE_BLUE, 100, 100}, {0, 0, 100} /* white */,      {0, 0, 0} /* none */,
+    {PBIO_COLOR_HUE_RED, 100, 100},  {PBIO_COLOR_HUE_YELLOW, 100, 100}, {PBIO_COLOR_HUE_GREEN, 100, 100},
+    {PBIO_COLOR_HUE_BLUE, 100, 100}, {0, 0, 100} /* white */,           {0, 0, 0} /* none */,
 };
 static int32_t detectable_count = 6;
 
@@ -25,18 +25,25 @@ pup_device_t *pup_color_sensor_get_device(pbio_port_id_t port) { return spike_ta
 
 pup_color_rgb_t pup_color_sensor_rgb(pup_device_t *pdev)
 {
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
     (void)pdev;
     return (pup_color_rgb_t){(uint16_t)spike_read_u32(HAKO_RX_COLOR0_RGB),
                              (uint16_t)spike_read_u32(HAKO_RX_COLOR0_RGB + 4),
                              (uint16_t)spike_read_u32(HAKO_RX_COLOR0_RGB + 8)};
 }
 
-pup_color_hsv_t pup_color_sensor_hsv(pup_device_t *pdev, bool surface)
+static pup_color_hsv_t read_hsv(void)
 {
-    (void)pdev, (void)surface;
     return (pup_color_hsv_t){(uint16_t)spike_read_u32(HAKO_RX_SPIKE_HSV_H),
                              (uint8_t)spike_read_u32(HAKO_RX_SPIKE_HSV_S),
                              (uint8_t)spike_read_u32(HAKO_RX_SPIKE_HSV_V)};
+}
+
+pup_color_hsv_t pup_color_sensor_hsv(pup_device_t *pdev, bool surface)
+{
+    (void)pdev, (void)surface;
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
+    return read_hsv();
 }
 
 static int32_t distance(int32_t a, int32_t b) { return a > b ? a - b : b - a; }
@@ -58,7 +65,9 @@ static int32_t cost(const pup_color_hsv_t *x, const pup_color_hsv_t *c)
 
 pup_color_hsv_t pup_color_sensor_color(pup_device_t *pdev, bool surface)
 {
-    pup_color_hsv_t hsv = pup_color_sensor_hsv(pdev, surface);
+    (void)pdev, (void)surface;
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
+    pup_color_hsv_t hsv = read_hsv();
     pup_color_hsv_t best = detectable[0];
     int32_t best_cost = INT32_MAX;
     for (int32_t i = 0; i < detectable_count; i++) {
@@ -71,12 +80,14 @@ pup_color_hsv_t pup_color_sensor_color(pup_device_t *pdev, bool surface)
 
 int32_t pup_color_sensor_reflection(pup_device_t *pdev)
 {
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
     (void)pdev;
     return (int32_t)spike_read_u32(HAKO_RX_COLOR0_REFLECT);
 }
 
 int32_t pup_color_sensor_ambient(pup_device_t *pdev)
 {
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
     (void)pdev;
     return (int32_t)spike_read_u32(HAKO_RX_COLOR0_AMBIENT);
 }

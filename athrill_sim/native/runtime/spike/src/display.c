@@ -49,7 +49,10 @@ pbio_error_t hub_display_image(uint8_t *image)
 {
     char rows[SIZE * SIZE * 4 + SIZE + 1] = "";
     for (int i = 0; i < SIZE * SIZE; i++)
-        snprintf(rows + strlen(rows), sizeof rows - strlen(rows), "%s%u", i == 0 ? "" : i % SIZE ? " " : " / ",
+        snprintf(rows + strlen(rows), sizeof rows - strlen(rows), "%s%u",
+                 i == 0     ? ""
+                 : i % SIZE ? " "
+                            : " / ",
                  (unsigned)image[i]);
     hako_log("display: image %s", rows);
     return PBIO_SUCCESS;

@@ -16,16 +16,27 @@
 #include "spike/hub/light.h"
 #include "spike/hub/system.h"
 
-uint16_t hub_battery_get_voltage(void) { return (uint16_t)spike_read_u32(HAKO_RX_BATTERY_VOLTAGE); }
+uint16_t hub_battery_get_voltage(void)
+{
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
+    return (uint16_t)spike_read_u32(HAKO_RX_BATTERY_VOLTAGE);
+}
 
-uint16_t hub_battery_get_current(void) { return (uint16_t)spike_read_u32(HAKO_RX_BATTERY_CURRENT); }
+uint16_t hub_battery_get_current(void)
+{
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
+    return (uint16_t)spike_read_u32(HAKO_RX_BATTERY_CURRENT);
+}
 
 pbio_error_t hub_button_is_pressed(hub_button_t *pressed)
 {
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
     static const struct {
         button_t ev3;
         hub_button_t hub;
-    } map[] = {{LEFT_BUTTON, HUB_BUTTON_LEFT}, {RIGHT_BUTTON, HUB_BUTTON_RIGHT}, {ENTER_BUTTON, HUB_BUTTON_CENTER},
+    } map[] = {{LEFT_BUTTON, HUB_BUTTON_LEFT},
+               {RIGHT_BUTTON, HUB_BUTTON_RIGHT},
+               {ENTER_BUTTON, HUB_BUTTON_CENTER},
                {BACK_BUTTON, HUB_BUTTON_BT}};
     uint8_t buttons = *(volatile const uint8_t *)spike_rx(HAKO_RX_BUTTONS);
     int bits = 0;
@@ -46,9 +57,17 @@ static void read_floats(uint32_t rx_offset, float out[3])
     }
 }
 
-void hub_imu_get_acceleration(float accel[3]) { read_floats(HAKO_RX_SPIKE_IMU_ACCEL_X, accel); }
+void hub_imu_get_acceleration(float accel[3])
+{
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
+    read_floats(HAKO_RX_SPIKE_IMU_ACCEL_X, accel);
+}
 
-void hub_imu_get_angular_velocity(float angv[3]) { read_floats(HAKO_RX_SPIKE_IMU_ANGVEL_X, angv); }
+void hub_imu_get_angular_velocity(float angv[3])
+{
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
+    read_floats(HAKO_RX_SPIKE_IMU_ANGVEL_X, angv);
+}
 
 /* The SDK's: the one LED bit of the four named colours, the byte written whole; any other colour is off. */
 pbio_error_t hub_light_on_color(pbio_color_t color)
@@ -70,11 +89,15 @@ pbio_error_t hub_light_on_hsv(const pbio_color_hsv_t *hsv)
     static const struct {
         int hue;
         pbio_color_t color;
-    } hues[] = {{PBIO_COLOR_HUE_RED, PBIO_COLOR_RED},       {PBIO_COLOR_HUE_ORANGE, PBIO_COLOR_ORANGE},
-                {PBIO_COLOR_HUE_YELLOW, PBIO_COLOR_YELLOW}, {PBIO_COLOR_HUE_GREEN, PBIO_COLOR_GREEN},
+    } hues[] = {{PBIO_COLOR_HUE_RED, PBIO_COLOR_RED},
+                {PBIO_COLOR_HUE_ORANGE, PBIO_COLOR_ORANGE},
+                {PBIO_COLOR_HUE_YELLOW, PBIO_COLOR_YELLOW},
+                {PBIO_COLOR_HUE_GREEN, PBIO_COLOR_GREEN},
                 {PBIO_COLOR_HUE_SPRING_GREEN, PBIO_COLOR_SPRING_GREEN},
-                {PBIO_COLOR_HUE_CYAN, PBIO_COLOR_CYAN},     {PBIO_COLOR_HUE_BLUE, PBIO_COLOR_BLUE},
-                {PBIO_COLOR_HUE_VIOLET, PBIO_COLOR_VIOLET}, {PBIO_COLOR_HUE_MAGENTA, PBIO_COLOR_MAGENTA},
+                {PBIO_COLOR_HUE_CYAN, PBIO_COLOR_CYAN},
+                {PBIO_COLOR_HUE_BLUE, PBIO_COLOR_BLUE},
+                {PBIO_COLOR_HUE_VIOLET, PBIO_COLOR_VIOLET},
+                {PBIO_COLOR_HUE_MAGENTA, PBIO_COLOR_MAGENTA},
                 {PBIO_COLOR_HUE_MODULO, PBIO_COLOR_RED}};
     if (hsv->s == 0 || hsv->v == 0)
         return hub_light_off();

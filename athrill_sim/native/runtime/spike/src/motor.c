@@ -21,6 +21,7 @@
 #include <stddef.h>
 #include <stdlib.h>
 
+#include "../../src/devices.h"
 #include "spike.h"
 #include "spike/pup/motor.h"
 
@@ -79,7 +80,7 @@ static void write_power(pup_device_t *pdev, int power)
         power = limited(s, power);
     s->applied = power;
     if (!s->regulated)
-        s->driven_since = power == 0 ? -1 : s->driven_since >= 0 ? s->driven_since : hako_now();
+        s->driven_since = power == 0 ? -1 : s->driven_since >= 0 ? s->driven_since : hako_tick();
     int out = sign(pdev) * power;
     spike_write_u32(HAKO_TX_MOTOR_POWER + 4 * pdev->port_id, (uint32_t)out);
     if (out == 0)
@@ -92,7 +93,7 @@ pup_motor_t *pup_motor_get_device(pbio_port_id_t port)
     if (pdev != NULL) {
         *state(pdev) = (motor_state){.taken = true, .duty_limit = FULL_DUTY, .driven_since = -1};
         any_motor = true;
-        sample(hako_now()); /* the speed's first reference */
+        sample(hako_tick()); /* the speed's first reference */
     }
     return (pup_motor_t *)pdev;
 }
@@ -121,7 +122,11 @@ pbio_error_t pup_motor_reset_count(pup_motor_t *motor)
     return PBIO_SUCCESS;
 }
 
-int32_t pup_motor_get_count(pup_motor_t *motor) { return raw_count(device(motor, __func__)->port_id); }
+int32_t pup_motor_get_count(pup_motor_t *motor)
+{
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
+    return raw_count(device(motor, __func__)->port_id);
+}
 
 /* The count's change per second since the newest sample at least `window_us` before the newest, or the
  * oldest kept; how long before is left in *span_us (0, with a speed of 0, before two samples). */
@@ -139,11 +144,16 @@ static int32_t speed_over(int index, int64_t window_us, int64_t *span_us)
 
 int32_t pup_motor_get_speed(pup_motor_t *motor)
 {
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
     int64_t span;
     return speed_over(device(motor, __func__)->port_id, SPEED_WINDOW_US, &span);
 }
 
-int32_t pup_motor_get_power(pup_motor_t *motor) { return device(motor, __func__)->power; }
+int32_t pup_motor_get_power(pup_motor_t *motor)
+{
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
+    return device(motor, __func__)->power;
+}
 
 pbio_error_t pup_motor_set_power(pup_motor_t *motor, int power)
 {
@@ -159,7 +169,7 @@ pbio_error_t pup_motor_set_power(pup_motor_t *motor, int power)
 static void regulate(pup_device_t *pdev, int32_t speed, bool from_here)
 {
     motor_state *s = state(pdev);
-    int64_t now = hako_now();
+    int64_t now = hako_tick();
     if (from_here || !s->regulated)
         s->ref_angle = angle(pdev);
     else
@@ -198,8 +208,9 @@ pbio_error_t pup_motor_hold(pup_motor_t *motor)
 
 bool pup_motor_is_stalled(pup_motor_t *motor)
 {
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
     const motor_state *s = state(device(motor, __func__));
-    if (s->driven_since < 0 || hako_now() - s->driven_since < STALL_TIME_US)
+    if (s->driven_since < 0 || hako_tick() - s->driven_since < STALL_TIME_US)
         return false;
     int64_t span;
     int32_t speed = speed_over((int)(s - states), STALL_TIME_US, &span);
@@ -257,13 +268,12 @@ static void sample(int64_t now)
         counts[newest][i] = raw_count(i);
 }
 
-/* Called by the kernel (it links it weakly: EV3 programs have no SPIKE runtime) at each snapshot, before any
- * task runs at that instant. */
-void hako_spike_serve(void)
+/* At each snapshot, before any task runs at that instant (the kernel's device hook). */
+static void serve_motors(void)
 {
     if (!any_motor)
         return;
-    int64_t now = hako_now();
+    int64_t now = hako_tick();
     sample(now);
     for (int i = 0; i < SPIKE_PORTS; i++) {
         motor_state *s = &states[i];
@@ -276,10 +286,12 @@ void hako_spike_serve(void)
 }
 
 /* When the kernel must wake next for the motors: every control period while one is regulated. */
-int64_t hako_spike_next_due(int64_t now_us)
+static int64_t motors_next_due(int64_t now_us)
 {
     for (int i = 0; i < SPIKE_PORTS; i++)
         if (states[i].taken && states[i].regulated)
             return (now_us / CONTROL_PERIOD_US + 1) * CONTROL_PERIOD_US;
     return HAKO_NEVER_WAKES;
 }
+
+HAKO_DEVICE(motors_device) = {.serve = serve_motors, .next_due = motors_next_due};

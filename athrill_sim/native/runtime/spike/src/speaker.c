@@ -3,9 +3,9 @@
  * its duration (SPIKE-RT's hub_speaker_play_tone waits it out, then stops), unless it is SOUND_MANUAL_STOP;
  * its frequency is SPIKE-RT's 64..24000 Hz. ET Robocon's SDK does nothing and returns at once.
  */
+#include "spike/hub/speaker.h"
 #include "kernel.h"
 #include "spike.h"
-#include "spike/hub/speaker.h"
 
 #define MIN_HZ 64
 #define MAX_HZ 24000

@@ -10,6 +10,7 @@
 #include <stdint.h>
 
 #include "../../src/runtime.h"
+#include "../../src/scheduler.h"
 #include "spike/pup_device.h"
 
 #define SPIKE_PORTS 6 /* A..F: RP_PORT_NUMBER */
@@ -33,7 +34,10 @@ pup_device_t *spike_port(int index); /* the entry of port index 0 (A) .. 5 (F) *
 static inline uintptr_t spike_rx(uint32_t offset) { return (uintptr_t)HAKO_RX_GUEST_BASE + offset; }
 static inline uintptr_t spike_tx(uint32_t offset) { return (uintptr_t)HAKO_TX_GUEST_BASE + offset; }
 static inline uint32_t spike_read_u32(uint32_t rx_offset) { return *(volatile const uint32_t *)spike_rx(rx_offset); }
-static inline void spike_write_u32(uint32_t tx_offset, uint32_t value) { *(volatile uint32_t *)spike_tx(tx_offset) = value; }
+static inline void spike_write_u32(uint32_t tx_offset, uint32_t value)
+{
+    *(volatile uint32_t *)spike_tx(tx_offset) = value;
+}
 
 /* motor.c: the motors' powers to zero (the hub shutting down). */
 void spike_motors_off(void);

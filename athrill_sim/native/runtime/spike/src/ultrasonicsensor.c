@@ -3,8 +3,8 @@
  * slot, in millimetres (SPIKE-RT's unit). Nothing on the bench emits ultrasound, so `presence` is false. Its
  * lights change nothing the bench measures: each light call is a line in the log.
  */
-#include "spike.h"
 #include "spike/pup/ultrasonicsensor.h"
+#include "spike.h"
 
 pup_device_t *pup_ultrasonic_sensor_get_device(pbio_port_id_t port)
 {
@@ -13,12 +13,14 @@ pup_device_t *pup_ultrasonic_sensor_get_device(pbio_port_id_t port)
 
 int32_t pup_ultrasonic_sensor_distance(pup_device_t *pdev)
 {
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
     (void)pdev;
     return (int32_t)spike_read_u32(HAKO_RX_ULTRASONIC_MM);
 }
 
 bool pup_ultrasonic_sensor_presence(pup_device_t *pdev)
 {
+    hako_spend_call(); /* a device read takes time (sim_time.h) */
     (void)pdev;
     return false;
 }

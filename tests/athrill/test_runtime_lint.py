@@ -1,0 +1,70 @@
+"""The native runtime's own C is kept to one style and free of the compiler's warnings: what .ci/run checks
+with clang-format, and every source compiled with -Wall -Wextra as errors (the program's code is not ours, so
+the build itself only warns)."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from athrill_sim.native import spike
+from athrill_sim.native.build import RUNTIME_INCLUDE, RUNTIME_SRC, find_compiler
+from athrill_sim.native.headers import generated_headers
+from athrill_sim.native.makefile import ETROBOC_COMMON
+from tests.helpers.paths import REPO
+
+RUNTIME_C = sorted([*RUNTIME_SRC.glob("*.[ch]"), *spike.SOURCE_DIR.glob("*.[ch]")])
+
+
+@pytest.mark.parametrize("source", [s for s in RUNTIME_C if s.suffix == ".c"], ids=lambda s: s.name)
+def test_the_runtime_compiles_without_a_warning(source, tmp_path):
+    for name, text in generated_headers().items():
+        (tmp_path / name).write_text(text)
+    (tmp_path / "kernel_cfg.h").write_text("#define TNUM_TSKID 1\n")  # what app.cfg would generate
+    includes = [f"-I{d}" for d in (tmp_path, RUNTIME_INCLUDE, *spike.INCLUDE_DIRS, ETROBOC_COMMON)]
+    out = subprocess.run([str(find_compiler()), "-std=gnu11", "-O2", "-fsyntax-only", "-Wall", "-Wextra", "-Werror",
+                          "-Wno-int-to-pointer-cast", *includes, str(source)], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+
+
+@pytest.mark.skipif(shutil.which("clang-format") is None,
+                    reason="clang-format is not installed (pip install -e '.[test]' brings it)")
+def test_the_runtime_is_formatted_as_clang_format_says():
+    out = subprocess.run(["clang-format", "--dry-run", "--Werror", *map(str, RUNTIME_C)], cwd=REPO,
+                         capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr[:2000]
+
+
+def test_the_format_check_covers_the_runtime_alone():
+    """Third-party C (EV3RT's libcpp-ev3, ET Robocon's libcpp-spike, the SDK headers) keeps its own style."""
+    assert all(Path(s).is_relative_to(RUNTIME_SRC.parent) for s in RUNTIME_C)
+    assert not any("sdk" in s.parts for s in RUNTIME_C)
+
+
+DEVICES = ("brick.c", "ev3api.c", "lcd.c", "sdcard.c", "serial.c", "serial_file.c")  # and every SPIKE source
+
+
+def symbols(source: Path, tmp_path: Path, undefined: bool) -> set[str]:
+    for name, text in generated_headers().items():
+        (tmp_path / name).write_text(text)
+    (tmp_path / "kernel_cfg.h").write_text("#define TNUM_TSKID 1\n")
+    obj = tmp_path / (source.name + ".o")
+    includes = [f"-I{d}" for d in (tmp_path, RUNTIME_INCLUDE, *spike.INCLUDE_DIRS, ETROBOC_COMMON)]
+    subprocess.run([str(find_compiler()), "-std=gnu11", "-O2", "-c", *includes, str(source), "-o", str(obj)],
+                   check=True, capture_output=True)
+    out = subprocess.run(["nm", "--undefined-only" if undefined else "--defined-only", str(obj)],
+                         capture_output=True, text=True, check=True).stdout
+    return {line.split()[-1] for line in out.splitlines() if line.strip()}
+
+
+@pytest.mark.skipif(shutil.which("nm") is None, reason="needs nm (binutils) to read the objects' symbols")
+def test_the_kernel_calls_no_device_by_name(tmp_path):
+    """The devices register hooks (devices.h); the kernel reaches none of their functions by name, so a device
+    may use the kernel's services without a circle."""
+    called = symbols(RUNTIME_SRC / "kernel.c", tmp_path, undefined=True)
+    devices = [RUNTIME_SRC / d for d in DEVICES] + sorted(spike.SOURCE_DIR.glob("*.c"))
+    for device in devices:
+        assert not called & symbols(device, tmp_path, undefined=False), device.name

@@ -1,0 +1,11 @@
+#include "spikeapi.h"
+
+#define MAIN_PRIORITY (TMIN_APP_TPRI + 1)
+
+#ifndef STACK_SIZE
+#define STACK_SIZE 4096
+#endif
+
+#ifndef TOPPERS_MACRO_ONLY
+extern void main_task(intptr_t exinf);
+#endif
