@@ -159,11 +159,34 @@ def describe(results: list) -> str:
               help="Trials of the real emulator in (d).")
 @click.option("--athrill2", default=str(REPO / "build" / "athrill" / "athrill2"), show_default=True,
               help="The real TOPPERS emulator (scripts/build_athrill2.sh builds it).")
-def main(sim_seconds: float, tests: int, starts: int, real_tests: int, athrill2: str) -> None:
+@click.option("--parts", default="abcde", show_default=True,
+              help="Which of the measures (a)..(e) to run, as their letters ((b) runs (a) for its ratio).")
+@click.option("--rounds", type=click.IntRange(min=1), default=3, show_default=True,
+              help="(e): rounds of --tests trials, alternating between the two programs.")
+def main(sim_seconds: float, tests: int, starts: int, real_tests: int, athrill2: str, parts: str,
+         rounds: int) -> None:
     """Print simulated-seconds-per-wall-second and start costs as a table."""
-    a_loop, a_batched = raw_rate(sim_seconds, batched=False), raw_rate(sim_seconds, batched=True)
-    rows = [("(a) raw MuJoCo, one mj_step call per 1 ms step", f"{a_loop:8.1f} x real time"),
-            ("(a) raw MuJoCo, batched mj_step(nstep=100)", f"{a_batched:8.1f} x real time")]
+    rows: list[tuple[str, str]] = []
+    a_batched = 0.0
+    if "a" in parts or "b" in parts:
+        a_loop, a_batched = raw_rate(sim_seconds, batched=False), raw_rate(sim_seconds, batched=True)
+        if "a" in parts:
+            rows += [("(a) raw MuJoCo, one mj_step call per 1 ms step", f"{a_loop:8.1f} x real time"),
+                     ("(a) raw MuJoCo, batched mj_step(nstep=100)", f"{a_batched:8.1f} x real time")]
+    if parts.strip("ae"):
+        rows += athrill_rows(parts, a_batched, tests, starts, real_tests, athrill2)
+    if "e" in parts:
+        rows += spike_rows(tests, rounds)
+    width = max(len(name) for name, _ in rows)
+    for name, value in rows:
+        print(f"{name:<{width}} : {value}")
+
+
+def athrill_rows(parts: str, a_batched: float, tests: int, starts: int, real_tests: int,
+                 athrill2: str) -> list[tuple[str, str]]:
+    """(b) trials (their rates against (a)'s batched raw MuJoCo, `a_batched`), (c) starts and (d) the real
+    emulator's trials."""
+    rows: list[tuple[str, str]] = []
     kinds = {"Python mock (line_trace)": BenchOptions(app="line_trace"),
              "native C (line_trace_c)": BenchOptions(app="line_trace_c"),
              "real athrill2 (ble_sample asp)": BenchOptions(app=str(ASP_IMAGE), athrill2=athrill2, sync="hakoniwa")}
@@ -175,9 +198,10 @@ def main(sim_seconds: float, tests: int, starts: int, real_tests: int, athrill2:
             programs[label] = f"skipped: {e}"
 
     rates = {}
-    for label in list(kinds)[:2]:
-        if isinstance(programs[label], str):
-            rows.append((f"(b) three-process trial, {label}", programs[label]))
+    for label in list(kinds)[:2] if "b" in parts else []:
+        program = programs[label]
+        if isinstance(program, str):
+            rows.append((f"(b) three-process trial, {label}", program))
             continue
         rates[label], results = trial_rate(kinds[label], tests)
         rows.append((f"(b) three-process trial, {label}, {tests} tests",
@@ -187,7 +211,7 @@ def main(sim_seconds: float, tests: int, starts: int, real_tests: int, athrill2:
         python, native = rates.values()
         rows.append(("(b) native C / Python mock trial rate", f"{native / python:8.2f}"))
 
-    for label, program in programs.items():
+    for label, program in programs.items() if "c" in parts else ():
         value = program if isinstance(program, str) else ms(start_costs(program, starts))
         rows.append((f"(c) start per test, {label}" + ("" if isinstance(program, str) else f", {starts} starts"),
                      value))
@@ -196,31 +220,43 @@ def main(sim_seconds: float, tests: int, starts: int, real_tests: int, athrill2:
                          ms(start_costs(program, starts, forked=True))))
 
     real = list(kinds)[2]
-    if isinstance(programs[real], str):
-        rows.append((f"(d) trial, {real}", programs[real]))
+    real_program = programs[real]
+    if "d" not in parts:
+        pass
+    elif isinstance(real_program, str):
+        rows.append((f"(d) trial, {real}", real_program))
     elif real_tests > 0:
         rate, results = trial_rate(kinds[real], real_tests, warm_up=False)
         rows.append((f"(d) trial, {real}, hakoniwa sync, {real_tests} tests",
                      f"{rate:8.1f} sim-s per wall-s ({describe(results)}, "
                      f"{statistics.mean(r.distance_m for r in results):.2f} m)"))
 
+    return rows
+
+
+def spike_rows(tests: int, rounds: int) -> list[tuple[str, str]]:
+    """(e): the two HackSPi tracers' trials, `rounds` rounds of `tests`, alternating, so that a change of the
+    machine's load falls on both."""
     spike = {"sample_c5_spike": BenchOptions(app=str(SAMPLE_C5_SPIKE), robot="hackspi", scenario=FORCE_START),
              "spike_thread_tracer": BenchOptions(app=str(THREADED_TRACER), robot="hackspi", scenario=FORCE_START)}
-    spike_rates = {}
-    for label, bench in spike.items():
-        if not Path(bench.app).is_dir():
-            rows.append((f"(e) HackSPi trial, {label}", f"skipped: no {bench.app} (../shared)"))
-            continue
-        spike_rates[label], results = trial_rate(bench, tests)
-        rows.append((f"(e) HackSPi trial, {label}, {tests} tests",
-                     f"{spike_rates[label]:8.1f} x real time ({describe(results)})"))
-    if len(spike_rates) == 2:
-        rows.append(("(e) threaded tracer / sample_c5_spike trial rate",
-                     f"{spike_rates['spike_thread_tracer'] / spike_rates['sample_c5_spike']:8.2f}"))
-
-    width = max(len(name) for name, _ in rows)
-    for name, value in rows:
-        print(f"{name:<{width}} : {value}")
+    missing = [label for label, bench in spike.items() if not Path(bench.app).is_dir()]
+    if missing:
+        return [(f"(e) HackSPi trial, {label}", f"skipped: no {spike[label].app} (../shared)") for label in missing]
+    sim = dict.fromkeys(spike, 0.0)
+    wall = dict.fromkeys(spike, 0.0)
+    seen: dict[str, list] = {label: [] for label in spike}
+    for _ in range(rounds):
+        for label, bench in spike.items():
+            one_rate, results = trial_rate(bench, tests)
+            wall[label] += sum(r.wall_s for r in results)
+            sim[label] += one_rate * sum(r.wall_s for r in results)
+            seen[label] += results
+    rates = {label: sim[label] / wall[label] for label in spike}
+    rows = [(f"(e) HackSPi trial, {label}, {rounds} x {tests} tests",
+             f"{rates[label]:8.1f} x real time ({describe(seen[label])})") for label in spike]
+    rows.append(("(e) threaded tracer / sample_c5_spike trial rate",
+                 f"{rates['spike_thread_tracer'] / rates['sample_c5_spike']:8.2f}"))
+    return rows
 
 
 if __name__ == "__main__":
