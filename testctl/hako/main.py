@@ -9,6 +9,7 @@ Nothing heavy (NumPy, MuJoCo, GPyOpt, matplotlib) is imported here except where 
 from __future__ import annotations
 
 import dataclasses
+import datetime as dt
 import json
 import os
 import sys
@@ -24,6 +25,7 @@ from hakoniwa.physics.video_options import VideoOptions, check_video_path, film_
 from hakoniwa.wire.exits import exit_status
 from hakoniwa.wire.processes import describe_exit
 from hakoniwa.wire.rundir import TRAJECTORY_FILE, diagnose
+from hakoniwa.wire.timebase import CLOCK_EPOCH_S
 from testctl import paper
 from testctl.bench_options import BenchOptions, bench_options, pop_bench
 from testctl.hako.course import course
@@ -168,7 +170,10 @@ def _trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: floa
         if result.bench_fault and bench.exit_status:  # the physics process died under the test
             report_death(bench.exit_status, rd)
         params = {"kp": kp, "ki": ki, "kd": kd, "power": power}
-        shown = {**result.to_dict(), "params": params, "seed": seed, "noise": noise}
+        # The date a native program's wall clock (system_clock, time()) reads at the test's start: its logs'
+        # timestamps repeat from it (docs/NATIVE.md).
+        epoch = dt.datetime.fromtimestamp(CLOCK_EPOCH_S, dt.UTC).isoformat().replace("+00:00", "Z")
+        shown = {**result.to_dict(), "params": params, "seed": seed, "noise": noise, "clock_epoch": epoch}
         if film is not None:
             make_film(rd, film)  # as `hako replay` films the run folder
         if trajectory is not None:
