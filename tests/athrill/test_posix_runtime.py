@@ -9,6 +9,7 @@ import os
 import signal
 import subprocess
 import time
+from pathlib import Path
 
 import pytest
 
@@ -38,12 +39,17 @@ static long long mono_us(void) { struct timespec t; clock_gettime(CLOCK_MONOTONI
 """
 
 
-def run_program(tmp_path, body: str, until_us: int, extra: str = "") -> tuple[list[int], str]:
-    """Build a program whose main_task is `body`, run it in lockstep until `until_us`; its wake-ups and log."""
+def build_program(tmp_path, body: str, extra: str = "") -> Path:
+    """A program whose main_task is `body`, after `extra` (its own includes and functions), built."""
     folder = tmp_path / "app"
     folder.mkdir()
     (folder / "app.h").write_text("#include \"ev3api.h\"\nvoid main_task(intptr_t exinf);\n")
-    exe = build(folder, HEADER + extra + "void main_task(intptr_t unused) {\n" + body + "\n}\n", CFG)
+    return build(folder, HEADER + extra + "void main_task(intptr_t unused) {\n" + body + "\n}\n", CFG)
+
+
+def run_program(tmp_path, body: str, until_us: int, extra: str = "") -> tuple[list[int], str]:
+    """Build a program whose main_task is `body`, run it in lockstep until `until_us`; its wake-ups and log."""
+    exe = build_program(tmp_path, body, extra)
     bench = FakePhysics(tmp_path / "run")
     proc = bench.start(exe)
     wakes = bench.wakes(proc, until_us)
@@ -160,10 +166,7 @@ def test_a_sensor_poll_that_never_sleeps_advances_time_too(tmp_path):
     printf("= pressed at %lld\n", mono_us());
     slp_tsk();
     """
-    folder = tmp_path / "app"
-    folder.mkdir()
-    (folder / "app.h").write_text("#include \"ev3api.h\"\nvoid main_task(intptr_t exinf);\n")
-    exe = build(folder, HEADER + "void main_task(intptr_t unused) {\n" + body + "\n}\n", CFG)
+    exe = build_program(tmp_path, body)
     from hakoniwa.wire.protocol import Rx
     bench = FakePhysics(tmp_path / "run")
     proc = bench.start(exe)
@@ -219,10 +222,7 @@ def test_threads_that_wait_for_each_other_for_ever_are_said_to_be_deadlocked(tmp
     static void *waiter(void *unused) { pthread_mutex_lock(&m); pthread_cond_wait(&never, &m); return NULL; }
     """
     body = "pthread_t t; pthread_create(&t, NULL, waiter, NULL); pthread_join(t, NULL);"
-    folder = tmp_path / "app"
-    folder.mkdir()
-    (folder / "app.h").write_text("#include \"ev3api.h\"\nvoid main_task(intptr_t exinf);\n")
-    exe = build(folder, HEADER + extra + "void main_task(intptr_t unused) {\n" + body + "\n}\n", CFG)
+    exe = build_program(tmp_path, body, extra)
     bench = FakePhysics(tmp_path / "run")
     proc = bench.start(exe)
     from hakoniwa.wire.protocol import NEVER_WAKES
@@ -244,10 +244,7 @@ def test_the_tests_end_interrupts_the_program_whose_handler_then_ends_it_in_simu
     fprintf(log, "stopped at %lld\n", mono_us());
     fclose(log);
     """
-    folder = tmp_path / "app"
-    folder.mkdir()
-    (folder / "app.h").write_text("#include \"ev3api.h\"\nvoid main_task(intptr_t exinf);\n")
-    exe = build(folder, HEADER + extra + "void main_task(intptr_t unused) {\n" + body + "\n}\n", CFG)
+    exe = build_program(tmp_path, body, extra)
     bench = FakePhysics(tmp_path / "run")
     proc = bench.start(exe)
     bench.wakes(proc, 30 * STEP)  # the test ends while the program waits for 40 ms
@@ -371,10 +368,7 @@ def test_a_forked_child_goes_on_alone_and_detached_and_never_reaches_the_bench(t
     printf("= parent saw %d at %lld\n", WEXITSTATUS(status), mono_us());
     slp_tsk();
     """
-    folder = tmp_path / "app"
-    folder.mkdir()
-    (folder / "app.h").write_text("#include \"ev3api.h\"\nvoid main_task(intptr_t exinf);\n")
-    exe = build(folder, HEADER + extra + "void main_task(intptr_t unused) {\n" + body + "\n}\n", CFG)
+    exe = build_program(tmp_path, body, extra)
     from hakoniwa.wire.protocol import Tx
     bench = FakePhysics(tmp_path / "run")
     proc = bench.start(exe)
