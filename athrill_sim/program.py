@@ -82,7 +82,9 @@ class Program:
             raise ProgramError(lines[-1].removeprefix("Error: ") if lines else "the robot program cannot run")
 
     def args(self, run_dir: Path, test_seq: int) -> list[str]:
-        return [a.format(test=test_seq, run_dir=run_dir) for a in self.argv]
+        """The command for test `test_seq`; the run directory goes in absolute, since the process starts in a
+        working folder of its own (`hako test --out build/x` is relative to the user's shell)."""
+        return [a.format(test=test_seq, run_dir=run_dir.resolve()) for a in self.argv]
 
     def spawn(self, run_dir: Path, test_seq: int, output, cwd: Path | None = None) -> subprocess.Popen:
         """Start the process for test `test_seq` (in `cwd`, its working folder, if it has one). It gets a

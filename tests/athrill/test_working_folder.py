@@ -101,12 +101,13 @@ def tree_digest(folder: Path) -> str:
 
 
 @pytest.mark.slow
-def test_each_test_runs_in_a_fresh_copy_kept_after_it_and_the_users_tree_is_never_written(tmp_path):
+def test_each_test_runs_in_a_fresh_copy_kept_after_it_and_the_users_tree_is_never_written(tmp_path, monkeypatch):
     need_cc()
     ws = workspace(tmp_path)
     (ws / "tracer" / "app.c").write_text(PROGRAM)
     before = tree_digest(ws)
-    run_dir = tmp_path / "run"
+    monkeypatch.chdir(tmp_path)
+    run_dir = Path("run")  # relative, as `hako test --out build/hako-test` gives it, though the program starts elsewhere
     with physics(run_dir, app=str(ws / "tracer")) as (_, runner):
         for _ in range(2):
             runner.run_test(PAPER)
