@@ -107,7 +107,7 @@ def test_each_test_runs_in_a_fresh_copy_kept_after_it_and_the_users_tree_is_neve
     (ws / "tracer" / "app.c").write_text(PROGRAM)
     before = tree_digest(ws)
     monkeypatch.chdir(tmp_path)
-    run_dir = Path("run")  # relative, as `hako test --out build/hako-test` gives it, though the program starts elsewhere
+    run_dir = Path("run")  # relative, as `hako test --out build/x` gives it; the program starts elsewhere
     with physics(run_dir, app=str(ws / "tracer")) as (_, runner):
         for _ in range(2):
             runner.run_test(PAPER)
