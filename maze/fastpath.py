@@ -1,4 +1,4 @@
-"""The fastest start-to-goal run under the time model: Dijkstra (scipy's, in C) over a graph of moves.
+"""The fastest start-to-goal run under the time model: Dijkstra (compiled) over a graph of moves.
 
 A node is a wall midpoint the mouse is crossing with its heading, in layers A (after a turn), B (before one),
 G (over the goal line) and C (cruising on a long straight); maze/fastpath_build.py says more. Edges: straights
@@ -14,7 +14,9 @@ fastest route, and is walked back from the goal by those exact times alone, so t
 bound nor on the limit A* ran under.
 
 The parts: fastpath_build.py builds the graph of a maze size, diagonal flag and mouse; fastpath_query.py answers
-a query on it (pricing, A*, the second search); fastpath_route.py decodes the nodes found into moves.
+a query on it (pricing, A*, the second search); fastpath_route.py decodes the nodes found into moves. The
+searches run in a small C library compiled at first use (fastpath_kernel.py and .c), or in scipy where no C
+compiler works: the same routes to the bit either way.
 """
 
 from __future__ import annotations

@@ -18,19 +18,46 @@ constant to fit to a maze.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
 import numpy as np
-from scipy.sparse import csr_array
-from scipy.sparse.csgraph import dijkstra
+
+from .fastpath_kernel import Workspace
+
+if TYPE_CHECKING:
+    from scipy.sparse import csr_array
+
+
+@dataclass
+class Csr:
+    """A graph as compressed rows: the edges of node u are indices[indptr[u]:indptr[u + 1]], priced `data`.
+    Its own type and not scipy's, so that the compiled kernel's queries never import scipy (0.2 s)."""
+
+    data: np.ndarray  # float64
+    indices: np.ndarray  # int32
+    indptr: np.ndarray  # int32
+
+    @property
+    def nodes(self) -> int:
+        return len(self.indptr) - 1
+
+    def scipy(self) -> csr_array:
+        """The same graph for scipy's searches (the fallback where there is no kernel)."""
+        from scipy.sparse import csr_array
+
+        return csr_array((self.data, self.indices, self.indptr), shape=(self.nodes, self.nodes))
 
 
 class TimeBound:
     """Per node of a query graph, a lower bound of the time left to the goal; and the reduced prices
     price(u, v) + bound(v) - bound(u) of the graph's edges (in row order) under it."""
 
-    def __init__(self, prices: csr_array, rows: np.ndarray, goal_nodes: np.ndarray) -> None:
-        self.prices, self.rows, self.goal_nodes = prices, rows, goal_nodes
+    def __init__(self, prices: Csr, rows: np.ndarray, goal_nodes: np.ndarray, work: Workspace | None) -> None:
+        self.prices, self.rows, self.goal_nodes, self.work = prices, rows, goal_nodes, work
+        self._reversed: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # the kernel's, built once
         self.valid_for: np.ndarray | None = None  # the walls it was found under (None: not found yet)
-        self.nodes = np.zeros(prices.shape[0])
+        self.nodes = np.zeros(prices.nodes)
         self.reduced = np.zeros(len(rows))
         self.cost = 0  # nodes the search that found it settled
         self.spent = 0  # nodes A* has settled since
@@ -43,15 +70,38 @@ class TimeBound:
     def find(self, open_edges: np.ndarray, blocked: np.ndarray) -> None:
         """The exact times to the goal through the edges `open_edges` marks, which `blocked`'s walls leave
         open; infinite where the goal cannot be reached."""
+        if self.work is None:
+            self._find_scipy(open_edges)
+        else:
+            self._find_kernel(self.work, open_edges)
+        self.valid_for = blocked.copy()
+        self.spent = 0
+
+    def _find_scipy(self, open_edges: np.ndarray) -> None:
+        from scipy.sparse import csr_array
+        from scipy.sparse.csgraph import dijkstra
+
         p = self.prices
-        back = csr_array((np.where(open_edges, p.data, np.inf), p.indices, p.indptr), shape=p.shape).T
+        back = Csr(np.where(open_edges, p.data, np.inf), p.indices, p.indptr).scipy().T
         self.nodes = dijkstra(csr_array(back), directed=True, indices=self.goal_nodes, min_only=True)
         with np.errstate(invalid="ignore"):  # an edge between nodes that never reach the goal: inf - inf
             reduced = np.maximum(p.data + self.nodes[p.indices] - self.nodes[self.rows], 0.0)
         reduced[~np.isfinite(reduced)] = np.inf  # such an edge is never on a route
         self.reduced = reduced  # never negative up to rounding, which is clamped
-        self.valid_for = blocked.copy()
-        self.cost, self.spent = int(np.isfinite(self.nodes).sum()), 0
+        self.cost = int(np.isfinite(self.nodes).sum())
+
+    def _find_kernel(self, work: Workspace, open_edges: np.ndarray) -> None:
+        """The same times and reduced prices, by fp_bound (maze/fastpath_kernel.c) on the reversed graph."""
+        p = self.prices
+        if self._reversed is None:
+            order = np.argsort(p.indices, kind="stable").astype(np.int32)
+            indptr = np.concatenate([[0], np.cumsum(np.bincount(p.indices, minlength=p.nodes))]).astype(np.int32)
+            self._reversed = indptr, self.rows[order], order
+        indptr, sources, edges = self._reversed
+        self.nodes, self.reduced = np.empty(p.nodes), np.empty(len(p.data))
+        self.cost = work.lib.fp_bound(work.handle, *(a.ctypes.data for a in (
+            indptr, sources, edges, self.rows, p.indices, p.data, open_edges)), self.goal_nodes.ctypes.data,
+            len(self.goal_nodes), self.nodes.ctypes.data, self.reduced.ctypes.data)
 
     @property
     def at_start(self) -> float:

@@ -3,15 +3,15 @@ goal, and the nodes and times of the fastest route (maze/fastpath.py says why it
 
 from __future__ import annotations
 
+import ctypes
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.sparse import csr_array
-from scipy.sparse.csgraph import breadth_first_order, dijkstra
 
 from .direction import ALONG, STEP
-from .fastpath_bound import TimeBound
+from .fastpath_bound import Csr, TimeBound
 from .fastpath_build import B, G, StaticGraph, entered_cell
+from .fastpath_kernel import Workspace, workspace
 from .fastpath_walls import wall_edges
 from .model import Cell
 from .motion import straight_seconds
@@ -50,6 +50,9 @@ def _on_fastest_routes(row: np.ndarray, col: np.ndarray, price: np.ndarray, redu
     A* keeping every node it could not rule out (up to 12 000 of them on japan2017hef), while the fastest
     routes pass a few hundred; every node of every equally fast route, and every edge that ties on one, is
     kept, so the exact search of them (`FastestSearch.search`) finds the same times and the same route."""
+    from scipy.sparse import csr_array
+    from scipy.sparse.csgraph import breadth_first_order
+
     slack = _with_slack(fastest) - fastest
     tight = reduced[row] + price <= reduced[col] + slack
     goals = np.flatnonzero((nodes >= goal.start) & (nodes < goal.stop))
@@ -96,8 +99,8 @@ class QueryGraph:
     135 000: headings no move crosses a wall with, and the like), and every search, pricing and scan of the
     times would otherwise pay for them."""
 
-    prices: csr_array
-    astar: csr_array
+    prices: Csr
+    astar: Csr
     bound: TimeBound
     open: np.ndarray
     hint: float | None
@@ -108,6 +111,7 @@ class QueryGraph:
     start: StartEdges
     nodes: np.ndarray
     goal: slice
+    work: Workspace | None  # the compiled kernel's (maze/fastpath_kernel.py); None: scipy's searches
     walls: np.ndarray | None = None
     wall_edges: tuple[np.ndarray, np.ndarray] | None = None  # built by the first query that can use it
 
@@ -181,13 +185,14 @@ class FastestSearch:
         indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=n))]).astype(np.int32)
         cost = np.concatenate([ahead_cost[:before], turns.seconds[turn_order], ahead_cost[before:],
                                start_edges.seconds])
-        prices = csr_array((cost, cols, indptr), shape=(n, n))
-        astar = csr_array((np.zeros(len(cols)), cols, indptr), shape=(n, n))
+        prices = Csr(cost.astype(np.float64), cols, indptr)
+        astar = Csr(np.zeros(len(cols)), cols, indptr)
         goal = slice(*np.searchsorted(nodes, [G * g.layer_size, (G + 1) * g.layer_size]).tolist())
         goal_layer = cols[(cols >= goal.start) & (cols < goal.stop)]
-        return QueryGraph(prices, astar, TimeBound(prices, rows, np.unique(goal_layer)),
+        work = workspace(n, len(cols))
+        return QueryGraph(prices, astar, TimeBound(prices, rows, np.unique(goal_layer).astype(np.int32), work),
                           np.zeros(len(cols), dtype=bool), None, before, run_from, open_needed,
-                          turns.walls[turn_order].T.copy(), start_edges, nodes, goal)
+                          turns.walls[turn_order].T.copy(), start_edges, nodes, goal, work)
 
     def _start_edges(self, start: Cell, goals: tuple[Cell, ...]) -> StartEdges:
         """Straights from a standing start in the start cell's centre, along each of its four headings, of every
@@ -278,7 +283,12 @@ class FastestSearch:
         a search on their prices, limited to that time, then finds the exact time of each (the sums of a
         search of the whole graph, bit for bit), and the route is walked back from the goal by those times
         alone (`_predecessors`), so that among equally fast routes it picks the same one whatever A*'s bound
-        and limit were. That search runs on the graph of those nodes alone."""
+        and limit were. That search runs on the graph of those nodes alone. The compiled kernel does all of it
+        in one call where there is one (fp_search in maze/fastpath_kernel.c)."""
+        if q.work is not None:
+            return self._search_kernel(q, q.work)
+        from scipy.sparse.csgraph import dijkstra
+
         reduced = self._reduced_search(q)
         if reduced is None:
             return None
@@ -302,7 +312,7 @@ class FastestSearch:
             row, col, edge, nodes = renumber[row[use]], renumber[col[use]], edge[use], nodes[on]
         indptr = np.concatenate([[0], np.cumsum(np.bincount(row, minlength=len(nodes)))])
         price = q.prices.data[edge]
-        sub = csr_array((price, col, indptr), shape=(len(nodes), len(nodes)))
+        sub = Csr(price, col, indptr).scipy()
         dist = dijkstra(sub, directed=True, indices=len(nodes) - 1,  # the start node is the last node
                         limit=_with_slack(fastest + q.bound.at_start))
         in_goal = np.flatnonzero((nodes >= q.goal.start) & (nodes < q.goal.stop))
@@ -313,6 +323,24 @@ class FastestSearch:
         at.reverse()
         return q.nodes[nodes[at]].tolist(), dist[at].tolist()
 
+    def _search_kernel(self, q: QueryGraph, work: Workspace) -> tuple[list[int], list[float]] | None:
+        spent, hint = ctypes.c_int64(0), ctypes.c_double(0.0)
+        route, times = np.empty(len(q.nodes), dtype=np.int32), np.empty(len(q.nodes))
+        length = work.lib.fp_search(
+            work.handle, q.prices.indptr.ctypes.data, q.prices.indices.ctypes.data, q.astar.data.ctypes.data,
+            q.prices.data.ctypes.data, q.open.ctypes.data, q.goal.start, q.goal.stop, self._first_limit(q),
+            LIMIT_GROWTH, LIMIT_TRIES, q.bound.at_start, TIME_SLACK, NARROW_FROM, ctypes.byref(spent),
+            ctypes.byref(hint), route.ctypes.data, times.ctypes.data)
+        q.bound.spent += spent.value
+        if not length:
+            return None
+        q.hint = hint.value
+        return q.nodes[route[:length]].tolist(), times[:length].tolist()
+
+    def _first_limit(self, q: QueryGraph) -> float:
+        mouse = self.graph.mouse
+        return max((q.hint or 0.0) * HINT_MARGIN, mouse.cell / mouse.run.top_speed)
+
     def _reduced_search(self, q: QueryGraph) -> np.ndarray | None:
         """A* up to the goal: the reduced times; None if the goal cannot be reached. The limit
         (on reduced time) only leaves out nodes whose time plus bound exceeds it, so the first limit that
@@ -320,10 +348,11 @@ class FastestSearch:
         the first limit is at least one cell at top speed. A limit the goal lies beyond costs a whole search,
         and the walls a search finds only ever slow its fastest run, so the first limit has a margin over the
         last answer; the route does not depend on the limit (`search`)."""
-        mouse = self.graph.mouse
-        limit = max((q.hint or 0.0) * HINT_MARGIN, mouse.cell / mouse.run.top_speed)
+        from scipy.sparse.csgraph import dijkstra
+
+        limit, astar = self._first_limit(q), q.astar.scipy()
         for limit in [limit * LIMIT_GROWTH ** k for k in range(LIMIT_TRIES)] + [np.inf]:
-            dist = dijkstra(q.astar, directed=True, indices=len(q.nodes) - 1, limit=limit)
+            dist = dijkstra(astar, directed=True, indices=len(q.nodes) - 1, limit=limit)
             q.bound.spent += int(np.count_nonzero(dist < np.inf))
             best = self._goal_node(q, dist)
             if np.isfinite(dist[best]):

@@ -1,0 +1,316 @@
+/* The inner loops of mazelog's fastest-path query (maze/fastpath_query.py and maze/fastpath_bound.py say what
+ * each step is for), compiled at first use by maze/fastpath_kernel.py and called through ctypes.
+ *
+ * Every step computes exactly what the scipy path computes, so that routes stay identical to the bit: Dijkstra's
+ * times are the minimum over paths of the left-to-right sums dist[u] + w (whatever order nodes are settled in),
+ * a limit keeps the nodes whose time is <= the limit (scipy's rule), and ties are broken by the rules written
+ * in maze/fastpath_query.py (the lowest-numbered goal node, the earliest then highest-numbered predecessor).
+ * It must be compiled without contracting a * b + c into one rounding (-ffp-contract=off).
+ */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct {
+    double key;
+    int32_t node;
+} item;
+
+/* The working memory of one query graph of n nodes and m edges, kept between its queries: the time arrays are
+ * all infinite and the flags all clear between calls (each call resets only what it touched). */
+typedef struct {
+    int32_t n;
+    int64_t m;
+    double *reduced;  /* A*'s times (reduced prices) */
+    double *exact;    /* the exact search's times, local numbering */
+    uint8_t *done;
+    uint8_t *kept;
+    item *heap;
+    int32_t *touched;
+    int32_t *local;   /* node -> its number among the kept nodes */
+    int32_t *nodes;   /* the kept nodes, ascending */
+    int32_t *lrow, *lcol, *ledge, *lindptr, *rindptr, *rsrc, *queue, *pred;
+    double *lprice;
+} workspace;
+
+static void push(item *heap, int64_t *size, double key, int32_t node) {
+    int64_t i = (*size)++;
+    while (i > 0) {
+        int64_t parent = (i - 1) >> 1;
+        if (heap[parent].key <= key) break;
+        heap[i] = heap[parent];
+        i = parent;
+    }
+    heap[i].key = key;
+    heap[i].node = node;
+}
+
+static item pop(item *heap, int64_t *size) {
+    item top = heap[0], last = heap[--(*size)];
+    int64_t i = 0, n = *size;
+    for (;;) {
+        int64_t c = 2 * i + 1;
+        if (c >= n) break;
+        if (c + 1 < n && heap[c + 1].key < heap[c].key) c++;
+        if (heap[c].key >= last.key) break;
+        heap[i] = heap[c];
+        i = c;
+    }
+    heap[i] = last;
+    return top;
+}
+
+/* Dijkstra from `sources` (time 0) over CSR rows (indptr, indices), the weight of entry j being
+ * w[edge_of ? edge_of[j] : j], or infinite where mask says the edge is closed. Times go to dist (infinite on
+ * entry); nodes given a time are appended to touched. Returns how many nodes it settled (their times are
+ * finite and <= limit). */
+static int32_t dijkstra(const int32_t *indptr, const int32_t *indices, const double *w, const int32_t *edge_of,
+                        const uint8_t *mask, const int32_t *sources, int32_t nsrc, double limit, double *dist,
+                        workspace *ws, int32_t *ntouched) {
+    int64_t size = 0;
+    int32_t settled = 0;
+    for (int32_t s = 0; s < nsrc; s++) {
+        if (dist[sources[s]] == INFINITY) ws->touched[(*ntouched)++] = sources[s];
+        dist[sources[s]] = 0.0;
+        push(ws->heap, &size, 0.0, sources[s]);
+    }
+    while (size) {
+        item it = pop(ws->heap, &size);
+        int32_t v = it.node;
+        if (ws->done[v] || it.key > dist[v]) continue;
+        ws->done[v] = 1;
+        settled++;
+        double at = dist[v];
+        for (int32_t j = indptr[v]; j < indptr[v + 1]; j++) {
+            int32_t u = indices[j];
+            if (ws->done[u]) continue;
+            int32_t e = edge_of ? edge_of[j] : j;
+            if (mask && !mask[e]) continue;
+            double next = at + w[e];
+            if (next <= limit && next < dist[u]) {
+                if (dist[u] == INFINITY) ws->touched[(*ntouched)++] = u;
+                dist[u] = next;
+                push(ws->heap, &size, next, u);
+            }
+        }
+    }
+    return settled;
+}
+
+static void clear(double *dist, workspace *ws, int32_t ntouched) {
+    for (int32_t i = 0; i < ntouched; i++) {
+        dist[ws->touched[i]] = INFINITY;
+        ws->done[ws->touched[i]] = 0;
+    }
+}
+
+void *fp_new(int32_t n, int64_t m) {
+    workspace *ws = calloc(1, sizeof *ws);
+    if (!ws) return NULL;
+    ws->n = n;
+    ws->m = m;
+    ws->reduced = malloc(sizeof(double) * n);
+    ws->exact = malloc(sizeof(double) * n);
+    ws->done = calloc(n, 1);
+    ws->kept = calloc(n + 1, 1);
+    ws->heap = malloc(sizeof(item) * (m + n + 1));
+    ws->touched = malloc(sizeof(int32_t) * (n + 1));
+    ws->local = malloc(sizeof(int32_t) * n);
+    ws->nodes = malloc(sizeof(int32_t) * n);
+    ws->lrow = malloc(sizeof(int32_t) * (m + n + 1));
+    ws->lcol = malloc(sizeof(int32_t) * (m + n + 1));
+    ws->ledge = malloc(sizeof(int32_t) * (m + 1));
+    ws->lindptr = malloc(sizeof(int32_t) * (n + 2));
+    ws->rindptr = malloc(sizeof(int32_t) * (n + 3));
+    ws->rsrc = malloc(sizeof(int32_t) * (m + n + 1));
+    ws->queue = malloc(sizeof(int32_t) * (n + 1));
+    ws->pred = malloc(sizeof(int32_t) * n);
+    ws->lprice = malloc(sizeof(double) * (m + 1));
+    if (!ws->reduced || !ws->exact || !ws->done || !ws->kept || !ws->heap || !ws->touched || !ws->local
+        || !ws->nodes || !ws->lrow || !ws->lcol || !ws->ledge || !ws->lindptr || !ws->rindptr || !ws->rsrc
+        || !ws->queue || !ws->pred || !ws->lprice) {
+        return NULL;  /* the caller falls back; what was allocated is lost once, at start-up */
+    }
+    for (int32_t i = 0; i < n; i++) ws->reduced[i] = ws->exact[i] = INFINITY;
+    return ws;
+}
+
+void fp_free(void *p) {
+    workspace *ws = p;
+    if (!ws) return;
+    free(ws->reduced); free(ws->exact); free(ws->done); free(ws->kept); free(ws->heap); free(ws->touched);
+    free(ws->local); free(ws->nodes); free(ws->lrow); free(ws->lcol); free(ws->ledge); free(ws->lindptr);
+    free(ws->rindptr); free(ws->rsrc); free(ws->queue); free(ws->pred); free(ws->lprice);
+    free(ws);
+}
+
+/* TimeBound.find: the exact times to the goal (`times`, every node) by one search back from the goal nodes over
+ * the reversed graph (rindptr, rindices, redge: the forward edge of each reversed entry) through the open edges,
+ * and the reduced prices of the forward edges (rows, indices) under them. Returns the nodes it reached. */
+int32_t fp_bound(void *p, const int32_t *rindptr, const int32_t *rindices, const int32_t *redge,
+                 const int32_t *rows, const int32_t *indices, const double *price, const uint8_t *open,
+                 const int32_t *goals, int32_t ngoals, double *times, double *reduced) {
+    workspace *ws = p;
+    int32_t ntouched = 0;
+    for (int32_t i = 0; i < ws->n; i++) times[i] = INFINITY;
+    int32_t cost = dijkstra(rindptr, rindices, price, redge, open, goals, ngoals, INFINITY, times, ws, &ntouched);
+    for (int32_t i = 0; i < ntouched; i++) ws->done[ws->touched[i]] = 0;
+    for (int64_t e = 0; e < ws->m; e++) {
+        double r = (price[e] + times[indices[e]]) - times[rows[e]];
+        reduced[e] = isnan(r) ? INFINITY : (r < 0.0 ? 0.0 : r);  /* numpy: maximum(r, 0), NaN -> inf */
+    }
+    return cost;
+}
+
+static double with_slack(double seconds, double slack) { return seconds + slack * (1 + seconds); }
+
+static int cmp_int32(const void *a, const void *b) {
+    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* FastestSearch.search: A* from the start (the last node) on the reduced prices `astar` under limits
+ * limit0 * growth^k (k < tries, then none), adding the nodes each try settles to *spent; then the exact search
+ * of the nodes that could lie on a fastest route (narrowed to those the goal is reached from by tight edges when
+ * more than narrow_from are kept) on the prices, limited to the fastest time plus the bound at the start; and
+ * the route walked back from the goal. Writes the route's nodes (start first) and their times, sets *hint to
+ * A*'s reduced time to the goal, and returns the route's node count; 0 when the goal cannot be reached. */
+int32_t fp_search(void *p, const int32_t *indptr, const int32_t *indices, const double *astar, const double *price,
+                  const uint8_t *open, int32_t goal_lo, int32_t goal_hi, double limit0, double growth,
+                  int32_t tries, double at_start, double slack, int32_t narrow_from, int64_t *spent, double *hint,
+                  int32_t *route, double *times) {
+    workspace *ws = p;
+    int32_t n = ws->n, start = n - 1, ntouched = 0, best = -1;
+    double *reduced = ws->reduced;
+    for (int32_t k = 0; k <= tries; k++) {
+        double limit = k < tries ? limit0 * pow(growth, k) : INFINITY;
+        clear(reduced, ws, ntouched);
+        ntouched = 0;
+        *spent += dijkstra(indptr, indices, astar, NULL, NULL, &start, 1, limit, reduced, ws, &ntouched);
+        best = goal_lo;
+        for (int32_t g = goal_lo + 1; g < goal_hi; g++)
+            if (reduced[g] < reduced[best]) best = g;
+        if (goal_lo < goal_hi && reduced[best] < INFINITY) break;
+        best = -1;
+    }
+    if (best < 0) {
+        clear(reduced, ws, ntouched);
+        return 0;
+    }
+    double fastest = reduced[best];
+    *hint = fastest;
+    double keep_to = with_slack(fastest, slack);
+
+    /* the kept nodes, ascending, and the open edges between them, in row order */
+    int32_t count = 0;
+    for (int32_t i = 0; i < ntouched; i++)
+        if (reduced[ws->touched[i]] <= keep_to) ws->nodes[count++] = ws->touched[i];
+    qsort(ws->nodes, count, sizeof(int32_t), cmp_int32);
+    for (int32_t i = 0; i < count; i++) {
+        ws->kept[ws->nodes[i]] = 1;
+        ws->local[ws->nodes[i]] = i;
+    }
+    int64_t edges = 0;
+    for (int32_t i = 0; i < count; i++) {
+        int32_t v = ws->nodes[i];
+        for (int32_t j = indptr[v]; j < indptr[v + 1]; j++) {
+            if (!open[j] || !ws->kept[indices[j]]) continue;
+            ws->lrow[edges] = i;
+            ws->lcol[edges] = ws->local[indices[j]];
+            ws->ledge[edges++] = j;
+        }
+    }
+    for (int32_t i = 0; i < count; i++) ws->kept[ws->nodes[i]] = 0;
+
+    if (count > narrow_from) {
+        /* _on_fastest_routes: back from the goal (a node `count` joined to the kept goal nodes) over tight edges */
+        double margin = keep_to - fastest;
+        uint8_t *on = ws->kept;  /* clear again by the end */
+        int32_t *rindptr = ws->rindptr, *rsrc = ws->rsrc;
+        memset(rindptr, 0, sizeof(int32_t) * (count + 3));
+        int64_t extra = 0;
+        for (int64_t e = 0; e < edges; e++) {
+            int32_t r = ws->lrow[e], c = ws->lcol[e];
+            if (reduced[ws->nodes[r]] + astar[ws->ledge[e]] <= reduced[ws->nodes[c]] + margin) rindptr[c + 2]++;
+        }
+        for (int32_t i = 0; i < count; i++)
+            if (ws->nodes[i] >= goal_lo && ws->nodes[i] < goal_hi) { rindptr[count + 2]++; extra++; }
+        for (int32_t i = 0; i <= count; i++) rindptr[i + 2] += rindptr[i + 1];
+        for (int64_t e = 0; e < edges; e++) {
+            int32_t r = ws->lrow[e], c = ws->lcol[e];
+            if (reduced[ws->nodes[r]] + astar[ws->ledge[e]] <= reduced[ws->nodes[c]] + margin)
+                rsrc[rindptr[c + 1]++] = r;
+        }
+        for (int32_t i = 0; i < count; i++)
+            if (ws->nodes[i] >= goal_lo && ws->nodes[i] < goal_hi) rsrc[rindptr[count + 1]++] = i;
+        (void)extra;
+        int32_t head = 0, tail = 0;
+        ws->queue[tail++] = count;
+        on[count] = 1;
+        while (head < tail) {
+            int32_t v = ws->queue[head++];
+            for (int32_t j = rindptr[v]; j < rindptr[v + 1]; j++)
+                if (!on[rsrc[j]]) { on[rsrc[j]] = 1; ws->queue[tail++] = rsrc[j]; }
+        }
+        int32_t *renumber = ws->local;  /* reused: kept index -> narrowed index */
+        int32_t narrowed = 0;
+        for (int32_t i = 0; i < count; i++) {
+            renumber[i] = on[i] ? narrowed : -1;
+            if (on[i]) ws->nodes[narrowed++] = ws->nodes[i];
+        }
+        int64_t used = 0;
+        for (int64_t e = 0; e < edges; e++) {
+            int32_t r = ws->lrow[e], c = ws->lcol[e];
+            if (!on[r] || !on[c]) continue;
+            ws->lrow[used] = renumber[r];
+            ws->lcol[used] = renumber[c];
+            ws->ledge[used++] = ws->ledge[e];
+        }
+        for (int32_t i = 0; i <= count; i++) on[i] = 0;
+        count = narrowed;
+        edges = used;
+    }
+
+    /* the exact search of the sub graph, from the start (its last node) */
+    memset(ws->lindptr, 0, sizeof(int32_t) * (count + 1));
+    for (int64_t e = 0; e < edges; e++) {
+        ws->lindptr[ws->lrow[e] + 1]++;
+        ws->lprice[e] = price[ws->ledge[e]];
+    }
+    for (int32_t i = 0; i < count; i++) ws->lindptr[i + 1] += ws->lindptr[i];
+    clear(reduced, ws, ntouched);
+    ntouched = 0;
+    double *dist = ws->exact;
+    int32_t local_start = count - 1;
+    dijkstra(ws->lindptr, ws->lcol, ws->lprice, NULL, NULL, &local_start, 1,
+             with_slack(fastest + at_start, slack), dist, ws, &ntouched);
+    int32_t at = -1;
+    for (int32_t i = 0; i < count; i++)
+        if (ws->nodes[i] >= goal_lo && ws->nodes[i] < goal_hi && (at < 0 || dist[i] < dist[at])) at = i;
+
+    /* _predecessors: of the tight edges into a node, the one from the node reached first, then the
+     * highest-numbered */
+    for (int32_t i = 0; i < count; i++) ws->pred[i] = -1;
+    for (int64_t e = 0; e < edges; e++) {
+        int32_t r = ws->lrow[e], c = ws->lcol[e];
+        if (dist[r] + ws->lprice[e] != dist[c] || dist[c] == INFINITY) continue;
+        int32_t q = ws->pred[c];
+        if (q < 0 || dist[r] < dist[q] || (dist[r] == dist[q] && r > q)) ws->pred[c] = r;
+    }
+    int32_t length = 0;
+    for (int32_t v = at; v >= 0 && length < n; v = v == local_start ? -1 : ws->pred[v]) {
+        route[length] = ws->nodes[v];
+        times[length++] = dist[v];
+    }
+    clear(dist, ws, ntouched);
+    for (int32_t i = 0; i < length / 2; i++) {
+        int32_t r = route[i];
+        double t = times[i];
+        route[i] = route[length - 1 - i];
+        times[i] = times[length - 1 - i];
+        route[length - 1 - i] = r;
+        times[length - 1 - i] = t;
+    }
+    return length;
+}

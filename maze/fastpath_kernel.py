@@ -1,0 +1,116 @@
+"""The compiled inner loops of the fastest-path query (maze/fastpath_kernel.c), built at first use and cached.
+
+Why: every query went through scipy's Dijkstra from Python, three calls and a few dozen numpy operations a
+query, and importing scipy alone cost a whole-process `mazelog explore --objective time` 0.2-0.3 s. The C file
+is compiled with the system C compiler ($CC, else cc, else gcc), as users' native robot programs already are,
+into `${XDG_CACHE_HOME:-~/.cache}/mazelog/` under a name hashed from the source and the compiler, and loaded
+with ctypes. Where no compiler works, the queries take the scipy path (the same routes, slower), and the
+first query says so once on stderr.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import hashlib
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import weakref
+from functools import cache
+from importlib.resources import files
+from pathlib import Path
+from typing import Any
+
+SOURCE = "fastpath_kernel.c"
+FLAGS = ("-O2", "-shared", "-fPIC", "-ffp-contract=off", "-fno-fast-math")  # no fused rounding: routes to the bit
+COMPILE_TIMEOUT_S = 60
+NO_KERNEL = "note: no working C compiler ($CC, cc or gcc), so fastest-path queries use scipy (same routes, slower)"
+
+_double_p = ctypes.POINTER(ctypes.c_double)
+_void_p = ctypes.c_void_p
+
+
+def cache_dir() -> Path:
+    """Where built kernels are kept: `${XDG_CACHE_HOME:-~/.cache}/mazelog`."""
+    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "mazelog"
+
+
+def compiler() -> Path | None:
+    for name in (os.environ.get("CC"), "cc", "gcc"):
+        if name and (found := shutil.which(name)):
+            return Path(found)
+    return None
+
+
+def _library_path(source: bytes, cc: Path) -> Path:
+    """The cached library's name: a hash of the source, the flags and the compiler (its path, size and date:
+    asking it its version would cost every process a run of it)."""
+    stat = cc.stat()
+    key = hashlib.sha256(b"\0".join([source, " ".join(FLAGS).encode(), str(cc).encode(),
+                                     f"{stat.st_size}:{stat.st_mtime_ns}".encode()])).hexdigest()[:24]
+    return cache_dir() / f"fastpath-{key}.so"
+
+
+def _build(source: bytes, cc: Path, target: Path) -> None:
+    """Compile into a scratch file beside `target` and rename it into place, so that two processes building at
+    once both end up with a whole library."""
+    target.parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(dir=target.parent) as scratch:
+        c_file, so_file = Path(scratch) / SOURCE, Path(scratch) / target.name
+        c_file.write_bytes(source)
+        subprocess.run([str(cc), *FLAGS, "-o", str(so_file), str(c_file), "-lm"], check=True,
+                       capture_output=True, timeout=COMPILE_TIMEOUT_S)
+        so_file.replace(target)
+
+
+def _bind(lib: ctypes.CDLL) -> ctypes.CDLL:
+    lib.fp_new.argtypes, lib.fp_new.restype = [ctypes.c_int32, ctypes.c_int64], _void_p
+    lib.fp_free.argtypes, lib.fp_free.restype = [_void_p], None
+    lib.fp_bound.argtypes = [_void_p] + [_void_p] * 7 + [_void_p, ctypes.c_int32, _void_p, _void_p]
+    lib.fp_bound.restype = ctypes.c_int32
+    search: list[type[ctypes._SimpleCData[Any]] | type[ctypes._Pointer[Any]]] = [_void_p] * 6
+    search += [ctypes.c_int32, ctypes.c_int32, ctypes.c_double, ctypes.c_double, ctypes.c_int32, ctypes.c_double,
+               ctypes.c_double, ctypes.c_int32, ctypes.POINTER(ctypes.c_int64), _double_p, _void_p, _void_p]
+    lib.fp_search.argtypes = search
+    lib.fp_search.restype = ctypes.c_int32
+    return lib
+
+
+@cache
+def kernel() -> ctypes.CDLL | None:
+    """The compiled kernel, built on first use; None (said once on stderr) where it cannot be built or loaded.
+    MAZELOG_KERNEL=off forces the scipy path (the tests compare the two)."""
+    if os.environ.get("MAZELOG_KERNEL") == "off":
+        return None
+    source = files("maze").joinpath(SOURCE).read_bytes()
+    cc = compiler()
+    try:
+        if cc is None:
+            raise OSError("no compiler")
+        target = _library_path(source, cc)
+        if not target.is_file():
+            _build(source, cc, target)
+        return _bind(ctypes.CDLL(str(target)))
+    except (OSError, subprocess.SubprocessError):
+        print(NO_KERNEL, file=sys.stderr)
+        return None
+
+
+class Workspace:
+    """The kernel and its working memory for one query graph of `nodes` nodes and `edges` edges (kept from query
+    to query, so that none allocates; freed with the graph)."""
+
+    def __init__(self, lib: ctypes.CDLL, nodes: int, edges: int) -> None:
+        self.lib = lib
+        self.handle = lib.fp_new(nodes, edges)
+        if not self.handle:
+            raise MemoryError("no memory for the fastest-path kernel's working arrays")
+        weakref.finalize(self, lib.fp_free, self.handle)
+
+
+def workspace(nodes: int, edges: int) -> Workspace | None:
+    """A workspace for a query graph, or None where the kernel cannot be had (the scipy path)."""
+    lib = kernel()
+    return None if lib is None else Workspace(lib, nodes, edges)

@@ -1,0 +1,104 @@
+"""The compiled fastest-path kernel (maze/fastpath_kernel.c) against the scipy path it replaces: the same routes to
+the bit, query after query on one graph (so that the bound, the limits and the edges priced from the last query's
+walls all come into play); and how it is built: cached, and the scipy path, said once, where no compiler works."""
+
+import subprocess
+import sys
+from unittest import mock
+
+import pytest
+from hypothesis import given, settings
+
+from maze import fastpath_kernel
+from maze.builtin import builtin_names, builtin_path
+from maze.explorer import explore
+from maze.fastpath import MoveGraph
+from maze.mazefile import parse_maze
+from maze.model import Maze
+from maze.mouseparams import load_mouse
+from maze.stepmap import optimistic, pessimistic
+from tests.maze.test_maze_fastpath import maze_series
+
+pytestmark = pytest.mark.skipif(fastpath_kernel.kernel() is None, reason="no C compiler to build the kernel")
+
+
+def same_routes(mazes: list[Maze], diagonal: bool) -> None:
+    size = mazes[0].size
+    compiled = MoveGraph(size, diagonal, load_mouse(None, size))
+    with mock.patch("maze.fastpath_query.workspace", return_value=None):
+        fallback = MoveGraph(size, diagonal, load_mouse(None, size))
+        for maze in mazes:  # build the fallback's query graphs while the patch holds
+            fallback.search.query_graph(maze.start, maze.goals)
+    for maze in mazes:
+        for blocked in (optimistic(maze), pessimistic(maze)):
+            assert compiled.search.query_graph(maze.start, maze.goals).work is not None
+            assert fallback.search.query_graph(maze.start, maze.goals).work is None
+            assert compiled.fastest(blocked, maze.start, maze.goals) == fallback.fastest(blocked, maze.start,
+                                                                                       maze.goals)
+
+
+@settings(max_examples=60, deadline=None)
+@given(maze_series())
+def test_kernel_routes_equal_scipy_routes_on_random_mazes(series):
+    same_routes(series, diagonal=True)
+    same_routes(series, diagonal=False)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", builtin_names())
+def test_kernel_routes_equal_scipy_routes_on_builtin_mazes(name):
+    """The true maze, all unknown, and the walls a time-objective search found, one query after another."""
+    truth = parse_maze(builtin_path(name).read_text())
+    found = explore(truth, "stop", "time", True, load_mouse(None, truth.size)).maze
+    same_routes([Maze.unknown(truth.size, truth.goals), found, truth], diagonal=True)
+
+
+def test_no_compiler_takes_the_scipy_path_and_says_so_once(tmp_path, monkeypatch, capsys):
+    monkeypatch.setenv("CC", "/nonexistent")
+    monkeypatch.setenv("PATH", str(tmp_path))  # no cc or gcc
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    fastpath_kernel.kernel.cache_clear()
+    try:
+        assert fastpath_kernel.workspace(10, 10) is None
+        assert fastpath_kernel.workspace(10, 10) is None
+    finally:
+        fastpath_kernel.kernel.cache_clear()
+    assert capsys.readouterr().err == fastpath_kernel.NO_KERNEL + "\n"
+    assert not (tmp_path / "cache").exists()
+
+
+def test_the_built_kernel_is_cached_and_reused(tmp_path, monkeypatch):
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    fastpath_kernel.kernel.cache_clear()
+    try:
+        assert fastpath_kernel.kernel() is not None
+        built = list((tmp_path / "mazelog").iterdir())
+        assert len(built) == 1 and built[0].suffix == ".so"
+        fastpath_kernel.kernel.cache_clear()
+        with mock.patch.object(fastpath_kernel, "_build", side_effect=AssertionError("built again")):
+            assert fastpath_kernel.kernel() is not None
+        assert list((tmp_path / "mazelog").iterdir()) == built
+    finally:
+        fastpath_kernel.kernel.cache_clear()
+
+
+PROBE = ("import sys; from maze.cli import main\n"
+         "try:\n    main(sys.argv[1:])\nexcept SystemExit:\n    pass\n"
+         "print(sorted(m for m in ('numpy', 'scipy') if m in sys.modules), file=sys.stderr)")
+
+
+def heavy_modules(*args: str, cwd) -> str:
+    run = subprocess.run([sys.executable, "-c", PROBE, *args], capture_output=True, text=True, cwd=cwd, check=True)
+    return run.stderr.strip().splitlines()[-1]
+
+
+def test_commands_that_need_no_search_load_neither_numpy_nor_scipy(tmp_path):
+    """numpy and scipy took 0.4-0.5 s of CPU to import; only a fastest-path query needs numpy, and with the
+    kernel none needs scipy."""
+    heavy_modules("explore", "japan2019hef", "--log", "run.log", cwd=tmp_path)
+    assert heavy_modules("--help", cwd=tmp_path) == "[]"
+    assert heavy_modules("replay", "run.log", cwd=tmp_path) == "[]"
+    assert heavy_modules("explore", "japan2019hef", "--log", "again.log", cwd=tmp_path) == "[]"
+    assert heavy_modules("path", "run.log", cwd=tmp_path) == "['numpy']"
+    assert heavy_modules("explore", "japan2019hef", "--log", "t.log", "--objective", "time", "--diagonal",
+                         cwd=tmp_path) == "['numpy']"
