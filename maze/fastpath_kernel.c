@@ -32,6 +32,11 @@ typedef struct {
     int32_t *nodes;   /* the kept nodes, ascending */
     int32_t *lrow, *lcol, *ledge, *lindptr, *rindptr, *rsrc, *queue, *pred;
     double *lprice;
+    int32_t walls;          /* pricing (fp_price): 0 before the first query */
+    uint8_t *open_wall;     /* per wall id and the two sentinels, the last query's: whether it is open */
+    uint8_t *was_open;
+    int32_t *wall_indptr;   /* the edges that need wall w open: wall_edges[wall_indptr[w]:wall_indptr[w + 1]] */
+    int32_t *wall_edges;
 } workspace;
 
 static void push(item *heap, int64_t *size, double key, int32_t node) {
@@ -142,6 +147,7 @@ void fp_free(void *p) {
     free(ws->reduced); free(ws->exact); free(ws->done); free(ws->kept); free(ws->heap); free(ws->touched);
     free(ws->local); free(ws->nodes); free(ws->lrow); free(ws->lcol); free(ws->ledge); free(ws->lindptr);
     free(ws->rindptr); free(ws->rsrc); free(ws->queue); free(ws->pred); free(ws->lprice);
+    free(ws->open_wall); free(ws->was_open); free(ws->wall_indptr); free(ws->wall_edges);
     free(ws);
 }
 
@@ -170,7 +176,7 @@ static int cmp_int32(const void *a, const void *b) {
     return (x > y) - (x < y);
 }
 
-/* FastestSearch.search: A* from the start (the last node) on the reduced prices `astar` under limits
+/* FastestSearch.search: A* from the start (the last node) on the reduced prices `astar` of the open edges under limits
  * limit0 * growth^k (k < tries, then none), adding the nodes each try settles to *spent; then the exact search
  * of the nodes that could lie on a fastest route (narrowed to those the goal is reached from by tight edges when
  * more than narrow_from are kept) on the prices, limited to the fastest time plus the bound at the start; and
@@ -187,7 +193,7 @@ int32_t fp_search(void *p, const int32_t *indptr, const int32_t *indices, const 
         double limit = k < tries ? limit0 * pow(growth, k) : INFINITY;
         clear(reduced, ws, ntouched);
         ntouched = 0;
-        *spent += dijkstra(indptr, indices, astar, NULL, NULL, &start, 1, limit, reduced, ws, &ntouched);
+        *spent += dijkstra(indptr, indices, astar, NULL, open, &start, 1, limit, reduced, ws, &ntouched);
         best = goal_lo;
         for (int32_t g = goal_lo + 1; g < goal_hi; g++)
             if (reduced[g] < reduced[best]) best = g;
@@ -313,4 +319,117 @@ int32_t fp_search(void *p, const int32_t *indptr, const int32_t *indices, const 
         times[length - 1 - i] = t;
     }
     return length;
+}
+
+/* The graph's edges as fp_price reads them: per edge in row order (the straights of layer A, the turns, those of
+ * layer C, then the start's), the walls it needs open. A straight needs `open_needed` walls along its line from
+ * node `run_from`'s; a turn its `crossings` walls (padded with the open sentinel); a start edge its first wall
+ * and `open_needed` walls from node `run_from`'s. Each node of a layer lies on at most one line of crossings:
+ * line r holds line_len[r] walls (line_walls, rows of `width`) and their nodes (line_nodes, the rows joined). */
+typedef struct {
+    const int32_t *outer, *line_walls, *line_len, *line_nodes, *run_from, *open_needed, *turn_walls;
+    const int32_t *start_first_wall, *start_run_from, *start_open_needed;
+    int32_t nouter, nlines, width, nstraight, before, nturns, crossings, nstart, layer_size;
+} edges_t;
+
+/* For each wall, the edges that need it open (each edge through a wall once per crossing of it), as CSR: built
+ * at the first query, so that a query that only closes walls closes only the edges through them. */
+static int index_walls(workspace *ws, const edges_t *g, int32_t walls) {
+    int32_t *line_of = malloc(sizeof(int32_t) * g->layer_size), *pos_of = malloc(sizeof(int32_t) * g->layer_size);
+    ws->wall_indptr = calloc((size_t)walls + 2, sizeof(int32_t));
+    if (!line_of || !pos_of || !ws->wall_indptr) {
+        free(line_of); free(pos_of);
+        return 0;
+    }
+    int64_t at = 0;
+    for (int32_t r = 0; r < g->nlines; r++)
+        for (int32_t p = 0; p < g->line_len[r]; p++, at++) line_of[g->line_nodes[at]] = r, pos_of[g->line_nodes[at]] = p;
+    for (int pass = 0; pass < 2; pass++) {  /* count, then fill */
+        int64_t e = 0;
+#define NEEDS(wall) do { int32_t w_ = (wall); if (w_ < walls) { \
+        if (pass) ws->wall_edges[ws->wall_indptr[w_ + 1]++] = (int32_t)e; else ws->wall_indptr[w_ + 2]++; } } while (0)
+#define AHEAD(node, count) do { const int32_t *line_ = g->line_walls + (int64_t)line_of[node] * g->width; \
+        for (int32_t k_ = 0; k_ < (count); k_++) NEEDS(line_[pos_of[node] + k_]); } while (0)
+        for (int32_t i = 0; i < g->before; i++, e++) AHEAD(g->run_from[i], g->open_needed[i]);
+        for (int32_t t = 0; t < g->nturns; t++, e++)
+            for (int32_t k = 0; k < g->crossings; k++) NEEDS(g->turn_walls[(int64_t)k * g->nturns + t]);
+        for (int32_t i = g->before; i < g->nstraight; i++, e++) AHEAD(g->run_from[i], g->open_needed[i]);
+        for (int32_t i = 0; i < g->nstart; i++, e++) {
+            NEEDS(g->start_first_wall[i]);
+            AHEAD(g->start_run_from[i], g->start_open_needed[i]);
+        }
+#undef AHEAD
+#undef NEEDS
+        if (!pass) {
+            for (int32_t w = 0; w < walls; w++) ws->wall_indptr[w + 2] += ws->wall_indptr[w + 1];
+            ws->wall_edges = malloc(sizeof(int32_t) * ((size_t)ws->wall_indptr[walls + 1] + 1));
+            if (!ws->wall_edges) break;
+        }
+    }
+    free(line_of); free(pos_of);
+    return ws->wall_edges != NULL;
+}
+
+/* Every edge's open flag from the walls (`open_wall`); `run` (one per node of a layer) gets the open walls
+ * straight ahead of each node, counted back along each line. */
+static void price_all(const edges_t *g, const uint8_t *open_wall, int16_t *run, uint8_t *open) {
+    int64_t at = 0;
+    for (int32_t r = 0; r < g->nlines; r++) {
+        const int32_t *wall = g->line_walls + (int64_t)r * g->width;
+        int16_t ahead = 0;
+        for (int32_t p = g->line_len[r] - 1; p >= 0; p--) {
+            ahead = open_wall[wall[p]] ? ahead + 1 : 0;
+            run[g->line_nodes[at + p]] = ahead;
+        }
+        at += g->line_len[r];
+    }
+    int64_t e = 0;
+    for (int32_t i = 0; i < g->before; i++, e++) open[e] = run[g->run_from[i]] >= g->open_needed[i];
+    for (int32_t t = 0; t < g->nturns; t++, e++) {
+        uint8_t ok = 1;
+        for (int32_t k = 0; k < g->crossings; k++) ok &= open_wall[g->turn_walls[(int64_t)k * g->nturns + t]];
+        open[e] = ok;
+    }
+    for (int32_t i = g->before; i < g->nstraight; i++, e++) open[e] = run[g->run_from[i]] >= g->open_needed[i];
+    for (int32_t i = 0; i < g->nstart; i++, e++)
+        open[e] = open_wall[g->start_first_wall[i]] && run[g->start_run_from[i]] >= g->start_open_needed[i];
+}
+
+/* FastestSearch.price: which edges the walls leave open (`open`, per edge in row order). A wall is open where
+ * `blocked` says so and it is not an outer wall; past the real walls come the always-open and the always-closed
+ * sentinels. A query that only closes walls since the last one closes the edges through them; any other works
+ * every edge out again. */
+void fp_price(void *p, const uint8_t *blocked, int32_t walls, const int32_t *outer, int32_t nouter,
+              const int32_t *line_walls, const int32_t *line_len, int32_t nlines, int32_t width,
+              const int32_t *line_nodes, int16_t *run, int32_t layer_size, int32_t nstraight, int32_t before,
+              const int32_t *run_from, const int32_t *open_needed, int32_t nturns, int32_t crossings,
+              const int32_t *turn_walls, int32_t nstart, const int32_t *start_first_wall,
+              const int32_t *start_run_from, const int32_t *start_open_needed, uint8_t *open) {
+    workspace *ws = p;
+    edges_t g = {outer, line_walls, line_len, line_nodes, run_from, open_needed, turn_walls, start_first_wall,
+                 start_run_from, start_open_needed, nouter, nlines, width, nstraight, before, nturns, crossings,
+                 nstart, layer_size};
+    int first = ws->walls == 0;
+    if (first) {
+        ws->open_wall = malloc((size_t)walls + 2);
+        ws->was_open = malloc((size_t)walls + 2);
+        if (!ws->open_wall || !ws->was_open) return;  /* not reached on any machine that runs Python */
+        ws->walls = walls;
+    }
+    uint8_t *now = ws->was_open;  /* the new walls are worked out into the spare array, then swapped */
+    for (int32_t w = 0; w < walls; w++) now[w] = blocked[w] == 0;
+    for (int32_t i = 0; i < nouter; i++) now[outer[i]] = 0;
+    now[walls] = 1;
+    now[walls + 1] = 0;
+    int opened = first;
+    for (int32_t w = 0; w < walls && !opened; w++) opened = now[w] && !ws->open_wall[w];
+    if (!opened && (ws->wall_edges || index_walls(ws, &g, walls))) {
+        for (int32_t w = 0; w < walls; w++)
+            if (!now[w] && ws->open_wall[w])
+                for (int32_t j = ws->wall_indptr[w]; j < ws->wall_indptr[w + 1]; j++) open[ws->wall_edges[j]] = 0;
+    } else {
+        price_all(&g, now, run, open);
+    }
+    ws->was_open = ws->open_wall;
+    ws->open_wall = now;
 }

@@ -74,6 +74,10 @@ def _bind(lib: ctypes.CDLL) -> ctypes.CDLL:
     search += [ctypes.c_int32, ctypes.c_int32, ctypes.c_double, ctypes.c_double, ctypes.c_int32, ctypes.c_double,
                ctypes.c_double, ctypes.c_int32, ctypes.POINTER(ctypes.c_int64), _double_p, _void_p, _void_p]
     lib.fp_search.argtypes = search
+    i32 = ctypes.c_int32
+    lib.fp_price.argtypes = [_void_p, _void_p, i32, _void_p, i32, _void_p, _void_p, i32, i32, _void_p, _void_p, i32,
+                             i32, i32, _void_p, _void_p, i32, i32, _void_p, i32, _void_p, _void_p, _void_p, _void_p]
+    lib.fp_price.restype = None
     lib.fp_search.restype = ctypes.c_int32
     return lib
 

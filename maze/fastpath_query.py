@@ -88,7 +88,8 @@ class QueryGraph:
     straight, `open_needed` open walls ahead of node `run_from`; for a turn, its walls (`turn_walls`, one row
     per wall crossed); for a start edge, its first wall too. `prices` holds the prices (they depend on the mouse
     only); `open` marks the edges the last query's walls leave open; `astar` has the same edges, with the
-    reduced prices for A* where open and infinity elsewhere; `bound` is A*'s bound and the reduced prices under
+    reduced prices for A* where open and infinity elsewhere (the scipy path's: the kernel reads the bound's
+    reduced prices where `open` says); `bound` is A*'s bound and the reduced prices under
     it (maze/fastpath_bound.py); `hint` is the last query's reduced time to the goal, where the next one's limit
     starts (walls change a few at a time). `walls` are the walls `open` was worked out for (None before the
     first query), and `wall_edges` the edges through each wall (maze/fastpath_walls.py).
@@ -112,8 +113,38 @@ class QueryGraph:
     nodes: np.ndarray
     goal: slice
     work: Workspace | None  # the compiled kernel's (maze/fastpath_kernel.py); None: scipy's searches
+    priced_by: PriceArrays | None = None  # the kernel's copy of what pricing reads, made by its first query
     walls: np.ndarray | None = None
     wall_edges: tuple[np.ndarray, np.ndarray] | None = None  # built by the first query that can use it
+
+
+@dataclass
+class PriceArrays:
+    """What fp_price (maze/fastpath_kernel.c) reads, as the 32-bit arrays it takes, and where it writes: the
+    line of crossings each node lies on and which walls each edge needs open (`StaticGraph._build_lines`,
+    `QueryGraph`)."""
+
+    outer: np.ndarray
+    line_walls: np.ndarray
+    line_len: np.ndarray
+    line_nodes: np.ndarray
+    run_from: np.ndarray
+    open_needed: np.ndarray
+    turn_walls: np.ndarray
+    start_first_wall: np.ndarray
+    start_run_from: np.ndarray
+    start_open_needed: np.ndarray
+    run: np.ndarray  # written: open walls ahead of each node of a layer
+
+    @classmethod
+    def of(cls, graph: StaticGraph, q: QueryGraph) -> PriceArrays:
+        def i32(a: np.ndarray) -> np.ndarray:
+            return np.ascontiguousarray(a, dtype=np.int32)
+
+        return cls(i32(graph.outer_walls), i32(graph.line_walls), i32(graph.on_line.sum(axis=1)),
+                   i32(graph.line_nodes), i32(q.run_from), i32(q.open_needed), i32(q.turn_walls),
+                   i32(q.start.first_wall), i32(q.start.run_from), i32(q.start.open_needed),
+                   np.zeros(graph.layer_size, dtype=np.int16))
 
 
 class FastestSearch:
@@ -247,6 +278,9 @@ class FastestSearch:
         """Which edges the walls leave open, and the reduced prices for A* (infinite where a wall is blocked),
         under a bound found again for these walls where the one kept is stale."""
         walls = np.frombuffer(bytes(blocked), dtype=np.uint8)
+        if q.work is not None:
+            self._price_kernel(q, q.work, walls)
+            return
         closed = self._closed_edges(q, walls)
         if closed is None:
             q.open = self._open_edges(q, walls)
@@ -260,6 +294,23 @@ class FastestSearch:
             q.astar.data[closed] = np.inf
             return
         q.astar.data = np.where(q.open, q.bound.reduced, np.inf)
+
+    def _price_kernel(self, q: QueryGraph, work: Workspace, walls: np.ndarray) -> None:
+        """Which edges are open, by fp_price: as `_closed_edges` and `_open_edges` do, with no numpy call."""
+        g, a = self.graph, q.priced_by
+        if a is None:
+            a = q.priced_by = PriceArrays.of(g, q)
+        work.lib.fp_price(work.handle, walls.ctypes.data, g.walls, a.outer.ctypes.data, len(a.outer),
+                          a.line_walls.ctypes.data, a.line_len.ctypes.data, len(a.line_len), a.line_walls.shape[1],
+                          a.line_nodes.ctypes.data, a.run.ctypes.data, len(a.run), len(a.run_from), q.before_turns,
+                          a.run_from.ctypes.data, a.open_needed.ctypes.data, a.turn_walls.shape[1],
+                          a.turn_walls.shape[0], a.turn_walls.ctypes.data, len(a.start_run_from),
+                          a.start_first_wall.ctypes.data, a.start_run_from.ctypes.data,
+                          a.start_open_needed.ctypes.data, q.open.ctypes.data)
+        q.walls = walls
+        if q.bound.stale(walls):
+            q.bound.find(q.open, walls)
+            q.hint = None  # the last answer was under another bound
 
     def _closed_edges(self, q: QueryGraph, walls: np.ndarray) -> np.ndarray | None:
         """The edges through the walls this query closes and the last one left open; None where it opens one
@@ -327,7 +378,7 @@ class FastestSearch:
         spent, hint = ctypes.c_int64(0), ctypes.c_double(0.0)
         route, times = np.empty(len(q.nodes), dtype=np.int32), np.empty(len(q.nodes))
         length = work.lib.fp_search(
-            work.handle, q.prices.indptr.ctypes.data, q.prices.indices.ctypes.data, q.astar.data.ctypes.data,
+            work.handle, q.prices.indptr.ctypes.data, q.prices.indices.ctypes.data, q.bound.reduced.ctypes.data,
             q.prices.data.ctypes.data, q.open.ctypes.data, q.goal.start, q.goal.stop, self._first_limit(q),
             LIMIT_GROWTH, LIMIT_TRIES, q.bound.at_start, TIME_SLACK, NARROW_FROM, ctypes.byref(spent),
             ctypes.byref(hint), route.ctypes.data, times.ctypes.data)
