@@ -17,6 +17,7 @@ import statistics
 import subprocess
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import click
@@ -28,7 +29,7 @@ from maze.explorer import explore
 from maze.fastpath import fastest_route, move_graph
 from maze.mazefile import parse_maze
 from maze.model import Maze
-from maze.mouseparams import load_mouse
+from maze.mouseparams import MouseParams, load_mouse
 from maze.stepmap import optimistic, pessimistic
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -66,12 +67,8 @@ def queries(maze_path: Path, repeat: int) -> dict[str, tuple[float, float]]:
     return out
 
 
-def search_queries(maze_path: Path) -> dict[str, tuple[float, float]]:
-    """The queries `mazelog explore MAZE --objective time --diagonal` makes, in its order, timed one by one
-    on a fresh graph (built by an untimed first query, as the search's own first query builds it): median and
-    90th percentile, not min."""
-    truth = parse_maze(maze_path.read_text())
-    mouse = load_mouse(None, truth.size)
+def search_walls(truth: Maze, mouse: MouseParams) -> list[bytes]:
+    """The walls of each query `mazelog explore MAZE --objective time --diagonal` makes, in its order."""
     seen: list[bytes] = []
 
     def recording(maze_: Maze, blocked: bytes, diagonal: bool, params) -> object:
@@ -83,13 +80,27 @@ def search_queries(maze_path: Path) -> dict[str, tuple[float, float]]:
         explore(truth, "stop", "time", True, mouse)
     finally:
         maze.fastpath.fastest_route = fastest_route
+    return seen
+
+
+def search_query_ms(truth: Maze, mouse: MouseParams, clock: Callable[[], float] = time.perf_counter) -> list[float]:
+    """The queries `mazelog explore MAZE --objective time --diagonal` makes, in its order, timed one by one by
+    `clock` in ms on a fresh graph (built by an untimed first query, as the search's own first query builds it)."""
+    seen = search_walls(truth, mouse)
     move_graph.cache_clear()
     fastest_route(truth, seen[0], True, mouse)
     times = []
     for blocked in seen[1:]:
-        t0 = time.perf_counter()
+        t0 = clock()
         fastest_route(truth, blocked, True, mouse)
-        times.append((time.perf_counter() - t0) * 1000)
+        times.append((clock() - t0) * 1000)
+    return times
+
+
+def search_queries(maze_path: Path) -> dict[str, tuple[float, float]]:
+    """A search's queries (`search_query_ms`): median and 90th percentile, not min."""
+    truth = parse_maze(maze_path.read_text())
+    times = search_query_ms(truth, load_mouse(None, truth.size))
     return {f"diagonal, the {len(times)} queries of a search": (statistics.median(times),
                                                                 statistics.quantiles(times, n=10)[-1])}
 
