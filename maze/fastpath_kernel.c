@@ -433,3 +433,70 @@ void fp_price(void *p, const uint8_t *blocked, int32_t walls, const int32_t *out
     ws->was_open = ws->open_wall;
     ws->open_wall = now;
 }
+
+/* RouteDecoder.route: a route's nodes (`nodes`, their `times`) decoded into moves and the wall points crossed.
+ * Per move: its kind (0 the start's straight of `value` cells and a half, 1 a turn of shape `value`, 2 a straight
+ * of `value` steps along the walls, 3 one of `value` diagonal steps), its length in cells (straights only) and
+ * its time. Points start with the start cell's centre; per point, the cell entered and the wall crossed. A
+ * straight is its pieces joined, its walls counted from where it began; its cells are summed piece by piece,
+ * as the Python decoder sums them. Returns the number of moves (*npoints gets the points'). */
+int32_t fp_route(const int64_t *nodes, const double *times, int32_t count, int64_t start_node, int32_t layer_size,
+                 int32_t side, int32_t layer_b, int32_t layer_g, int32_t cx, int32_t cy, const int32_t *step_x,
+                 const int32_t *step_y, const int32_t *stride, const double *unit, const int64_t *turn_keys,
+                 int64_t nturn_keys, const int32_t *turn_shapes, const int32_t *offsets, const int32_t *noffsets,
+                 int32_t crossings,
+                 const int64_t *wall_at, int32_t *kind, int32_t *value, double *cells, double *seconds,
+                 int32_t *px, int32_t *py, int32_t *cell_x, int32_t *cell_y, int64_t *wall, int32_t *npoints) {
+    int32_t moves = 0, points = 1, begin = 0;
+    double length = 0.0;
+    px[0] = cx, py[0] = cy;
+    for (int32_t i = 0; i + 1 < count; i++) {
+        int32_t wv = (int32_t)(nodes[i + 1] % layer_size), wu = (int32_t)(nodes[i] % layer_size);
+        int32_t vx = (wv / 8) % side, vy = (wv / 8) / side, hv = wv % 8;
+        int32_t ux = (wu / 8) % side, uy = (wu / 8) / side, h = wu % 8;
+        int32_t layer = (int32_t)(nodes[i] / layer_size), next_layer = (int32_t)(nodes[i + 1] / layer_size);
+        if (nodes[i] == start_node) {
+            int32_t dx = step_x[hv], dy = step_y[hv], n = (abs(vx - cx) + abs(vy - cy) + 1) / 2;
+            for (int32_t k = 1; k <= n; k++, points++)
+                px[points] = cx + (2 * k - 1) * dx, py[points] = cy + (2 * k - 1) * dy;
+            kind[moves] = 0, value[moves] = n, cells[moves] = n - 0.5, seconds[moves++] = times[i + 1] - times[i];
+            begin = i + 1, length = 0.0;
+            continue;
+        }
+        if (layer == layer_b) {
+            int64_t key = nodes[i] * (start_node + 1) + nodes[i + 1], lo = 0, hi = nturn_keys;
+            while (lo < hi) {  /* the first key >= key, as numpy's searchsorted */
+                int64_t mid = (lo + hi) / 2;
+                if (turn_keys[mid] < key) lo = mid + 1; else hi = mid;
+            }
+            int32_t shape = turn_shapes[lo];
+            for (int32_t k = 0; k < noffsets[shape]; k++, points++)
+                px[points] = ux + offsets[(shape * crossings + k) * 2],
+                py[points] = uy + offsets[(shape * crossings + k) * 2 + 1];
+            kind[moves] = 1, value[moves] = shape, cells[moves] = 0.0, seconds[moves++] = times[i + 1] - times[i];
+            begin = i + 1, length = 0.0;
+            continue;
+        }
+        int32_t sx = step_x[h] * stride[h], sy = step_y[h] * stride[h];
+        int32_t ax = abs(sx) > 1 ? abs(sx) : 1, ay = abs(sy) > 1 ? abs(sy) : 1;
+        int32_t piece_x = abs(vx - ux) / ax, piece_y = abs(vy - uy) / ay;
+        length += (double)(piece_x > piece_y ? piece_x : piece_y) * unit[h];
+        if (next_layer == layer_b || next_layer == layer_g) {
+            int32_t wb = (int32_t)(nodes[begin] % layer_size), bx = (wb / 8) % side, by = (wb / 8) / side;
+            int32_t nx = abs(vx - bx) / ax, ny = abs(vy - by) / ay, steps = nx > ny ? nx : ny;
+            for (int32_t k = 1; k <= steps; k++, points++) px[points] = bx + k * sx, py[points] = by + k * sy;
+            if (steps) {
+                kind[moves] = h % 2 ? 3 : 2, value[moves] = steps, cells[moves] = length;
+                seconds[moves++] = times[i + 1] - times[begin];
+            }
+        }
+    }
+    for (int32_t k = 1; k < points; k++) {  /* the cell beyond each wall point, and the wall */
+        int32_t x = px[k], y = py[k], horizontal = x % 2 == 1;
+        cell_x[k - 1] = x / 2 - (!horizontal && px[k - 1] > x);
+        cell_y[k - 1] = y / 2 - (horizontal && py[k - 1] > y);
+        wall[k - 1] = wall_at[(int64_t)y * side + x];
+    }
+    *npoints = points;
+    return moves;
+}

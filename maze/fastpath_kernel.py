@@ -78,6 +78,11 @@ def _bind(lib: ctypes.CDLL) -> ctypes.CDLL:
     lib.fp_price.argtypes = [_void_p, _void_p, i32, _void_p, i32, _void_p, _void_p, i32, i32, _void_p, _void_p, i32,
                              i32, i32, _void_p, _void_p, i32, i32, _void_p, i32, _void_p, _void_p, _void_p, _void_p]
     lib.fp_price.restype = None
+    i64 = ctypes.c_int64
+    route: list[type[ctypes._SimpleCData[Any]]] = [_void_p, _void_p, i32, i64, i32, i32, i32, i32, i32, i32]
+    route += [_void_p] * 5 + [i64] + [_void_p] * 3 + [i32] + [_void_p] * 11
+    lib.fp_route.argtypes = route
+    lib.fp_route.restype = i32
     lib.fp_search.restype = ctypes.c_int32
     return lib
 

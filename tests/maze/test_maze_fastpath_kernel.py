@@ -12,7 +12,7 @@ from hypothesis import given, settings
 from maze import fastpath_kernel
 from maze.builtin import builtin_names, builtin_path
 from maze.explorer import explore
-from maze.fastpath import MoveGraph
+from maze.fastpath import MoveGraph, Route
 from maze.mazefile import parse_maze
 from maze.model import Maze
 from maze.mouseparams import load_mouse
@@ -22,19 +22,24 @@ from tests.maze.test_maze_fastpath import maze_series
 pytestmark = pytest.mark.skipif(fastpath_kernel.kernel() is None, reason="no C compiler to build the kernel")
 
 
-def same_routes(mazes: list[Maze], diagonal: bool) -> None:
+def routes(mazes: list[Maze], diagonal: bool) -> list[Route | None]:
     size = mazes[0].size
-    compiled = MoveGraph(size, diagonal, load_mouse(None, size))
-    with mock.patch("maze.fastpath_query.workspace", return_value=None):
-        fallback = MoveGraph(size, diagonal, load_mouse(None, size))
-        for maze in mazes:  # build the fallback's query graphs while the patch holds
-            fallback.search.query_graph(maze.start, maze.goals)
-    for maze in mazes:
-        for blocked in (optimistic(maze), pessimistic(maze)):
-            assert compiled.search.query_graph(maze.start, maze.goals).work is not None
-            assert fallback.search.query_graph(maze.start, maze.goals).work is None
-            assert compiled.fastest(blocked, maze.start, maze.goals) == fallback.fastest(blocked, maze.start,
-                                                                                       maze.goals)
+    graph = MoveGraph(size, diagonal, load_mouse(None, size))
+    return [graph.fastest(blocked, maze.start, maze.goals) for maze in mazes
+            for blocked in (optimistic(maze), pessimistic(maze))]
+
+
+def same_routes(mazes: list[Maze], diagonal: bool) -> None:
+    """The kernel's routes (its searches and its decoding) and the scipy path's, query after query."""
+    with mock.patch("maze.fastpath_query.workspace", return_value=None), \
+            mock.patch("maze.fastpath_route.kernel", return_value=None):
+        fallback = routes(mazes, diagonal)
+    assert routes(mazes, diagonal) == fallback
+
+
+def test_query_graphs_search_with_the_kernel():
+    graph = MoveGraph(4, True, load_mouse(None, 4))
+    assert graph.search.query_graph((0, 0), ((1, 1),)).work is not None
 
 
 @settings(max_examples=60, deadline=None)
