@@ -116,6 +116,7 @@ def main(worker_maze: Path | None, before: Path | None, kerikun: Path | None, he
         return
     from maze.builtin import builtin_path
 
+    kerikun, held_out = (p.resolve() if p else None for p in (kerikun, held_out))  # the runs are from a temp folder
     mazes = [(builtin_path(n), "dev") for n in DEV]
     mazes += [(held_out / f"{n}.txt", "held out") for n in HELD_OUT if held_out and (held_out / f"{n}.txt").is_file()]
     versions = {"before": before.resolve()} if before else {}
