@@ -26,7 +26,8 @@ from typing import Any
 SOURCE = "fastpath_kernel.c"
 FLAGS = ("-O2", "-shared", "-fPIC", "-ffp-contract=off", "-fno-fast-math")  # no fused rounding: routes to the bit
 COMPILE_TIMEOUT_S = 60
-NO_KERNEL = "note: no working C compiler ($CC, cc or gcc), so fastest-path queries use scipy (same routes, slower)"
+FALLBACK = "so fastest-path queries use scipy (the same routes, slower)"
+NO_COMPILER = f"note: no C compiler ($CC, cc or gcc), {FALLBACK}"
 
 _double_p = ctypes.POINTER(ctypes.c_double)
 _void_p = ctypes.c_void_p
@@ -95,16 +96,23 @@ def kernel() -> ctypes.CDLL | None:
         return None
     source = files("maze").joinpath(SOURCE).read_bytes()
     cc = compiler()
+    if cc is None:
+        print(NO_COMPILER, file=sys.stderr)
+        return None
     try:
-        if cc is None:
-            raise OSError("no compiler")
         target = _library_path(source, cc)
         if not target.is_file():
             _build(source, cc, target)
         return _bind(ctypes.CDLL(str(target)))
-    except (OSError, subprocess.SubprocessError):
-        print(NO_KERNEL, file=sys.stderr)
-        return None
+    except subprocess.CalledProcessError as e:
+        said = e.stderr.decode(errors="replace").splitlines()
+        why = next((line for line in said if "error" in line), said[0] if said else f"exit status {e.returncode}")
+    except subprocess.TimeoutExpired:
+        why = f"{cc} ran over {COMPILE_TIMEOUT_S} s"
+    except OSError as e:
+        why = f"{e.filename or e}: {e.strerror}" if e.strerror else str(e)
+    print(f"note: the fastest-path kernel could not be built ({why}), {FALLBACK}", file=sys.stderr)
+    return None
 
 
 class Workspace:

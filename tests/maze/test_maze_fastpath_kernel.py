@@ -58,8 +58,9 @@ def test_kernel_routes_equal_scipy_routes_on_builtin_mazes(name):
     same_routes([Maze.unknown(truth.size, truth.goals), found, truth], diagonal=True)
 
 
-def test_no_compiler_takes_the_scipy_path_and_says_so_once(tmp_path, monkeypatch, capsys):
-    monkeypatch.setenv("CC", "/nonexistent")
+def fallback_notes(cc: str, tmp_path, monkeypatch, capsys) -> list[str]:
+    """What stderr says over two workspaces asked for with compiler `cc` (both must be the scipy path's)."""
+    monkeypatch.setenv("CC", cc)
     monkeypatch.setenv("PATH", str(tmp_path))  # no cc or gcc
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
     fastpath_kernel.kernel.cache_clear()
@@ -68,8 +69,21 @@ def test_no_compiler_takes_the_scipy_path_and_says_so_once(tmp_path, monkeypatch
         assert fastpath_kernel.workspace(10, 10) is None
     finally:
         fastpath_kernel.kernel.cache_clear()
-    assert capsys.readouterr().err == fastpath_kernel.NO_KERNEL + "\n"
+    return capsys.readouterr().err.splitlines()
+
+
+def test_no_compiler_takes_the_scipy_path_and_says_so_once(tmp_path, monkeypatch, capsys):
+    assert fallback_notes("/nonexistent", tmp_path, monkeypatch, capsys) == [fastpath_kernel.NO_COMPILER]
     assert not (tmp_path / "cache").exists()
+
+
+def test_a_compiler_that_fails_is_named_once_and_the_scipy_path_taken(tmp_path, monkeypatch, capsys):
+    failing = tmp_path / "failing-cc"
+    failing.write_text("#!/bin/sh\necho 'kernel.c:1: error: this compiler is broken' >&2\nexit 1\n")
+    failing.chmod(0o755)
+    err = fallback_notes(str(failing), tmp_path, monkeypatch, capsys)
+    assert len(err) == 1 and "kernel.c:1: error: this compiler is broken" in err[0]
+    assert err[0].endswith(fastpath_kernel.FALLBACK)
 
 
 def test_the_built_kernel_is_cached_and_reused(tmp_path, monkeypatch):
