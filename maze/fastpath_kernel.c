@@ -31,6 +31,7 @@ typedef struct {
     int32_t *local;   /* node -> its number among the kept nodes */
     int32_t *nodes;   /* the kept nodes, ascending */
     int32_t *lrow, *lcol, *ledge, *lindptr, *rindptr, *rsrc, *queue, *pred;
+    int32_t *slot;    /* where each node is in the heap, -1 for nowhere (between searches: everywhere -1) */
     double *lprice;
     int32_t walls;          /* pricing (fp_price): 0 before the first query */
     uint8_t *open_wall;     /* per wall id and the two sentinels, the last query's: whether it is open */
@@ -39,30 +40,42 @@ typedef struct {
     int32_t *wall_edges;
 } workspace;
 
-static void push(item *heap, int64_t *size, double key, int32_t node) {
-    int64_t i = (*size)++;
+/* A 4-ary heap of nodes keyed by their tentative times, each node in it at most once (`slot`: where it is, -1
+ * for nowhere), so that lowering a node's time moves it rather than adding a second entry. */
+static void place(workspace *ws, int64_t i, item it) {
     while (i > 0) {
-        int64_t parent = (i - 1) >> 1;
-        if (heap[parent].key <= key) break;
-        heap[i] = heap[parent];
+        int64_t parent = (i - 1) / 4;
+        if (ws->heap[parent].key <= it.key) break;
+        ws->heap[i] = ws->heap[parent];
+        ws->slot[ws->heap[i].node] = (int32_t)i;
         i = parent;
     }
-    heap[i].key = key;
-    heap[i].node = node;
+    ws->heap[i] = it;
+    ws->slot[it.node] = (int32_t)i;
 }
 
-static item pop(item *heap, int64_t *size) {
-    item top = heap[0], last = heap[--(*size)];
+static void push(workspace *ws, int64_t *size, double key, int32_t node) {
+    int64_t i = ws->slot[node];
+    place(ws, i < 0 ? (*size)++ : i, (item){key, node});
+}
+
+static item pop(workspace *ws, int64_t *size) {
+    item *heap = ws->heap, top = heap[0], last = heap[--(*size)];
+    ws->slot[top.node] = -1;
     int64_t i = 0, n = *size;
+    if (!n) return top;
     for (;;) {
-        int64_t c = 2 * i + 1;
+        int64_t c = 4 * i + 1, best = c;
         if (c >= n) break;
-        if (c + 1 < n && heap[c + 1].key < heap[c].key) c++;
-        if (heap[c].key >= last.key) break;
-        heap[i] = heap[c];
-        i = c;
+        for (int64_t k = c + 1; k < c + 4 && k < n; k++)
+            if (heap[k].key < heap[best].key) best = k;
+        if (heap[best].key >= last.key) break;
+        heap[i] = heap[best];
+        ws->slot[heap[i].node] = (int32_t)i;
+        i = best;
     }
     heap[i] = last;
+    ws->slot[last.node] = (int32_t)i;
     return top;
 }
 
@@ -78,12 +91,11 @@ static int32_t dijkstra(const int32_t *indptr, const int32_t *indices, const dou
     for (int32_t s = 0; s < nsrc; s++) {
         if (dist[sources[s]] == INFINITY) ws->touched[(*ntouched)++] = sources[s];
         dist[sources[s]] = 0.0;
-        push(ws->heap, &size, 0.0, sources[s]);
+        push(ws, &size, 0.0, sources[s]);
     }
     while (size) {
-        item it = pop(ws->heap, &size);
+        item it = pop(ws, &size);
         int32_t v = it.node;
-        if (ws->done[v] || it.key > dist[v]) continue;
         ws->done[v] = 1;
         settled++;
         double at = dist[v];
@@ -96,7 +108,7 @@ static int32_t dijkstra(const int32_t *indptr, const int32_t *indices, const dou
             if (next <= limit && next < dist[u]) {
                 if (dist[u] == INFINITY) ws->touched[(*ntouched)++] = u;
                 dist[u] = next;
-                push(ws->heap, &size, next, u);
+                push(ws, &size, next, u);
             }
         }
     }
@@ -119,7 +131,8 @@ void *fp_new(int32_t n, int64_t m) {
     ws->exact = malloc(sizeof(double) * n);
     ws->done = calloc(n, 1);
     ws->kept = calloc(n + 1, 1);
-    ws->heap = malloc(sizeof(item) * (m + n + 1));
+    ws->heap = malloc(sizeof(item) * (n + 1));
+    ws->slot = malloc(sizeof(int32_t) * (n + 1));
     ws->touched = malloc(sizeof(int32_t) * (n + 1));
     ws->local = malloc(sizeof(int32_t) * n);
     ws->nodes = malloc(sizeof(int32_t) * n);
@@ -132,19 +145,19 @@ void *fp_new(int32_t n, int64_t m) {
     ws->queue = malloc(sizeof(int32_t) * (n + 1));
     ws->pred = malloc(sizeof(int32_t) * n);
     ws->lprice = malloc(sizeof(double) * (m + 1));
-    if (!ws->reduced || !ws->exact || !ws->done || !ws->kept || !ws->heap || !ws->touched || !ws->local
+    if (!ws->reduced || !ws->exact || !ws->done || !ws->kept || !ws->heap || !ws->slot || !ws->touched || !ws->local
         || !ws->nodes || !ws->lrow || !ws->lcol || !ws->ledge || !ws->lindptr || !ws->rindptr || !ws->rsrc
         || !ws->queue || !ws->pred || !ws->lprice) {
         return NULL;  /* the caller falls back; what was allocated is lost once, at start-up */
     }
-    for (int32_t i = 0; i < n; i++) ws->reduced[i] = ws->exact[i] = INFINITY;
+    for (int32_t i = 0; i < n; i++) ws->reduced[i] = ws->exact[i] = INFINITY, ws->slot[i] = -1;
     return ws;
 }
 
 void fp_free(void *p) {
     workspace *ws = p;
     if (!ws) return;
-    free(ws->reduced); free(ws->exact); free(ws->done); free(ws->kept); free(ws->heap); free(ws->touched);
+    free(ws->reduced); free(ws->exact); free(ws->done); free(ws->kept); free(ws->heap); free(ws->slot); free(ws->touched);
     free(ws->local); free(ws->nodes); free(ws->lrow); free(ws->lcol); free(ws->ledge); free(ws->lindptr);
     free(ws->rindptr); free(ws->rsrc); free(ws->queue); free(ws->pred); free(ws->lprice);
     free(ws->open_wall); free(ws->was_open); free(ws->wall_indptr); free(ws->wall_edges);
