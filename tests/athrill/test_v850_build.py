@@ -8,12 +8,14 @@ from pathlib import Path
 
 import pytest
 
+from athrill_sim.third_party import EV3RT_SAMPLE_IMAGE
 from athrill_sim.v850 import ImageError, build
 from athrill_sim.v850.build import app_files, build_image, cache_key, first_error, staged_sources, user_paths
 from athrill_sim.v850.elf import check_image
 from athrill_sim.v850.toolchain import Tools, unpack_toolchain
 from tests.helpers.athrill_fixtures import ASP_IMAGE
 from tests.helpers.commands import hako, one_line_error
+from tests.helpers.paths import needs_shared
 from tests.helpers.realemu_fixtures import BASE_PRACTICE, need_v850_tools
 
 
@@ -133,7 +135,7 @@ def test_an_elf_for_another_cpu_is_named(tmp_path):
 
 def test_a_truncated_image_is_refused_before_athrill2_sees_it(tmp_path):
     if not ASP_IMAGE.is_file():
-        pytest.skip(f"needs the real EV3RT image at {ASP_IMAGE} (../shared)")
+        pytest.skip(needs_shared("the real EV3RT image", ASP_IMAGE, EV3RT_SAMPLE_IMAGE))
     check_image(ASP_IMAGE)
     cut = tmp_path / "asp"
     cut.write_bytes(ASP_IMAGE.read_bytes()[:100_000])
