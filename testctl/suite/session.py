@@ -13,6 +13,7 @@ import click
 from hakoniwa.wire.exits import EXIT_CASES_FAILED, EXIT_RUN_BROKEN
 from hakoniwa.wire.protocol import LayoutError
 from hakoniwa.wire.result import TestResult
+from testctl.cluster_address import ClusterAddress
 from testctl.executor import BenchFault, TestSpec
 from testctl.interrupts import on_stop_say, stopped_by
 from testctl.runner import PhysicsGone
@@ -30,7 +31,7 @@ class RunBroken(click.ClickException):
     exit_code = EXIT_RUN_BROKEN
 
 
-def run_suite(test_file: Path, cases: Sequence[Case], out_dir: Path, *, benches: int, scheduler: str | None,
+def run_suite(test_file: Path, cases: Sequence[Case], out_dir: Path, *, benches: int, scheduler: ClusterAddress | None,
               junit_file: Path | None, json_file: Path | None) -> None:
     """Run and judge every case, print the table, write the files, and exit 1 if a case failed."""
     from testctl.cluster import ClusterError  # Dask: not for `hako --help`
@@ -38,14 +39,13 @@ def run_suite(test_file: Path, cases: Sequence[Case], out_dir: Path, *, benches:
     on_stop_say("nothing is judged")
     total = sum(len(c.seeds) for c in cases)
     countdown = Countdown(total)
-
-    def finished(spec: TestSpec, result: TestResult) -> None:
-        left = countdown.finished()
-        bar.update(1, ", ".join(filter(None, [f"{cases[spec.set_index].name}: {result.event.name}", left])))
-
     try:
         with click.progressbar(length=total, label=f"hako test {test_file}", item_show_func=lambda s: s,
                                show_eta=False, file=sys.stderr) as bar:
+            def finished(spec: TestSpec, result: TestResult) -> None:
+                left = countdown.finished()
+                bar.update(1, ", ".join(filter(None, [f"{cases[spec.set_index].name}: {result.event.name}", left])))
+
             runs = run_cases(cases, lambda bench: bench_executor(bench, out_dir / "run", benches, scheduler),
                              finished)
         files = {r.case.name: keep_case_files(out_dir, r, rerun_worst) for r in runs}
