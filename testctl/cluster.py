@@ -20,6 +20,7 @@ import os
 import queue
 import shlex
 import shutil
+import ssl
 import sys
 import tempfile
 import threading
@@ -28,14 +29,17 @@ from concurrent.futures import CancelledError
 from pathlib import Path
 from typing import cast
 
+import dask.config
 from dask.typing import Key
 from distributed import Client, Future, LocalCluster, get_worker
 from distributed.diagnostics.plugin import WorkerPlugin
+from distributed.security import Security
 
 from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.result import TestResult
 from testctl.bench import Bench
 from testctl.bench_options import BenchOptions
+from testctl.cluster_address import CLUSTER_DOC, ClusterAddress, TlsFiles
 from testctl.executor import Executor, TestSpec
 
 PLUGIN_NAME = "hakoniwa-bench"
@@ -97,6 +101,28 @@ class BenchHost(WorkerPlugin):
         shutil.rmtree(self._dir or "", ignore_errors=True)
 
 
+def tls_security(address: str, files: TlsFiles) -> Security:
+    """Dask's TLS for the link to the scheduler at `address`: the files given, the rest from Dask's
+    `distributed.comm.tls` config. Loaded here, so that a missing CA or a certificate that is no
+    certificate, or one that does not match its key, is a one-line ClusterError before any connection."""
+    ca, cert, key = (str(given) if given is not None else dask.config.get(f"distributed.comm.tls.{name}", None)
+                     for given, name in ((files.ca, "ca-file"), (files.cert, "client.cert"), (files.key, "client.key")))
+    if ca is None or cert is None:
+        raise ClusterError(f"{address} is TLS: give --tls-ca and --tls-cert (and --tls-key unless the certificate "
+                           f"file holds the key), or set Dask's distributed.comm.tls.ca-file and client.cert "
+                           f"({CLUSTER_DOC})")
+    security = Security(require_encryption=True, tls_ca_file=ca, tls_client_cert=cert, tls_client_key=key)
+    try:
+        security.get_connection_args("client")  # builds the SSL context: reads every file now
+    except (OSError, ssl.SSLError, ValueError) as e:
+        reason = getattr(e, "reason", None) or getattr(e, "strerror", None) or str(e)
+        if "PEM lib" in str(e):  # OpenSSL's words for a file it could not read as PEM
+            reason = "one of them is not a PEM certificate or key"
+        raise ClusterError(f"TLS for the Dask scheduler at {address}: cannot use the CA {ca}, certificate {cert} "
+                           f"and key {key or '(in the certificate file)'}: {reason}") from None
+    return security
+
+
 def run_on_worker(spec: TestSpec) -> tuple[TestResult, str]:
     """The task each test is: run it on this worker's bench."""
     host = cast(BenchHost, get_worker().plugins[PLUGIN_NAME])  # the plugin this module registers
@@ -110,15 +136,17 @@ class DaskExecutor(Executor):
     is at `scheduler`. A test whose bench died runs again up to `retries` times: a campaign recovers, while
     `hako test` (retries 0) reports a broken run, as CI wants of a bench that broke."""
 
-    def __init__(self, options: BenchOptions, *, benches: int | None = None, scheduler: str | None = None,
+    def __init__(self, options: BenchOptions, *, benches: int | None = None, scheduler: ClusterAddress | None = None,
                  retries: int = RETRIES) -> None:
         self._retries = retries
         self._cluster: LocalCluster | None = None
         if scheduler is not None:
+            security = tls_security(scheduler.address, scheduler.tls) if scheduler.tls is not None else None
             try:
-                self.client = Client(scheduler, timeout=CONNECT_TIMEOUT_S)
+                self.client = Client(scheduler.address, timeout=CONNECT_TIMEOUT_S, security=security)
             except (OSError, TimeoutError) as e:
-                raise ClusterError(f"cannot reach the Dask scheduler at {scheduler}: {e}") from None
+                reason = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+                raise ClusterError(f"cannot reach the Dask scheduler at {scheduler.address}: {reason}") from None
             # The campaign says in one line what became of a cluster it loses; Dask's own tracebacks of
             # the lost connection would bury that line.
             for name in [n for n in logging.root.manager.loggerDict if n.split(".")[0] == "distributed"]:
@@ -135,9 +163,9 @@ class DaskExecutor(Executor):
             self.client.wait_for_workers(1, timeout=CONNECT_TIMEOUT_S)
         except TimeoutError:
             self.close()
-            raise ClusterError(f"the Dask scheduler at {scheduler} has no workers") from None
+            raise ClusterError(f"the Dask scheduler at {scheduler and scheduler.address} has no workers") from None
         self.client.register_plugin(BenchHost(options), name=PLUGIN_NAME)
-        self.where = scheduler or "the local cluster"
+        self.where = scheduler.address if scheduler is not None else "the local cluster"
         self.capacity = len(self.client.scheduler_info()["workers"])
         # Finished futures, as Dask's own thread reports them: a wait wakes the moment a test ends. With one
         # set proposed at a time, every moment between a set's last test and the next proposal leaves all

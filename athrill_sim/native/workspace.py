@@ -70,8 +70,14 @@ def find_app(path: Path) -> AppSources:
             raise NativeBuildError(f"{path}: not a C or C++ source file (.c, .cpp)")
         return _lone_app(path)
     root = path if path.is_dir() else path.parent
-    make = evaluate(root / MAKEFILE_INC) if (root / MAKEFILE_INC).is_file() else NO_MAKEFILE
-    return _workspace_app(root, make)
+    return _workspace_app(root, program_makefile(root))
+
+
+def program_makefile(root: Path) -> MakeVars:
+    """What the workspace folder's `Makefile.inc` sets. A folder without one is built as if it had an empty
+    one: EV3RT's samples with nothing to add ship it empty, so its absence says nothing else. `hako trial`
+    (native) and `hako build` (v850) both read a program through this, so they take the same folders."""
+    return evaluate(root / MAKEFILE_INC) if (root / MAKEFILE_INC).is_file() else NO_MAKEFILE
 
 
 def _lone_app(source: Path) -> AppSources:

@@ -13,7 +13,8 @@ and the compiler's identity (its path and `--version`). Only the program's sourc
 
 A folder or `.c` file without `app.cfg` is a program whose `main_task` is its one task, as for the native
 build: `app.cfg`, `app.h` (unless it has one) and an empty `Makefile.inc` are written for it (a lone `.cpp`
-gets the C++ language and `libcpp-ev3`, as natively).
+gets the C++ language and `libcpp-ev3`, as natively). A workspace folder without `Makefile.inc` gets an empty
+one, as the native build reads it (`athrill_sim.native.workspace.program_makefile`).
 
 C++ programs (`SRCLANG := c++`, whose main file is `app.cpp`) build with the SDK's own C++ path. EV3RT runs
 their static constructors itself (`_app_init_task`, before the program's tasks: `sdk/common/ev3api/src/ev3api.c`),
@@ -37,8 +38,8 @@ from athrill_sim.elf_symbols import DEBUG_SUFFIX
 from athrill_sim.native import NativeBuildError, spike
 from athrill_sim.native.build import no_entry_point, undefined_name
 from athrill_sim.native.headers import LAYOUT_HEADER
-from athrill_sim.native.makefile import ETROBO_VARIABLES, ETROBOC_COMMON, NO_MAKEFILE, evaluate
-from athrill_sim.native.workspace import LONE_CXX_MAKEFILE_INC
+from athrill_sim.native.makefile import ETROBO_VARIABLES, ETROBOC_COMMON, NO_MAKEFILE
+from athrill_sim.native.workspace import LONE_CXX_MAKEFILE_INC, MAKEFILE_INC, program_makefile
 from athrill_sim.v850 import ImageError
 from athrill_sim.v850.toolchain import Tools, check_build_tools, find_tools
 from hakoniwa.wire.protocol import c_header
@@ -71,6 +72,8 @@ extern void main_task(intptr_t exinf);
 
 _ERROR = re.compile(r"\berror: |undefined reference to |multiple definition of |No rule to make|\b[A-Z]\w*Error\b")
 _MAKE_SUMMARY = re.compile(r"^make(\[\d+\])?: \*\*\* .*Error \d+")
+_NO_RULE = re.compile(r"No rule to make target [`'\u2018](?P<target>[^'\u2019]+)['\u2019]"
+                      r"(?:, needed by [`'\u2018](?P<by>[^'\u2019]+)['\u2019])?")
 _STAGED_PATH = re.compile(r"(?:[^\s:'\"`\u2018\u2019]*/)?" + APP_NAME + r"/([^\s:'\"`\u2018\u2019]+)")
 KERNEL_CFG = "kernel_cfg.o"  # what the SDK's cfg pass makes of app.cfg: what it references are app.cfg's entries
 
@@ -110,7 +113,7 @@ def app_files(app: Path) -> tuple[Path, list[Path], bool]:
         raise ImageError(f"{root}: no app.c or app.cpp; an EV3RT workspace folder holds app.c (app.cpp in C++), "
                          "app.h, app.cfg and Makefile.inc")
     files = sorted(f for f in root.rglob("*")
-                   if f.is_file() and (f.suffix in SOURCE_SUFFIXES or f.name == "Makefile.inc"))
+                   if f.is_file() and (f.suffix in SOURCE_SUFFIXES or f.name == MAKEFILE_INC))
     return root, files, False
 
 
@@ -123,14 +126,12 @@ class SourceTraits:
 def source_traits(root: Path, files: list[Path], lone: bool) -> SourceTraits:
     """What the program's Makefile.inc (read by GNU make, as the SDK reads it) and sources say it is: the
     same rules as the native build's (`athrill_sim.native.spike`)."""
-    make = NO_MAKEFILE
     if lone:
-        return SourceTraits(files[0].suffix == ".cpp", spike.is_spike_program(make, files))
-    if (root / "Makefile.inc").is_file():
-        try:
-            make = evaluate(root / "Makefile.inc")
-        except NativeBuildError as e:
-            raise ImageError(str(e)) from None
+        return SourceTraits(files[0].suffix == ".cpp", spike.is_spike_program(NO_MAKEFILE, files))
+    try:
+        make = program_makefile(root)
+    except NativeBuildError as e:
+        raise ImageError(str(e)) from None
     is_spike = spike.is_spike_program(make, files)
     return SourceTraits(make.words("SRCLANG") == ["c++"], is_spike)
 
@@ -191,14 +192,16 @@ def _make_image(root: Path, files: list[Path], lone: bool, tools: Tools, scratch
         (staged / "app.cfg").write_text(LONE_APP_CFG)
         if not (staged / "app.h").exists():
             (staged / "app.h").write_text(LONE_APP_H)
-        (staged / "Makefile.inc").write_text(LONE_CXX_MAKEFILE_INC if files[0].suffix == ".cpp" else "")
+        (staged / MAKEFILE_INC).write_text(LONE_CXX_MAKEFILE_INC if files[0].suffix == ".cpp" else "")
     else:
         for f in files:
             target = staged / f.relative_to(root)
             target.parent.mkdir(parents=True, exist_ok=True)
             shutil.copyfile(f, target)
+        if not (staged / MAKEFILE_INC).is_file():  # the SDK includes it: empty, as program_makefile reads none
+            (staged / MAKEFILE_INC).write_text("")
     if flags:
-        with open(staged / "Makefile.inc", "a") as inc:
+        with open(staged / MAKEFILE_INC, "a") as inc:
             inc.write("\nCOPTS += " + " ".join(shlex.quote(f).replace("$", "$$") for f in flags) + "\n")
     env = {**os.environ, "LC_ALL": "C.UTF-8", "PWD": str(workspace),  # Ruby reads the SDK's UTF-8; make $(PWD)
            "PATH": f"{tools.gcc.parent}{os.pathsep}{os.environ.get('PATH', '')}", **_etrobo_env(scratch)}
@@ -232,12 +235,16 @@ def etroboc_files() -> dict[str, str]:
 
 
 def first_error(output: str, cxx: bool = False) -> str:
-    """The build's first error as one line; make's own closing lines ("*** [...] Error 1") are never it. A
-    function the cfg pass's kernel_cfg.o cannot find is a task app.cfg names: said as the native build says it."""
+    """The build's first error as one line; make's own closing lines ("*** [...] Error 1") are never it, and
+    its "No rule to make target" is said as the file that is missing. A function the cfg pass's kernel_cfg.o
+    cannot find is a task app.cfg names: said as the native build says it."""
     lines = [line.strip() for line in output.splitlines() if line.strip()]
     errors = [line for line in lines if _ERROR.search(line) and not _MAKE_SUMMARY.match(line)
               and not line.startswith("collect2:")]
     line = (errors or [line for line in lines if not _MAKE_SUMMARY.match(line)] or ["the build failed"])[0]
+    if no_rule := _NO_RULE.search(line):  # make's own words name no cause a user knows: say it as a missing file
+        needed = f", which {no_rule['by']} needs" if no_rule["by"] else ""
+        return f"no file {no_rule['target']}{needed}, and the SDK's make has no rule to make it"
     missing = undefined_name(line)
     return no_entry_point(missing, cxx) if missing and KERNEL_CFG in line else line
 

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from athrill_sim.build_cache import cache_root, cached_folder
+from athrill_sim.third_party import ATHRILL, EV3RT_SDK, RASPIKE_SDK, V850_TOOLCHAIN
 from athrill_sim.v850 import ImageError
 
 PROJECT = Path(__file__).resolve().parents[2]
@@ -45,8 +46,7 @@ def find_sdk(given: Path | None, spike: bool = False) -> Path:
     ../shared/third_party/raspike (ET Robocon's raspike-athrill-v850e2m), else $EV3RT_SDK or
     ../shared/third_party/ev3rt. Either the SDK folder itself or a folder holding it (and its toolchain) may
     be named."""
-    env_name, default, repo = ((SPIKE_SDK_ENV, "raspike", "ETrobocon/raspike-athrill-v850e2m") if spike
-                               else (SDK_ENV, "ev3rt", "toppers/ev3rt-athrill-v850e2m"))
+    env_name, default, piece = (SPIKE_SDK_ENV, "raspike", RASPIKE_SDK) if spike else (SDK_ENV, "ev3rt", EV3RT_SDK)
     env = os.environ.get(env_name)
     if given is not None:
         folder, origin = given, "--sdk"
@@ -58,7 +58,7 @@ def find_sdk(given: Path | None, spike: bool = False) -> Path:
         if (sdk / "sdk" / "workspace").is_dir() and (sdk / "sdk" / "common").is_dir():
             return sdk.resolve()
     kind = "SPIKE (RasPike-ART) SDK for Athrill" if spike else "EV3RT SDK"
-    raise ImageError(f"no {kind} at {folder} ({origin}); get {repo} and pass --sdk DIR or set ${env_name}")
+    raise ImageError(f"no {kind} at {folder} ({origin}); {piece.source()}")
 
 
 def find_toolchain(given: Path | None, sdk: Path) -> Path:
@@ -75,7 +75,7 @@ def find_toolchain(given: Path | None, sdk: Path) -> Path:
     tarballs = sorted(sdk.parent.glob(TOOLCHAIN_TARBALLS)) or sorted((SHARED / "ev3rt").glob(TOOLCHAIN_TARBALLS))
     if not tarballs:
         raise ImageError(f"no v850 cross compiler: put {GCC} on PATH, pass --toolchain DIR, or place the "
-                         f"toolchain tarball in {sdk.parent / 'toolchain'}")
+                         f"toolchain tarball in {sdk.parent / 'toolchain'}; {V850_TOOLCHAIN.source()}")
     return unpack_toolchain(tarballs[-1])
 
 
@@ -109,7 +109,7 @@ def find_athrill() -> Path:
     core = target / "athrill"
     if not (core / "apl" / "include").is_dir():
         raise ImageError(f"no Athrill sources at {target} (their athrill/apl is linked into every image); "
-                         f"get toppers/athrill-target-v850e2m and set ${ATHRILL_ENV}")
+                         f"{ATHRILL.source()}")
     return core.resolve()
 
 

@@ -38,6 +38,7 @@ Athrill they read through `Slots`.
 
 from __future__ import annotations
 
+import signal
 import subprocess
 import time
 from collections.abc import Callable
@@ -106,15 +107,21 @@ class AthrillCrash(Exception):
 
 
 def exit_crash(proc: subprocess.Popen, *, started: bool, run_dir: Path) -> AthrillCrash:
-    """The crash an exited Athrill stands for. One that marked a bench fault (`hakoniwa.wire.processes`), or
-    that exited before it got going (before it opened the files), is the bench's fault; one killed by a
-    signal, or that exited once running, whatever its status, is the program's."""
+    """The crash an exited Athrill stands for. One that marked a bench fault (`hakoniwa.wire.processes`), that
+    exited before it got going (before it opened the files), or that was killed by SIGKILL is the bench's
+    fault; one killed by another signal, or that exited once running, whatever its status, is the program's.
+    SIGKILL is what the OOM killer and `kill -9` send, and no program crash raises it (a wild pointer is
+    SIGSEGV, an abort SIGABRT), so a test it ends says nothing of the parameters: the campaign runs it again,
+    and stops with one line when they come in a row (`testctl.campaign.loop.MAX_BENCH_FAULTS_IN_A_ROW`)."""
     code = proc.returncode
     assert code is not None
     reason = take_bench_fault(run_dir, proc.pid)
     if reason is not None:
         return AthrillCrash(CrashKind.BENCH, code, f"athrill {describe_exit(code)}: {reason}",
                             BenchCause.ATHRILL_FAILED)
+    if code == -signal.SIGKILL:
+        return AthrillCrash(CrashKind.BENCH, code, f"athrill {describe_exit(code)}, from outside the program (the "
+                            "OOM killer, or kill -9)", BenchCause.ATHRILL_KILLED)
     if code > 0 and not started:
         return AthrillCrash(CrashKind.BENCH, code, f"athrill {describe_exit(code)}", BenchCause.ATHRILL_FAILED)
     return AthrillCrash(CrashKind.PROGRAM, code, f"athrill {describe_exit(code)}")

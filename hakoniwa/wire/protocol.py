@@ -201,13 +201,15 @@ class BenchCause(enum.IntEnum):
     FILE_DAMAGED = 3  # a mapped file was truncated or overwritten under the bench
     PHYSICS_KILLED = 4  # the physics process died mid-test
     TIME_STALLED = 5  # simulated time stopped (the emulator's clock), or crept past the test's wall-clock ceiling
+    ATHRILL_KILLED = 6  # Athrill killed by SIGKILL: by the machine (the OOM killer) or a person, not by its program
 
     @property
     def words(self) -> str:
         return {BenchCause.NONE: "unknown cause", BenchCause.ATHRILL_STALLED: "athrill stalled",
                 BenchCause.ATHRILL_FAILED: "athrill could not run", BenchCause.FILE_DAMAGED: "mapped file damaged",
                 BenchCause.PHYSICS_KILLED: "physics process killed",
-                BenchCause.TIME_STALLED: "simulated time stalled"}[self]
+                BenchCause.TIME_STALLED: "simulated time stalled",
+                BenchCause.ATHRILL_KILLED: "athrill killed"}[self]
 
 
 class SyncMode(enum.IntEnum):

@@ -21,6 +21,7 @@ from testctl.executor import Executor, TestSpec
 from testctl.interrupts import on_stop_say, stopped_by
 from testctl.options import VALIDATE_KEY, CampaignPlan
 from testctl.runner import PhysicsGone
+from testctl.time_left import Countdown
 
 if TYPE_CHECKING:
     from testctl.campaign.patch import PatchInfo
@@ -98,7 +99,7 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
             plain = None if sys.stderr.isatty() else lambda line: click.echo(f"{label}: {line}", err=True)
             mirror = StudyMirror(p.out_dir, lambda s, png: draw_set(p.config, s, trial_once, course_folder, png))
             mirror_update = InBackground(mirror.update)
-            progress = ProgressLine(bar, plain=plain, measure=p.config.measure)
+            progress = ProgressLine(bar, plain=plain, measure=p.config.measure, repeats=p.config.repeats)
             summary = Campaign(p.config, p.out_dir, executor, on_progress=progress,
                                on_sets=mirror_update, resume=p.resume, bench_info=bench_info,
                                header={VALIDATE_KEY: validate}).run()
@@ -112,10 +113,11 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
         if patch is not None:
             files.append(p.out_dir / BEST_PATCH)
         if summary.best is not None and validate:
+            countdown = Countdown(validate)
             with click.progressbar(length=validate, label=f"validating the best set on {validate} fresh draws",
-                                   file=sys.stderr) as bar:
+                                   item_show_func=lambda s: s, show_eta=False, file=sys.stderr) as bar:
                 validation = validate_best(summary, executor, validate, p.out_dir,
-                                           lambda spec, result: bar.update(1))
+                                           lambda spec, result: bar.update(1, countdown.finished()))
             write_best_json(p.out_dir / BEST_JSON, summary, validation.to_dict(),
                             patch.to_dict() if patch is not None else None)
             files.append(draw_validation(p.out_dir / VALIDATION_PNG, summary, validation))

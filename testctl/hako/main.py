@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import datetime as dt
+import functools
 import json
 import os
 import sys
@@ -28,6 +29,7 @@ from hakoniwa.wire.rundir import TRAJECTORY_FILE, diagnose
 from hakoniwa.wire.timebase import CLOCK_EPOCH_S
 from testctl import paper
 from testctl.bench_options import BenchOptions, bench_options, pop_bench
+from testctl.cluster_address import ClusterAddress, cluster_address
 from testctl.hako.course import course
 from testctl.options import (
     DEFAULT_DRAWS,
@@ -202,15 +204,37 @@ def _trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: floa
 
 
 def benches_options(default: str):
-    return option_group([
+    """--benches, or --scheduler with its TLS files; the command gets them as `benches` and `scheduler`, a
+    checked `ClusterAddress` (or None for a local cluster)."""
+    tls_file = click.Path(exists=True, dir_okay=False, path_type=Path)
+    options = option_group([
         click.option("--benches", type=click.IntRange(min=1), default=None,
                      help=f"Benches run in parallel (Dask workers of a local cluster) [{default}]."),
-        click.option("--scheduler", default=None, metavar="tcp://HOST:PORT",
-                     help="Run on the workers of this Dask cluster instead (each needs only hakoniwa-py installed)."),
+        click.option("--scheduler", default=None, metavar="tls://HOST:PORT",
+                     help="Run on the workers of this Dask cluster instead (each needs only hakoniwa-py installed); "
+                          "tcp:// is plaintext, for this machine or a network you trust (docs/CLUSTER.md)."),
+        click.option("--tls-ca", type=tls_file, default=None,
+                     help="With a tls:// scheduler: the CA certificate that signed the scheduler's [Dask's "
+                          "distributed.comm.tls.ca-file]."),
+        click.option("--tls-cert", type=tls_file, default=None,
+                     help="With a tls:// scheduler: this client's certificate [distributed.comm.tls.client.cert]."),
+        click.option("--tls-key", type=tls_file, default=None,
+                     help="With a tls:// scheduler: this client's key, unless --tls-cert holds it "
+                          "[distributed.comm.tls.client.key]."),
     ])
 
+    def decorate(f):
+        @functools.wraps(f)
+        def command(*args, scheduler: str | None, tls_ca: Path | None, tls_cert: Path | None, tls_key: Path | None,
+                    **kwargs):
+            return f(*args, scheduler=cluster_address(scheduler, tls_ca, tls_cert, tls_key), **kwargs)
 
-def refuse_benches_with_scheduler(benches: int | None, scheduler: str | None) -> None:
+        return options(command)
+
+    return decorate
+
+
+def refuse_benches_with_scheduler(benches: int | None, scheduler: ClusterAddress | None) -> None:
     if benches is not None and scheduler is not None:
         raise click.UsageError("--benches starts a local cluster; with --scheduler the cluster's workers are the "
                                "benches")
@@ -224,7 +248,7 @@ def refuse_benches_with_scheduler(benches: int | None, scheduler: str | None) ->
               help=f"Test the best set on this many fresh noise draws (at most {MAX_DRAWS}): its success rate "
                    f"and lap quantiles; 0 skips [{DEFAULT_DRAWS}; {SMOKE_DRAWS} with --smoke; 1 with --noise 0, "
                    f"where every draw is the same test; on --resume, the campaign's].")
-def run(benches: int | None, scheduler: str | None, validate: int | None, **options) -> None:
+def run(benches: int | None, scheduler: ClusterAddress | None, validate: int | None, **options) -> None:
     from testctl.interrupts import interrupts, stopped_by
 
     with interrupts():
@@ -241,7 +265,7 @@ def _draws(n: int | None) -> int | None:
     return n
 
 
-def _run(benches: int | None, scheduler: str | None, validate: int | None, options: dict) -> None:
+def _run(benches: int | None, scheduler: ClusterAddress | None, validate: int | None, options: dict) -> None:
     refuse_benches_with_scheduler(benches, scheduler)  # before anything starts
     given = pop_bench(options)
     if options["repeats"] is None and options["noise"] == 0 and options["resume"] is None and repeatable_bench(given):
@@ -301,7 +325,7 @@ def _run(benches: int | None, scheduler: str | None, validate: int | None, optio
               help="Write JUnit XML here (one testcase per case), for GitHub Actions, GitLab or Jenkins.")
 @click.option("--json", "json_file", type=click.Path(dir_okay=False, path_type=Path), default=None,
               help="Write the full results (every run of every case) here as JSON.")
-def test_command(test_file: Path, benches: int | None, scheduler: str | None, out: Path | None,
+def test_command(test_file: Path, benches: int | None, scheduler: ClusterAddress | None, out: Path | None,
                  junit_file: Path | None, json_file: Path | None, **bench) -> None:
     """Run the cases of TEST_FILE [hako-tests.toml] on the benches and check what each must show (events,
     checkpoints, lap bounds on every run or as a quantile, success rate). Exit 0: every case passed; 1: a
@@ -315,8 +339,8 @@ def test_command(test_file: Path, benches: int | None, scheduler: str | None, ou
             stopped_by(e)
 
 
-def _test(test_file: Path, benches: int | None, scheduler: str | None, out: Path | None, junit_file: Path | None,
-          json_file: Path | None, base: BenchOptions) -> None:
+def _test(test_file: Path, benches: int | None, scheduler: ClusterAddress | None, out: Path | None,
+          junit_file: Path | None, json_file: Path | None, base: BenchOptions) -> None:
     import datetime as dt
 
     from hakoniwa.wire.errors import HakoError

@@ -16,6 +16,7 @@ from pathlib import Path
 from hakoniwa.wire.result import TestResult
 from testctl.bench import Bench
 from testctl.bench_options import BenchOptions
+from testctl.cluster_address import ClusterAddress
 from testctl.executor import Executor, SerialExecutor, TestSpec, bench_fault, results_of
 from testctl.lapstats import LapStats, lap_or_inf
 from testctl.suite.cases import Case
@@ -98,7 +99,8 @@ def run_cases(cases: Sequence[Case], open_executor: Callable[[BenchOptions], Abs
 
 
 @contextmanager
-def bench_executor(bench: BenchOptions, run_dir: Path, benches: int, scheduler: str | None) -> Iterator[Executor]:
+def bench_executor(bench: BenchOptions, run_dir: Path, benches: int,
+                   scheduler: ClusterAddress | None) -> Iterator[Executor]:
     """The executor of one bench configuration: a bench of our own in `run_dir` when one is wanted (no
     cluster to start, and its run folder stays where the user looks), else Dask workers, as a campaign's."""
     if scheduler is None and benches == 1:

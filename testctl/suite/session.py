@@ -12,13 +12,16 @@ import click
 
 from hakoniwa.wire.exits import EXIT_CASES_FAILED, EXIT_RUN_BROKEN
 from hakoniwa.wire.protocol import LayoutError
-from testctl.executor import BenchFault
+from hakoniwa.wire.result import TestResult
+from testctl.cluster_address import ClusterAddress
+from testctl.executor import BenchFault, TestSpec
 from testctl.interrupts import on_stop_say, stopped_by
 from testctl.runner import PhysicsGone
 from testctl.suite.cases import Case
 from testctl.suite.junit import write_junit
 from testctl.suite.report import format_table, keep_case_files, results_dict
 from testctl.suite.run import bench_executor, rerun_worst, run_cases
+from testctl.time_left import Countdown
 
 
 class RunBroken(click.ClickException):
@@ -28,17 +31,23 @@ class RunBroken(click.ClickException):
     exit_code = EXIT_RUN_BROKEN
 
 
-def run_suite(test_file: Path, cases: Sequence[Case], out_dir: Path, *, benches: int, scheduler: str | None,
+def run_suite(test_file: Path, cases: Sequence[Case], out_dir: Path, *, benches: int, scheduler: ClusterAddress | None,
               junit_file: Path | None, json_file: Path | None) -> None:
     """Run and judge every case, print the table, write the files, and exit 1 if a case failed."""
     from testctl.cluster import ClusterError  # Dask: not for `hako --help`
 
     on_stop_say("nothing is judged")
+    total = sum(len(c.seeds) for c in cases)
+    countdown = Countdown(total)
     try:
-        with click.progressbar(length=sum(len(c.seeds) for c in cases), label=f"hako test {test_file}",
-                               item_show_func=lambda s: s, file=sys.stderr) as bar:
+        with click.progressbar(length=total, label=f"hako test {test_file}", item_show_func=lambda s: s,
+                               show_eta=False, file=sys.stderr) as bar:
+            def finished(spec: TestSpec, result: TestResult) -> None:
+                left = countdown.finished()
+                bar.update(1, ", ".join(filter(None, [f"{cases[spec.set_index].name}: {result.event.name}", left])))
+
             runs = run_cases(cases, lambda bench: bench_executor(bench, out_dir / "run", benches, scheduler),
-                             lambda spec, result: bar.update(1, f"{cases[spec.set_index].name}: {result.event.name}"))
+                             finished)
         files = {r.case.name: keep_case_files(out_dir, r, rerun_worst) for r in runs}
         click.echo(format_table(runs))
         written = [out_dir]

@@ -8,6 +8,7 @@ import signal
 import pytest
 
 from athrill_sim.apps import C_BUILTIN
+from athrill_sim.third_party import EV3RT_SAMPLE_IMAGE
 from hakoniwa.wire.protocol import CrashKind, Event
 from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
 from testctl.paper import GAIN_RANGE, line_trace_params
@@ -15,6 +16,7 @@ from tests.helpers.athrill_fixtures import ASP_IMAGE, SHARED_ATHRILL
 from tests.helpers.bench_fixtures import PAPER, physics
 from tests.helpers.commands import hako
 from tests.helpers.native_fixtures import need_cc
+from tests.helpers.paths import needs_shared
 
 BLE_SAMPLE = SHARED_ATHRILL / "ev3rt-ble_sample"
 
@@ -47,7 +49,7 @@ def test_the_c_tracer_and_the_python_tracer_agree_on_random_gains(tmp_path):
 def test_the_unmodified_ev3rt_sample_follows_the_line_natively(tmp_path):
     need_cc()
     if not BLE_SAMPLE.is_dir():
-        pytest.skip(f"needs the EV3RT sample at {BLE_SAMPLE} (../shared)")
+        pytest.skip(needs_shared("the EV3RT sample", BLE_SAMPLE, EV3RT_SAMPLE_IMAGE))
     out = hako("trial", "--app", str(BLE_SAMPLE / "app.c"), "--json", "--run-dir", str(tmp_path))
     assert out.returncode == 0, out.stderr
     result = json.loads(out.stdout)

@@ -24,10 +24,11 @@ from athrill_sim.native.makefile import ETROBOC_COMMON, LIBRARY_DIR, evaluate
 from athrill_sim.native.workspace import find_app
 from athrill_sim.program import ProgramError
 from athrill_sim.programs import resolve_program
+from athrill_sim.third_party import EV3RT_SDK, RASPIKE_SDK
 from tests.helpers.commands import hako, one_line_error
 from tests.helpers.ev3rt_corpus import EV3RT
 from tests.helpers.native_fixtures import need_cc
-from tests.helpers.paths import PROGRAMS
+from tests.helpers.paths import PROGRAMS, needs_shared
 from tests.helpers.raspike_sdk import SDK as RASPIKE
 
 TRACER = PROGRAMS / "etrobo_cpp_tracer"
@@ -67,7 +68,7 @@ def workspace(tmp_path: Path, makefile: bytes | str, files: dict[str, str] | Non
 def test_the_shipped_libraries_are_the_sdks_own_byte_for_byte(sdk, library):
     shared = sdk / "sdk" / "common" / "library" / library
     if not shared.is_dir():
-        pytest.skip(f"needs the SDK at {sdk} (../shared)")
+        pytest.skip(needs_shared("the SDK", sdk, EV3RT_SDK if sdk == EV3RT else RASPIKE_SDK))
     ours = LIBRARY_DIR / library
     for sub in ("include", "src"):
         compare = filecmp.dircmp(shared / sub, ours / sub)

@@ -6,9 +6,11 @@ import subprocess
 
 import pytest
 
+from athrill_sim.third_party import EV3RT_SAMPLE_IMAGE
 from hakoniwa.wire.timebase import ALLOWED_TIME_DIFF_US
 from tests.helpers.athrill_fixtures import ASP_IMAGE
 from tests.helpers.commands import hako
+from tests.helpers.paths import needs_shared
 
 
 def hako_trial(*args: str) -> tuple[subprocess.CompletedProcess, dict | None]:
@@ -30,7 +32,7 @@ def test_the_real_emulator_follows_the_line_on_our_physics(athrill2, tmp_path):
 
 def test_an_elf_without_athrill2_is_a_one_line_error(tmp_path, monkeypatch):
     if not ASP_IMAGE.is_file():
-        pytest.skip(f"needs the real EV3RT image at {ASP_IMAGE} (../shared)")
+        pytest.skip(needs_shared("the real EV3RT image", ASP_IMAGE, EV3RT_SAMPLE_IMAGE))
     monkeypatch.setenv("PATH", str(tmp_path))  # no athrill2 anywhere on it
     out, _ = hako_trial("--app", str(ASP_IMAGE), "--sync", "hakoniwa", "--json")
     assert out.returncode != 0

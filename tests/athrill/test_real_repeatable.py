@@ -10,10 +10,12 @@ from pathlib import Path
 import pytest
 
 from athrill_sim.athrill2 import SYNC_WAIT_KEY
+from athrill_sim.third_party import EV3RT_SAMPLE_IMAGE
 from hakoniwa.wire.timebase import ALLOWED_TIME_DIFF_US
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
 from tests.helpers.athrill_fixtures import ASP_IMAGE
 from tests.helpers.commands import hako, one_line_error
+from tests.helpers.paths import needs_shared
 from tests.helpers.realemu_fixtures import BASE_PRACTICE, need_v850_tools
 
 BUSY = "while True: pass"
@@ -60,7 +62,7 @@ def test_a_campaign_without_noise_tests_each_set_once_on_several_emulators(repea
 
 def test_an_athrill2_that_exits_at_once_is_one_line(tmp_path):
     if not ASP_IMAGE.is_file():
-        pytest.skip(f"needs the real EV3RT image at {ASP_IMAGE} (../shared)")
+        pytest.skip(needs_shared("the real EV3RT image", ASP_IMAGE, EV3RT_SAMPLE_IMAGE))
     fake = tmp_path / "athrill2"
     fake.write_text(f"#!/bin/sh\n# claims {SYNC_WAIT_KEY}\necho 'cannot map athrill_mmap.bin'\nexit 3\n")
     fake.chmod(0o755)
@@ -70,7 +72,7 @@ def test_an_athrill2_that_exits_at_once_is_one_line(tmp_path):
 
 def test_an_unpatched_athrill2_is_refused_for_the_repeatable_mode(tmp_path):
     if not ASP_IMAGE.is_file():
-        pytest.skip(f"needs the real EV3RT image at {ASP_IMAGE} (../shared)")
+        pytest.skip(needs_shared("the real EV3RT image", ASP_IMAGE, EV3RT_SAMPLE_IMAGE))
     plain = tmp_path / "athrill2"
     plain.write_text("#!/bin/sh\nexit 0\n")
     plain.chmod(0o755)

@@ -9,8 +9,10 @@ from pathlib import Path
 
 import pytest
 
+from athrill_sim.third_party import RASPIKE_SAMPLES, RASPIKE_SDK
 from athrill_sim.v850.toolchain import SHARED, find_tools
 from tests.helpers.commands import hako
+from tests.helpers.paths import needs_shared
 from tests.helpers.realemu_fixtures import need_v850_tools
 
 RASPIKE = SHARED / "raspike"
@@ -20,8 +22,10 @@ SAMPLE = RASPIKE / "raspike-art-samples" / "sample_c5_spike"
 
 @pytest.fixture(scope="module")
 def sample_image() -> Path:
-    if not (SPIKE_SDK / "sdk" / "common" / "spikeapi").is_dir() or not SAMPLE.is_dir():
-        pytest.skip(f"needs ../shared's SPIKE SDK and samples ({RASPIKE})")
+    if not (SPIKE_SDK / "sdk" / "common" / "spikeapi").is_dir():
+        pytest.skip(needs_shared("ET Robocon's SPIKE SDK", SPIKE_SDK, RASPIKE_SDK))
+    if not SAMPLE.is_dir():
+        pytest.skip(needs_shared("RasPike-ART's SPIKE sample", SAMPLE, RASPIKE_SAMPLES))
     need_v850_tools()  # the EV3RT toolchain: the SPIKE SDK has none beside it
     out = hako("build", str(SAMPLE), "--sdk", str(SPIKE_SDK), "--toolchain", str(find_tools().gcc.parent),
                timeout=900)

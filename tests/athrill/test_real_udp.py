@@ -9,10 +9,11 @@ from pathlib import Path
 
 import pytest
 
+from athrill_sim.third_party import RASPIKE_SDK
 from hakoniwa.wire.vdev_udp import bench_link, bind_pair
 from tests.helpers.athrill_fixtures import ASP_IMAGE
 from tests.helpers.commands import hako, one_line_error
-from tests.helpers.paths import REPO
+from tests.helpers.paths import REPO, needs_shared
 from tests.helpers.realemu_fixtures import ETROBOC_DEVICE_CONFIGS, need_v850_tools
 
 TRACER = REPO / "athrill_sim" / "apps" / "line_trace.c"
@@ -28,7 +29,7 @@ def etroboc_config(tmp_path: Path) -> Path:
     pair, so that tests running at once on one machine never share them."""
     source = ETROBOC_DEVICE_CONFIGS[0]
     if not source.is_file():
-        pytest.skip(f"needs ET Robocon's device_config.txt at {source} (../shared)")
+        pytest.skip(needs_shared("ET Robocon's device_config.txt", source, RASPIKE_SDK))
     sock, physics, athrill = bind_pair(bench_link([]))
     sock.close()
     text = re.sub(r"(TX_PORTNO\s+)54001", rf"\g<1>{physics.port}", source.read_text())

@@ -8,12 +8,14 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim.v850 import ImageError
-from athrill_sim.v850.build import app_files, cache_key, first_error, staged_sources, user_paths
+from athrill_sim.third_party import EV3RT_SAMPLE_IMAGE
+from athrill_sim.v850 import ImageError, build
+from athrill_sim.v850.build import app_files, build_image, cache_key, first_error, staged_sources, user_paths
 from athrill_sim.v850.elf import check_image
 from athrill_sim.v850.toolchain import Tools, unpack_toolchain
 from tests.helpers.athrill_fixtures import ASP_IMAGE
 from tests.helpers.commands import hako, one_line_error
+from tests.helpers.paths import needs_shared
 from tests.helpers.realemu_fixtures import BASE_PRACTICE, need_v850_tools
 
 
@@ -98,6 +100,34 @@ def test_a_compile_error_names_the_users_file_not_the_scratch_copy(tmp_path):
         f"{folder / 'src' / 'pid.c'}:1:1: error: x"
 
 
+def sdk_whose_make(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, rules: str) -> None:
+    """`build_image` against a stand-in SDK whose workspace Makefile includes the program's Makefile.inc, as
+    EV3RT's does, and then runs `rules`: what the bench stages for make is seen without the real SDK."""
+    tools = fake_tools(tmp_path)
+    (tools.sdk / "sdk" / "workspace" / "Makefile").write_text(f"include $(img)/Makefile.inc\n{rules}")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    monkeypatch.setattr(build, "find_tools", lambda *args, **kwargs: tools)
+    monkeypatch.setattr(build, "check_build_tools", lambda: None)
+
+
+def test_a_workspace_folder_without_makefile_inc_builds_with_an_empty_one(tmp_path, monkeypatch):
+    sdk_whose_make(tmp_path, monkeypatch, "all:\n\tcp $(img)/Makefile.inc asp\n")
+    folder = workspace(tmp_path / "app")
+    (folder / "Makefile.inc").unlink()  # app.c, app.h and app.cfg only: `hako trial` takes the same folder
+    image = build_image(folder)
+    assert image.read_text() == "" and not (folder / "Makefile.inc").exists()  # staged in the copy, not written here
+
+
+def test_a_file_make_has_no_rule_for_is_one_sentence_not_makes_words(tmp_path, monkeypatch):
+    sdk_whose_make(tmp_path, monkeypatch, "all: motor.o\n")
+    with pytest.raises(ImageError) as info:
+        build_image(workspace(tmp_path / "app"))
+    message = str(info.value)
+    assert message == (f"{tmp_path / 'app'} does not build: no file motor.o, which all needs, and the SDK's make "
+                       "has no rule to make it")
+    assert "\n" not in message and "***" not in message
+
+
 def test_an_elf_for_another_cpu_is_named(tmp_path):
     with pytest.raises(ImageError, match="ELF for .+, not a v850 image"):
         check_image(Path(sys.executable).resolve())
@@ -105,7 +135,7 @@ def test_an_elf_for_another_cpu_is_named(tmp_path):
 
 def test_a_truncated_image_is_refused_before_athrill2_sees_it(tmp_path):
     if not ASP_IMAGE.is_file():
-        pytest.skip(f"needs the real EV3RT image at {ASP_IMAGE} (../shared)")
+        pytest.skip(needs_shared("the real EV3RT image", ASP_IMAGE, EV3RT_SAMPLE_IMAGE))
     check_image(ASP_IMAGE)
     cut = tmp_path / "asp"
     cut.write_bytes(ASP_IMAGE.read_bytes()[:100_000])

@@ -8,9 +8,10 @@ from pathlib import Path
 
 import pytest
 
+from athrill_sim.third_party import EV3RT_SDK, RASPIKE_SDK
 from athrill_sim.v850 import ImageError
 from athrill_sim.v850.toolchain import find_sdk, find_toolchain
-from tests.helpers.paths import SCRIPTS
+from tests.helpers.paths import SCRIPTS, needs_shared
 
 SCRIPT = SCRIPTS / "build_v850_toolchain.sh"
 
@@ -86,7 +87,8 @@ def test_the_shipped_sdk_patches_are_what_the_patched_sdk_holds(tmp_path, sdk, p
     import shutil
 
     if not (SHARED / sdk).is_dir():
-        pytest.skip(f"needs the patched SDK at {SHARED / sdk} (../shared)")
+        piece = EV3RT_SDK if sdk.startswith("ev3rt/") else RASPIKE_SDK
+        pytest.skip(needs_shared("the patched SDK", SHARED / sdk, piece))
     copy = tmp_path / "sdk"
     shutil.copytree(SHARED / sdk, copy, symlinks=True, ignore=shutil.ignore_patterns("OBJ", "docker"))
     for patch in reversed(patches):

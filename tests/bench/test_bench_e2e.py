@@ -8,7 +8,7 @@ import sys
 
 import pytest
 
-from hakoniwa.wire.protocol import CrashKind, Event, Rx, Tx
+from hakoniwa.wire.protocol import BenchCause, CrashKind, Event, Rx, Tx
 from hakoniwa.wire.rundir import LOCK_FILE
 from testctl.bench_options import BenchOptions
 from tests.helpers.bench_fixtures import PAPER, ZERO, physics
@@ -38,8 +38,9 @@ def test_athrill_killed_mid_test_is_a_crash_and_the_bench_stays_usable(tmp_path)
         os.kill(runner.athrill.read_u32(Tx.ATHRILL_PID), signal.SIGKILL)
         wait_until(lambda: runner.unity.read_i32(Rx.EVENT) != Event.NONE, 60, 0.005, what="an event")
         assert runner.unity.read_i32(Rx.EVENT) == Event.CRASH  # not HIT_WALL
-        # noticed through the process (a program crash with its signal), not by the silence watchdog
-        assert runner.unity.read_i32(Rx.CRASH_KIND) == CrashKind.PROGRAM
+        # noticed through the process, not by the silence watchdog; SIGKILL came from outside the program
+        assert runner.unity.read_i32(Rx.CRASH_KIND) == CrashKind.BENCH
+        assert runner.unity.read_i32(Rx.BENCH_CAUSE) == BenchCause.ATHRILL_KILLED
         assert runner.unity.read_i32(Rx.CRASH_DETAIL) == -signal.SIGKILL
         runner.athrill.write_i32(Tx.START, 0)
         wait_until(lambda: runner.unity.read_i32(Rx.EVENT) == Event.NONE, 10, 0.005, what="the reset")

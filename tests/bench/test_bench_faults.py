@@ -19,7 +19,7 @@ from hakoniwa.wire.rundir import PHYSICS_LOG
 from testctl.bench import Bench
 from testctl.bench_options import BenchOptions
 from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
-from testctl.campaign.loop import Campaign, CampaignConfig
+from testctl.campaign.loop import MAX_BENCH_FAULTS_IN_A_ROW, Campaign, CampaignConfig
 from testctl.campaign.report import format_summary
 from testctl.executor import TestSpec
 from tests.helpers.bench_fixtures import PAPER, ZERO, physics
@@ -71,6 +71,52 @@ def test_a_killed_physics_process_spoils_the_test_and_the_bench_is_rebuilt(tmp_p
         assert TestResult.from_dict(spoiled.to_dict(), 0.0).bench_cause == BenchCause.PHYSICS_KILLED
         bench.options = BenchOptions(app="line_trace")  # the next test, on a fresh bench: as usual
         assert bench.run(spec()).event == Event.GOAL
+
+
+def test_a_sigkilled_program_spoils_the_test_and_the_next_runs(tmp_path, monkeypatch):
+    """SIGKILL is the OOM killer's or a person's, never a program crash: a bench fault, run again."""
+    with idle_bench(tmp_path, monkeypatch) as bench:
+        def kill_athrill(run_dir: Path) -> None:
+            os.kill(bench.start().athrill.read_u32(Tx.ATHRILL_PID), signal.SIGKILL)
+
+        spoiled = mid_test(bench, kill_athrill)
+        assert spoiled.bench_fault and spoiled.bench_cause == BenchCause.ATHRILL_KILLED
+        assert spoiled.crash_reason().startswith("bench (athrill killed): athrill was killed by SIGKILL")
+        assert TestResult.from_dict(spoiled.to_dict(), 0.0).bench_cause == BenchCause.ATHRILL_KILLED
+        bench.options = BenchOptions(app="line_trace")
+        assert bench.run(spec()).event == Event.GOAL
+
+
+SELF_KILLING_APP = '''
+import os
+import signal
+
+
+def main_task(api):
+    api.tslp_tsk(100_000)
+    os.kill(os.getpid(), signal.SIGKILL)  # as the OOM killer would end this bench's Athrill, every test
+'''
+
+
+@pytest.mark.slow
+def test_a_program_sigkilled_in_every_test_stops_the_campaign_with_one_line(tmp_path):
+    """Never a result of the parameters: each kill is journaled as a bench fault and the test run again, until
+    MAX_BENCH_FAULTS_IN_A_ROW in a row say the bench is broken; then one line and the resume command."""
+    (tmp_path / "killed_app.py").write_text(SELF_KILLING_APP)
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(tmp_path), os.environ.get("PYTHONPATH", "")])}
+    out = tmp_path / "c"
+    done = subprocess.run([sys.executable, "-m", "testctl.hako", "run", "--app", "killed_app:main_task",
+                           "--trials", "1", "--init-points", "1", "--repeats", "1", "--benches", "1", "--out",
+                           str(out)], capture_output=True, text=True, timeout=600, env=env)
+    assert done.returncode == 1 and "Traceback" not in done.stderr, done.stderr
+    error = [line for line in done.stderr.splitlines() if line.startswith("Error: ")]  # besides the progress lines
+    assert error == [done.stderr.strip().splitlines()[-1]], done.stderr
+    for words in (f"the bench failed {MAX_BENCH_FAULTS_IN_A_ROW} tests in a row", "athrill killed",
+                  f"continue with: hako run --resume {out}"):
+        assert words in error[0], done.stderr
+    _, records = read_journal(out / JOURNAL_FILE)
+    assert len(records) == MAX_BENCH_FAULTS_IN_A_ROW
+    assert all(r.result.bench_cause == BenchCause.ATHRILL_KILLED for r in records)  # none scored
 
 
 def test_a_file_truncated_mid_test_spoils_it_and_the_controller_survives(tmp_path, monkeypatch):

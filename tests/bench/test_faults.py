@@ -43,6 +43,7 @@ class Exited:
     (1, False, False, CrashKind.BENCH),  # exited before it opened them: the bench's fault
     (-signal.SIGSEGV, True, False, CrashKind.PROGRAM),  # died running the program
     (-signal.SIGSEGV, False, False, CrashKind.PROGRAM),  # in the program's own start-up code
+    (-signal.SIGKILL, True, False, CrashKind.BENCH),  # the OOM killer or kill -9: from outside the program
     (1, True, False, CrashKind.PROGRAM),
 ])
 def test_whose_fault_an_exited_athrill_is(tmp_path, code, started, marked, kind):

@@ -11,6 +11,7 @@ import pytest
 from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
 from testctl.options import SMOKE_DRAWS
 from tests.helpers.commands import hako
+from tests.helpers.processes import interruptible
 from tests.helpers.waiting import wait_until
 
 
@@ -72,28 +73,44 @@ def set_tests(records):
                   for r in records)
 
 
+RESUMED = ["--optimizer", "random", "--init-points", "2", "--trials", "4", "--repeats", "3", "--seed", "7",
+           "--noise", "0"]
+
+
+@pytest.fixture(scope="module")
+def uninterrupted(tmp_path_factory) -> list:
+    """The campaign of RESUMED run from start to end: what a stopped and resumed one must equal."""
+    whole = tmp_path_factory.mktemp("whole") / "c"
+    assert hako("run", *RESUMED, "--out", str(whole)).returncode == 0
+    return read_journal(whole / JOURNAL_FILE)[1]
+
+
 @pytest.mark.slow
-def test_sigkill_mid_campaign_then_resume_loses_and_repeats_nothing(tmp_path):
-    args = ["--optimizer", "random", "--init-points", "2", "--trials", "4", "--repeats", "3", "--seed", "7",
-            "--noise", "0"]
+@pytest.mark.parametrize("signum", [signal.SIGKILL, signal.SIGINT], ids=["sigkill", "ctrl-c"])
+def test_a_campaign_killed_or_interrupted_then_resumed_equals_an_uninterrupted_one(tmp_path, uninterrupted, signum):
+    """SIGKILL (no chance to clean up) or Ctrl-C (to the whole process group, as a terminal sends it) mid-set;
+    `--resume` loses no finished test, repeats none, and ends with the very journal of an uninterrupted run."""
     killed = tmp_path / "killed"
-    proc = subprocess.Popen([sys.executable, "-m", "testctl.hako", "run", *args, "--out", str(killed)],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    proc = subprocess.Popen([sys.executable, "-m", "testctl.hako", "run", *RESUMED, "--out", str(killed)],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, start_new_session=True,
+                            preexec_fn=interruptible)
     journal = killed / JOURNAL_FILE
     wait_until(lambda: journal.exists() and journal.read_text().count("\n") >= 1 + 3, 300,  # header + 3 tests: mid-set
                alive=lambda: proc.poll() is None, what="3 tests")
-    os.kill(proc.pid, signal.SIGKILL)
-    proc.wait()
+    if signum == signal.SIGKILL:
+        os.kill(proc.pid, signal.SIGKILL)
+    else:
+        os.killpg(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    if signum == signal.SIGINT:
+        assert proc.returncode == 130 and f"continue with: hako run --resume {killed}" in err, err
     _, before = read_journal(journal)
     assert 3 <= len(before) < 12
 
     r = hako("run", "--resume", str(killed))
     assert r.returncode == 0, r.stderr
 
-    whole = tmp_path / "whole"
-    assert hako("run", *args, "--out", str(whole)).returncode == 0
     _, resumed = read_journal(journal)
-    _, uninterrupted = read_journal(whole / JOURNAL_FILE)
     assert set(set_tests(before)) <= set(set_tests(resumed))  # nothing finished was lost
     assert set_tests(resumed) == set_tests(uninterrupted)  # nothing repeated, nothing skipped
     searched = [r for r in resumed if r.phase != PHASE_VALIDATION]

@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
+from tests.helpers.cluster_certs import dask_certs
 from tests.helpers.commands import hako, one_line_error
 from tests.helpers.processes import tagged_env, tagged_processes
 from tests.helpers.waiting import wait_until
@@ -32,27 +33,42 @@ def hako_run(*args: str, timeout: float = 600) -> subprocess.CompletedProcess:
     return hako("run", *args, timeout=timeout)
 
 
-def wait_for_workers(address: str, n: int) -> None:
+def wait_for_workers(address: str, n: int, certs: Path | None = None) -> None:
     from distributed import Client
+    from distributed.security import Security
 
+    security = None if certs is None else Security(tls_ca_file=str(certs / "ca.pem"),
+                                                   tls_client_cert=str(certs / "client.pem"),
+                                                   tls_client_key=str(certs / "client.key"), require_encryption=True)
     # Generous: on a loaded 2-core CI runner a `dask worker` took over a minute to import and connect.
-    with Client(address, timeout=120) as client:
+    with Client(address, timeout=120, security=security) as client:
         client.wait_for_workers(n, timeout=240)
 
 
-class LocalDask:
-    """A scheduler and workers as separate processes, as on a cluster (here all on localhost)."""
+def tls_options(certs: Path, role: str) -> list[str]:
+    """The options of `dask scheduler` and `dask worker` for TLS with the certificates of
+    scripts/make_dask_certs.sh, as docs/CLUSTER.md gives them."""
+    return ["--tls-ca-file", str(certs / "ca.pem"), "--tls-cert", str(certs / f"{role}.pem"),
+            "--tls-key", str(certs / f"{role}.key")]
 
-    def __init__(self, tmp: Path, workers: int) -> None:
-        self.address = f"tcp://127.0.0.1:{free_port()}"
+
+class LocalDask:
+    """A scheduler and workers as separate processes, as on a cluster (here all on localhost); with `certs`
+    (a folder of scripts/make_dask_certs.sh), over TLS."""
+
+    def __init__(self, tmp: Path, workers: int, certs: Path | None = None) -> None:
+        scheme = "tcp" if certs is None else "tls"
+        self.address = f"{scheme}://127.0.0.1:{free_port()}"
         port = self.address.rsplit(":", 1)[1]
         self.log = open(tmp / "dask.log", "w")
+        tls = [] if certs is None else ["--protocol", "tls", *tls_options(certs, "scheduler")]
         self.scheduler = subprocess.Popen([*DASK, "scheduler", "--host", "127.0.0.1", "--port", port,
-                                           "--no-dashboard"], stdout=self.log, stderr=self.log)
+                                           "--no-dashboard", *tls], stdout=self.log, stderr=self.log)
+        tls = [] if certs is None else tls_options(certs, "worker")
         self.workers = [subprocess.Popen([*DASK, "worker", self.address, "--nthreads", "1", "--no-dashboard",
-                                          "--local-directory", str(tmp / f"w{i}")], stdout=self.log,
+                                          "--local-directory", str(tmp / f"w{i}"), *tls], stdout=self.log,
                                          stderr=self.log, start_new_session=True) for i in range(workers)]
-        wait_for_workers(self.address, workers)
+        wait_for_workers(self.address, workers, certs)
 
     def close(self) -> None:
         for p in [*self.workers, self.scheduler]:
@@ -113,6 +129,27 @@ def test_a_worker_killed_mid_campaign_loses_nothing(tmp_path, local_reference):
     assert proc.returncode == 0, err
     assert essence(out) == essence(local_reference)  # complete, nothing counted twice
     assert (out / "results.csv").read_text() == (local_reference / "results.csv").read_text()
+
+
+@pytest.mark.slow
+def test_a_campaign_runs_through_a_tls_cluster_and_a_client_of_another_ca_is_refused(tmp_path, local_reference):
+    certs = dask_certs(tmp_path / "certs")
+    other = dask_certs(tmp_path / "other")
+    cluster = LocalDask(tmp_path, 2, certs)
+    try:
+        out = tmp_path / "campaign"
+        client = ["--tls-ca", str(certs / "ca.pem"), "--tls-cert", str(certs / "client.pem"), "--tls-key",
+                  str(certs / "client.key")]
+        done = hako_run("--scheduler", cluster.address, *client, *CAMPAIGN, "--out", str(out))
+        stranger = hako_run("--scheduler", cluster.address, "--tls-ca", str(other / "ca.pem"), "--tls-cert",
+                            str(other / "client.pem"), "--tls-key", str(other / "client.key"), *CAMPAIGN, "--out",
+                            str(tmp_path / "stranger"), timeout=120)
+    finally:
+        cluster.close()
+    assert done.returncode == 0, done.stderr
+    assert "warning" not in done.stderr
+    assert essence(out) == essence(local_reference)  # TLS changes the link, not a result
+    one_line_error(stranger, f"cannot reach the Dask scheduler at {cluster.address}", "TLS")
 
 
 def test_an_unreachable_scheduler_is_a_one_line_error(tmp_path):

@@ -6,7 +6,8 @@ from __future__ import annotations
 from hakoniwa.wire.protocol import Event
 from testctl.campaign.journal import TestRecord
 from testctl.campaign.loop import Progress
-from testctl.campaign.progress import PLAIN_EVERY_S, PLAIN_EVERY_TESTS, RECENT_TESTS, ProgressLine, format_duration
+from testctl.campaign.progress import PLAIN_EVERY_S, PLAIN_EVERY_TESTS, ProgressLine
+from testctl.time_left import RECENT_TESTS, format_duration
 from tests.helpers.campaign_doubles import result
 
 
@@ -38,8 +39,16 @@ def test_rate_and_time_left_follow_recent_tests():
     assert bar.done == tests // 3
 
 
-def test_durations_read_naturally():
-    assert [format_duration(s) for s in (42, 600, 7200)] == ["42 s", "10 min", "2.0 h"]
+def test_before_any_set_is_decided_a_set_counts_as_its_most_tests():
+    now = [0.0]
+    bar = FakeBar()
+    line = ProgressLine(bar, clock=lambda: now[0], repeats=5)
+    record = TestRecord(0, "init", {}, 1, result(Event.GOAL, 33.0), "t")
+    line(Progress(0, 10, 0, None, None, 0, 1))
+    for tests in (1, 2):
+        now[0] += 1.0
+        line(Progress(0, 10, tests, None, record, 1, 1))
+    assert bar.items[-1].startswith(f"benches 1/1 busy, 1.00 tests/s, ~{format_duration(10 * 5)} left")
 
 
 def test_off_a_terminal_a_plain_line_comes_every_n_tests_or_n_seconds():

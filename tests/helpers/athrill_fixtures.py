@@ -13,10 +13,12 @@ from pathlib import Path
 
 import pytest
 
-from tests.helpers.paths import REPO, SHARED
+from athrill_sim.third_party import ATHRILL, EV3RT_SAMPLE_IMAGE
+from tests.helpers.paths import REPO, SHARED, needs_shared
 
 SHARED_ATHRILL = SHARED / "third_party" / "athrill"
 ASP_IMAGE = SHARED_ATHRILL / "ev3rt-ble_sample" / "asp"
+ATHRILL_SOURCES = SHARED_ATHRILL / "src" / "athrill-target-v850e2m"
 BUILD_DIR = REPO / "build" / "athrill"
 
 
@@ -24,8 +26,10 @@ def build_athrill2() -> Path:
     """athrill2, built from ../shared with scripts/build_athrill2.sh (cached), or a pytest skip saying why."""
     if shutil.which("cc") is None and shutil.which("gcc") is None:
         pytest.skip("needs a C compiler (cc) to build the real athrill2")
+    if not ATHRILL_SOURCES.is_dir():
+        pytest.skip(needs_shared("the real Athrill sources", ATHRILL_SOURCES, ATHRILL))
     if not ASP_IMAGE.is_file():
-        pytest.skip(f"needs the real Athrill sources and EV3RT image at {SHARED_ATHRILL} (../shared)")
+        pytest.skip(needs_shared("the real EV3RT image", ASP_IMAGE, EV3RT_SAMPLE_IMAGE))
     out = subprocess.run([str(REPO / "scripts" / "build_athrill2.sh"), str(BUILD_DIR)], capture_output=True,
                          text=True, timeout=900)
     assert out.returncode == 0, out.stderr[-2000:]

@@ -6,12 +6,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from tests.helpers.paths import SHARED
+from athrill_sim.third_party import EV3RT_SDK
+from tests.helpers.paths import SHARED, needs_shared
 
 EV3RT = SHARED / "third_party" / "ev3rt" / "ev3rt-athrill-v850e2m"
 WORKSPACE = EV3RT / "sdk" / "workspace"
 EV3API = EV3RT / "sdk" / "common" / "ev3api"
-NEEDS_SHARED = f"needs EV3RT's SDK at {EV3RT} (../shared)"
+NEEDS_SHARED = needs_shared("EV3RT's SDK", EV3RT, EV3RT_SDK)
 
 
 @dataclass(frozen=True)

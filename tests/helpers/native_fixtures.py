@@ -16,6 +16,7 @@ import pytest
 from hakoniwa.wire.protocol import Header, MappedFile, Rx, Tx, open_athrill, open_unity
 from hakoniwa.wire.rundir import SDCARD_DIR
 from hakoniwa.wire.waiting import futex_wake
+from tests.helpers.processes import interruptible
 
 NO_CC = "needs a C compiler (cc) to build native apps"
 
@@ -57,8 +58,10 @@ class FakePhysics:
         args = [str(exe), "--run-dir", str(self.run_dir)] + (["--test", str(test)] if test is not None else [])
         card = self.run_dir / SDCARD_DIR  # the program's working folder: its SD card, as the bench's copy is
         card.mkdir(exist_ok=True)
+        # SIGINT's default action even where pytest runs with it ignored (a background job of a shell), which
+        # the program would inherit: the tests that interrupt it need it to act as the bench's program does
         return subprocess.Popen(args, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                text=True, cwd=card)
+                                text=True, cwd=card, preexec_fn=interruptible)
 
     def next_wake(self, proc: subprocess.Popen, timeout_s: float = 10.0) -> int:
         """Wait for the program's next answer and return the wake-up time it published."""

@@ -3,7 +3,8 @@ third_party/raspike/README.md), for the tests that read them; each skips with NE
 
 from __future__ import annotations
 
-from tests.helpers.paths import SHARED
+from athrill_sim.third_party import RASPIKE_SDK
+from tests.helpers.paths import SHARED, needs_shared
 
 RASPIKE = SHARED / "third_party" / "raspike"
 SDK = RASPIKE / "raspike-athrill-v850e2m"
@@ -13,5 +14,5 @@ PBIO_HEADERS = SDK / "libraspike-art" / "external" / "libpybricks" / "lib" / "pb
 VDEV_HEADER = SDK / "target" / "v850_gcc" / "pil" / "include" / "ev3_vdev_common.h"
 SDK_SAMPLES = SDK / "sdk" / "workspace"
 ART_SAMPLES = RASPIKE / "raspike-art-samples"
-NEEDS_RASPIKE = f"needs ET Robocon's SPIKE SDK at {RASPIKE} (../shared)"
+NEEDS_RASPIKE = needs_shared("ET Robocon's SPIKE SDK", RASPIKE, RASPIKE_SDK)
 LIBCPP_SPIKE = SDK / "sdk" / "common" / "library" / "libcpp-spike"

@@ -7,13 +7,14 @@ Tests run on the mazes shipped in the package, so they pass on a fresh clone. Th
 
 import pytest
 
+from athrill_sim.third_party import MAZES
 from maze.builtin import builtin_dir, builtin_names, builtin_path
 from maze.mazefile import parse_maze
 from tests.helpers.commands import mazelog
-from tests.helpers.paths import SHARED
+from tests.helpers.paths import SHARED, needs_shared
 
 SHARED_MAZES = SHARED / "mazes"
-NO_SHARED = "../shared/mazes not found beside the clone: large maze set"
+NO_SHARED = needs_shared("the large maze set", SHARED_MAZES, MAZES)
 BUILTIN = sorted(builtin_dir().glob("*.txt"))
 
 

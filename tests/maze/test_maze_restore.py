@@ -2,18 +2,19 @@ import re
 
 import pytest
 
+from athrill_sim.third_party import SEEDS
 from maze.direction import EAST, NORTH, SOUTH
 from maze.errors import MazeError
 from maze.mazefile import dump_maze, parse_maze
 from maze.model import Maze, inner_wall_count
 from maze.restore import apply_records, load_log, records_for, restore, select
 from maze.wallrecord import RECORD_BYTES, WallRecord, encode_log, parse_text_records
-from tests.helpers.paths import SHARED
+from tests.helpers.paths import SHARED, needs_shared
 from tests.maze.test_maze_builtin import builtin_maze_params, large_maze_params
 
 SEED = SHARED / "seeds" / "wall-log-backup.md"
 needs_seed = pytest.mark.skipif(
-    not SEED.is_file(), reason="../shared/seeds/wall-log-backup.md not found beside the clone: the seed's example")
+    not SEED.is_file(), reason=needs_shared("the seed's worked example", SEED, SEEDS))
 
 
 def seed_blocks() -> list[str]:

@@ -10,6 +10,7 @@ from hakoniwa.physics.robot import DEFAULT_WIRING
 from hakoniwa.physics.robots import BUILT_IN, RobotError, load_robot, parse_robot
 from hakoniwa.physics.scenario import EV3_BUTTONS, Press, Scenario, ScenarioError, parse_scenario
 from hakoniwa.wire.protocol import NEVER_WAKES
+from tests.helpers.commands import hako, one_line_error
 
 
 def test_a_touch_press_and_a_button_press_hold_for_their_time():
@@ -59,6 +60,13 @@ def test_two_devices_on_one_port_are_refused():
         parse_robot('left_motor = "B"\nright_motor = "B"\n', "r.toml")
     with pytest.raises(RobotError, match="no robot"):
         load_robot("nonesuch")
+
+
+def test_two_devices_on_one_port_are_one_line_before_any_test(tmp_path):
+    robot = tmp_path / "twice.toml"
+    robot.write_text('[[sensor]]\nport = 2\nkind = "touch"\n[[sensor]]\nport = 2\nkind = "gyro"\n')
+    one_line_error(hako("trial", "--robot", str(robot), "--json", timeout=120),
+                   "two devices on sensor port 2: touch and gyro")
 
 
 @given(st.text(max_size=200))

@@ -11,6 +11,7 @@ from hypothesis import strategies as st
 
 from athrill_sim.program import ProgramError
 from athrill_sim.programs import resolve_program
+from athrill_sim.third_party import EV3RT_SDK, RASPIKE_SDK
 from hakoniwa.wire.vdev_udp import (
     PORT_RANGE,
     Endpoint,
@@ -26,6 +27,7 @@ from hakoniwa.wire.vdev_udp import (
     user_link,
 )
 from tests.helpers.commands import hako, one_line_error
+from tests.helpers.paths import needs_shared
 from tests.helpers.realemu_fixtures import ETROBOC_DEVICE_CONFIGS
 
 UDP_BASE = "DEBUG_FUNC_ENABLE_VDEV\t1\nDEVICE_CONFIG_TIMER_FD\t400\n"
@@ -45,7 +47,8 @@ def config(tmp_path: Path, text: str) -> Path:
 @pytest.mark.parametrize("path", ETROBOC_DEVICE_CONFIGS, ids=["raspike", "ev3rt"])
 def test_et_robocons_device_config_names_54001_and_54002_on_127_0_0_1(path):
     if not path.is_file():
-        pytest.skip(f"needs ET Robocon's SDK at {path.parent} (../shared)")
+        piece = RASPIKE_SDK if "raspike" in path.parts else EV3RT_SDK
+        pytest.skip(needs_shared("ET Robocon's SDK", path.parent, piece))
     link = user_link(path)
     assert (link.physics, link.athrill) == (Endpoint("127.0.0.1", 54001), Endpoint("127.0.0.1", 54002))
     assert link.fixed and link.device_config(54001, 54002) == path.read_bytes()  # athrill2 runs with it as it is
