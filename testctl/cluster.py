@@ -147,10 +147,6 @@ class DaskExecutor(Executor):
             except (OSError, TimeoutError) as e:
                 reason = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
                 raise ClusterError(f"cannot reach the Dask scheduler at {scheduler.address}: {reason}") from None
-            # The campaign says in one line what became of a cluster it loses; Dask's own tracebacks of
-            # the lost connection would bury that line.
-            for name in [n for n in logging.root.manager.loggerDict if n.split(".")[0] == "distributed"]:
-                logging.getLogger(name).setLevel(logging.CRITICAL)
         else:
             self._interpreter = deaf_interpreter()
             # No dashboard; and the scheduler's HTTP server (which it starts even so) on a free port, not on
@@ -159,6 +155,12 @@ class DaskExecutor(Executor):
                                          dashboard_address=None, silence_logs=logging.CRITICAL,
                                          scheduler_kwargs={"dashboard": False, "dashboard_address": ":0"})
             self.client = Client(self._cluster)
+        # The campaign says in one line what became of a cluster it loses or leaves on a signal; Dask's own
+        # tracebacks of the closed connections would bury that line. LocalCluster's silence_logs is not enough:
+        # it lowers its handlers only while the cluster is open, and a send still in flight when a signal closes
+        # it logs after.
+        for name in [n for n in logging.root.manager.loggerDict if n.split(".")[0] == "distributed"]:
+            logging.getLogger(name).setLevel(logging.CRITICAL)
         try:
             self.client.wait_for_workers(1, timeout=CONNECT_TIMEOUT_S)
         except TimeoutError:

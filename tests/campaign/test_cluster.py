@@ -261,3 +261,17 @@ def test_a_local_cluster_starts_no_dashboard(tmp_path):
         done = hako_run("--smoke", "--out", str(tmp_path / "c"))
     assert done.returncode == 0, done.stderr
     assert "8787" not in done.stderr and "dashboard" not in done.stderr.lower()
+
+
+def test_a_closed_local_cluster_leaves_dasks_loggers_quiet():
+    """LocalCluster lowers its log handlers only while it is open: a send still in flight when a signal closes
+    it logged Dask's traceback under the campaign's one line (CI, test_validate_interrupts)."""
+    probe = ("import logging\n"
+             "from testctl.bench_options import BenchOptions\n"
+             "from testctl.cluster import DaskExecutor\n"
+             "DaskExecutor(BenchOptions(), benches=1).close()\n"
+             "print([n for n in ('distributed', 'distributed.batched', 'distributed.core', 'distributed.scheduler')\n"
+             "       if logging.getLogger(n).isEnabledFor(logging.ERROR)])\n")
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]", done.stdout
