@@ -29,6 +29,12 @@ if TYPE_CHECKING:
     from scipy.sparse import csr_array
 
 
+def row_pointers(rows: np.ndarray, count: int) -> np.ndarray:
+    """Where each of `count` rows starts among entries sorted by row, and where the last ends: a compressed
+    row index's `indptr`, for the query graphs and the per-wall index of edges alike."""
+    return np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=count))]).astype(np.int32)
+
+
 @dataclass
 class Csr:
     """A graph as compressed rows: the edges of node u are indices[indptr[u]:indptr[u + 1]], priced `data`.
@@ -95,7 +101,7 @@ class TimeBound:
         p = self.prices
         if self._reversed is None:
             order = np.argsort(p.indices, kind="stable").astype(np.int32)
-            indptr = np.concatenate([[0], np.cumsum(np.bincount(p.indices, minlength=p.nodes))]).astype(np.int32)
+            indptr = row_pointers(p.indices, p.nodes)
             self._reversed = indptr, self.rows[order], order
         indptr, sources, edges = self._reversed
         self.nodes, self.reduced = np.empty(p.nodes), np.empty(len(p.data))

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .direction import ALONG, STEP
-from .fastpath_bound import Csr, TimeBound
+from .fastpath_bound import Csr, TimeBound, row_pointers
 from .fastpath_build import B, G, StaticGraph, entered_cell
 from .fastpath_kernel import Workspace, workspace
 from .fastpath_walls import wall_edges
@@ -213,7 +213,7 @@ class FastestSearch:
         number = (np.cumsum(used) - 1).astype(np.int32)
         rows, cols = number[rows], number[cols]
         n = len(nodes)
-        indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=n))]).astype(np.int32)
+        indptr = row_pointers(rows, n)
         cost = np.concatenate([ahead_cost[:before], turns.seconds[turn_order], ahead_cost[before:],
                                start_edges.seconds])
         prices = Csr(cost.astype(np.float64), cols, indptr)
@@ -361,7 +361,7 @@ class FastestSearch:
             renumber = np.cumsum(on) - 1
             use = on[row] & on[col]
             row, col, edge, nodes = renumber[row[use]], renumber[col[use]], edge[use], nodes[on]
-        indptr = np.concatenate([[0], np.cumsum(np.bincount(row, minlength=len(nodes)))])
+        indptr = row_pointers(row, len(nodes))
         price = q.prices.data[edge]
         sub = Csr(price, col, indptr).scipy()
         dist = dijkstra(sub, directed=True, indices=len(nodes) - 1,  # the start node is the last node

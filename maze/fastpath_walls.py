@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .fastpath_bound import row_pointers
 from .fastpath_build import StaticGraph
 
 
@@ -42,5 +43,5 @@ def wall_edges(graph: StaticGraph, run_from: np.ndarray, open_needed: np.ndarray
     real = wall < graph.walls  # the sentinels past the real walls never change
     edge, wall = edge[real].astype(np.int32), wall[real].astype(np.min_scalar_type(graph.walls))
     order = np.argsort(wall, kind="stable")  # a radix sort on 8- or 16-bit keys: a few times faster
-    indptr = np.concatenate([[0], np.cumsum(np.bincount(wall, minlength=graph.walls))])
+    indptr = row_pointers(wall, graph.walls)
     return indptr, edge[order]
