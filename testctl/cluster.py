@@ -147,6 +147,9 @@ class DaskExecutor(Executor):
             except (OSError, TimeoutError) as e:
                 reason = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
                 raise ClusterError(f"cannot reach the Dask scheduler at {scheduler.address}: {reason}") from None
+            except Exception as e:  # another server on that port: Dask reads its bytes as a frame's length
+                raise ClusterError(f"{scheduler.address} does not answer as a Dask scheduler "
+                                   f"({type(e).__name__} in Dask's handshake)") from None
         else:
             self._interpreter = deaf_interpreter()
             # No dashboard; and the scheduler's HTTP server (which it starts even so) on a free port, not on

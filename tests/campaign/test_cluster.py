@@ -160,6 +160,36 @@ def test_an_unreachable_scheduler_is_a_one_line_error(tmp_path):
     assert len(done.stderr.strip().splitlines()) == 1
 
 
+BANNER_SERVER = """
+import socket, sys
+with socket.create_server(("127.0.0.1", int(sys.argv[1]))) as server:
+    while True:
+        peer, _ = server.accept()
+        peer.sendall(b"SSH-2.0-OpenSSH_9.2p1 Debian-2\\r\\n")
+"""
+
+
+def test_a_port_where_another_server_speaks_first_is_a_one_line_error(tmp_path):
+    """The scheduler's address with an SSH port: its banner, read as Dask's handshake, asked numpy for
+    exabytes, and the MemoryError came out as a traceback."""
+    port = free_port()
+    server = subprocess.Popen([sys.executable, "-c", BANNER_SERVER, str(port)])
+    try:
+        def listening() -> bool:
+            with socket.socket() as s:
+                return s.connect_ex(("127.0.0.1", port)) == 0
+
+        wait_until(listening, timeout=30, what="the banner server")
+        address = f"tcp://127.0.0.1:{port}"
+        done = hako_run("--scheduler", address, "--smoke", "--out", str(tmp_path / "c"), timeout=120)
+    finally:
+        server.kill()
+        server.wait()
+    assert done.returncode != 0
+    assert done.stderr.strip().splitlines() == [f"Error: {address} does not answer as a Dask scheduler "
+                                                "(MemoryError in Dask's handshake)"], done.stderr
+
+
 def descendants(pid: int) -> list[int]:
     """Every process below `pid` (from /proc)."""
     children: dict[int, list[int]] = {}
