@@ -116,7 +116,9 @@ class TrialRunner:
                             SyncMode(u.read_u32(Rx.SYNC_MODE)), CrashKind(u.read_i32(Rx.CRASH_KIND)),
                             u.read_i32(Rx.CRASH_DETAIL), self._program_output() if event == Event.CRASH else "",
                             goal_time_from_words(u.read_u32(Rx.COMPLETED_TIME_HI), u.read_u32(Rx.COMPLETED_TIME_LO)),
-                            Objective(u.read_u32(Rx.OBJECTIVE)), BenchCause(u.read_u32(Rx.BENCH_CAUSE)))
+                            Objective(u.read_u32(Rx.OBJECTIVE)), BenchCause(u.read_u32(Rx.BENCH_CAUSE)),
+                            out_time_us=goal_time_from_words(u.read_u32(Rx.OUT_TIME_HI), u.read_u32(Rx.OUT_TIME_LO)),
+                            out_xy_mm=(u.read_i32(Rx.OUT_X_MM), u.read_i32(Rx.OUT_Y_MM)))
         if result.objective == Objective.ETROBOCON and event != Event.CRASH:
             result = dataclasses.replace(result, score=self._score())
         self.athrill.write_i32(Tx.START, 0)

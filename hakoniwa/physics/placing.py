@@ -1,10 +1,13 @@
 """Where a person sets the robot down: a scenario's `[[place]]` entries as poses on the course.
 
 A calibrating program asks for the robot over the line's black, then over the white floor, then back at the
-start. A person does that by sliding it sideways from the start: the spot is searched on the line through the
-colour sensor's start position, across the start heading, nearest first (`spot_over`), and the robot keeps
-the start heading. Every pose, found or given, must be one the robot can stand at, checked as the start pose
-is (`course_check`): on the floor image, colour sensor too, and clear of every wall.
+start. A team sets its robot down in the start area with its colour sensor on the edge of the line its program
+traces (`edge`), or on the line's centre. A person does either by sliding the robot sideways from the start:
+the spot is searched on the line through the colour sensor's start position, across the start heading,
+nearest first (`spot_over`, `spot_on_edge`: an edge is where the floor reads half way between the course's
+black and white, the point a tracer steers for), and the robot keeps the start heading. Every pose, found or
+given, must be one the robot can stand at, checked as the start pose is (`course_check`): on the floor image,
+colour sensor too, clear of every wall and of the areas out of bounds.
 """
 
 from __future__ import annotations
@@ -61,6 +64,27 @@ def spot_over(course: Course, body: Body, over: str) -> Pose | None:
     return Pose(s.x + d * left[0], s.y + d * left[1], s.yaw_deg)
 
 
+def spot_on_edge(course: Course, body: Body, edge: str) -> Pose | None:
+    """The start pose slid sideways until the colour sensor is over the `edge` ("left", "right" as the robot
+    faces, or "centre") of the stretch of line nearest to it, or None if no whole stretch of line lies within
+    SEARCH_M. The edge is interpolated between the search's steps: where the floor's shade crosses one half."""
+    s = course.start
+    yaw = math.radians(s.yaw_deg)
+    left = (-math.sin(yaw), math.cos(yaw))
+    sx, sy = color_sensor_xy(body, s)
+    steps = round(SEARCH_M / SEARCH_STEP_M)
+    offsets = np.arange(-steps, steps + 1) * SEARCH_STEP_M
+    shades = np.array([shade_at(course, sx + d * left[0], sy + d * left[1]) for d in offsets])
+    runs = [(a, b) for a, b in _runs(shades < 0.5) if a > 0 and b < len(offsets) - 1]  # both edges in reach
+    if not runs:
+        return None
+    first, last = min(runs, key=lambda r: (max(r[0] - steps, steps - r[1], 0), r[0]))
+    right = offsets[first - 1] + SEARCH_STEP_M * (shades[first - 1] - 0.5) / (shades[first - 1] - shades[first])
+    left_d = offsets[last] + SEARCH_STEP_M * (0.5 - shades[last]) / (shades[last + 1] - shades[last])
+    d = float({"left": left_d, "right": right, "centre": (left_d + right) / 2}[edge])
+    return Pose(s.x + d * left[0], s.y + d * left[1], s.yaw_deg)
+
+
 def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
     """The stretches of True in `mask`, as (first, last) index pairs."""
     edges = np.diff(np.concatenate(([0], mask.astype(np.int8), [0])))
@@ -69,7 +93,13 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
 
 def place_pose(course: Course, body: Body, place: Place) -> Pose:
     """Where `place` sets the robot down (ScenarioError naming the entry where it cannot stand there)."""
-    if place.over == "start":
+    if place.over == "start" and place.edge is not None:
+        on_edge = spot_on_edge(course, body, place.edge)
+        if on_edge is None:
+            raise ScenarioError(f"{place.where}: no line within {SEARCH_M * 100:g} cm of the colour sensor's start "
+                                f"position, across the start heading, to set it on the {place.edge} of")
+        pose = on_edge
+    elif place.over == "start":
         pose = course.start
     elif place.over is not None:
         found = spot_over(course, body, place.over)
