@@ -9,6 +9,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import os
+import re
 import shutil
 from pathlib import Path
 
@@ -21,10 +22,12 @@ from hakoniwa.physics.placing import shade_at, spot_on_edge
 from hakoniwa.physics.robot import EV3_BODY, HACKSPI_BODY
 from hakoniwa.physics.robots import BUILT_IN
 from hakoniwa.physics.scenario import ScenarioError, parse_scenario
+from hakoniwa.physics.slots import Slots
 from hakoniwa.wire.etrobocon_rules import Score
 from hakoniwa.wire.protocol import Event, Objective
 from hakoniwa.wire.result import TestResult
 from testctl.campaign.objective import RepetitionRule
+from testctl.runner import TrialRunner
 from tests.helpers.commands import hako, one_line_error
 from tests.helpers.environments import environment
 from tests.helpers.native_fixtures import need_cc
@@ -46,13 +49,14 @@ def main_task(api):
 OUT_AREA = '\n[course_out]\nmargin_m = 0.05\n[[course_out.area]]\nname = "pit"\nx = 0.0\ny = 0.0\nhx = 0.5\nhy = 0.3\n'
 
 
-def lane_copy(tmp_path: Path, extra: str, lane: str = "etrobocon-l") -> Path:
-    """A copy of a built-in lane with `extra` added to its course.toml."""
-    folder = tmp_path / lane
-    shutil.copytree(COURSES_DIR / lane, folder)
-    shutil.copy(COURSES_DIR / "etrobocon-l" / "floor.png", folder / "floor.png")
+def lane_copy(tmp_path: Path, extra: str) -> Path:
+    """A copy of the L lane with `extra` in place of its `[course_out]` table."""
+    folder = tmp_path / "etrobocon-l"
+    shutil.copytree(COURSES_DIR / "etrobocon-l", folder)
     toml = folder / "course.toml"
-    toml.write_text(toml.read_text().replace('"../etrobocon-l/floor.png"', '"floor.png"') + extra)
+    text = re.sub(r"\[course_out\][^\n]*\nmargin_m = 0\n", "", toml.read_text())
+    assert "course_out" not in text
+    toml.write_text(text + extra)
     return folder
 
 
@@ -164,6 +168,20 @@ def test_a_course_out_result_keeps_its_time_and_place_and_is_a_scored_run():
     assert not lap.success and "course_out" not in TestResult(Event.HIT_WALL, 0, 0.0).to_dict()
     v = RepetitionRule(repeats=1).judge([lap])
     assert (v.decided, v.success, v.crashes) == (True, False, 0)  # a failure of the parameters, not a crash
+
+
+def test_when_and_where_travel_through_the_mapped_file_to_the_controller(tmp_path):
+    """The physics side's report, read back as the controller reads it; the next test's report clears them."""
+    out = TestResult(Event.COURSE_OUT, 0, 0.0, 1, 3325, out_time_us=(1 << 32) + 5, out_xy_mm=(-430, 1824))
+    slots = Slots(tmp_path)
+    runner = TrialRunner(tmp_path)
+    try:
+        slots.report(out)
+        assert runner.read_result() == out
+        slots.report(TestResult(Event.TIME_OVER, 0, 0.0))
+        assert runner.read_result() == TestResult(Event.TIME_OVER, 0, 0.0)
+    finally:
+        runner.close()
 
 
 @pytest.fixture
