@@ -83,6 +83,8 @@ def test_an_out_of_bounds_area_counts_from_the_margin_inside_it(tmp_path):
     assert course.out == CourseOut(0.05, (Box("pit", 0.0, 0.0, 0.5, 0.3),))
     assert course.left_at(0.44, 0.0) == "pit" and course.left_at(0.46, 0.0) is None
     assert course.left_at(0.0, -0.24) == "pit" and course.left_at(0.0, -0.26) is None
+    r = hako("course", "show", str(tmp_path / "etrobocon-l"), "--png", str(tmp_path / "c.png"), timeout=120)
+    assert r.returncode == 0 and (tmp_path / "c.png").stat().st_size > 0, r.stderr  # drawn hatched in red
 
 
 @pytest.mark.parametrize("extra, words", [
