@@ -14,8 +14,10 @@ import shutil
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
-from hakoniwa.physics.course import COURSES_DIR, Box, CourseOut, load_course
+from hakoniwa.physics.course import COURSES_DIR, Box, CourseError, CourseOut, load_course
 from hakoniwa.physics.course_check import color_sensor_xy
 from hakoniwa.physics.environment import Environment
 from hakoniwa.physics.placing import shade_at, spot_on_edge
@@ -103,6 +105,25 @@ def test_a_bad_out_of_bounds_table_is_one_line_from_hako_trial(tmp_path, extra, 
     folder = lane_copy(tmp_path, extra)
     r = hako("trial", "--course", str(folder), "--run-dir", str(tmp_path / "run"), timeout=120)
     one_line_error(r, "course.toml", *words)
+
+
+VALUES = st.sampled_from(["0", "0.05", "-1", "1e400", "true", '"wide"', "[1]", "{}", "0.3", "3"])
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(st.dictionaries(st.sampled_from(["margin_m", "margin"]), VALUES, max_size=2),
+       st.lists(st.dictionaries(st.sampled_from(["name", "x", "y", "hx", "hy", "z"]), VALUES, max_size=6), max_size=2))
+def test_any_course_out_table_is_a_course_or_one_line_naming_it(tmp_path, table, areas):
+    text = "\n[course_out]\n" + "".join(f"{k} = {v}\n" for k, v in table.items())
+    text += "".join("[[course_out.area]]\n" + "".join(f"{k} = {v}\n" for k, v in a.items()) for a in areas)
+    folder = lane_copy(tmp_path / f"c{abs(hash(text))}", text)
+    try:
+        course = load_course(folder)
+    except CourseError as e:
+        assert "\n" not in str(e) and "course.toml" in str(e)
+        return
+    assert course.out.margin_m >= 0 and len(course.out.areas) == len(areas)
+    assert course.left_at(course.start.x, course.start.y) in (None, *(a.name for a in course.out.areas))
 
 
 @pytest.mark.parametrize("lane", LANES + ("oval",))

@@ -200,8 +200,9 @@ def test_each_bad_entry_is_one_line_naming_it_from_hako_trial(tmp_path, scenario
     assert not (tmp_path / "run" / "unity_mmap.bin").exists()  # refused before any bench started
 
 
-@given(st.lists(st.tuples(st.sampled_from(["at_s", "over", "x", "y", "yaw_deg", "for_s", "distance_cm", "z"]),
-                          st.sampled_from(['"black"', '"start"', '"red"', "0.5", "-1", "1e400", "true", "[1]"])),
+@given(st.lists(st.tuples(st.sampled_from(["at_s", "over", "x", "y", "yaw_deg", "for_s", "distance_cm", "z", "edge"]),
+                          st.sampled_from(['"black"', '"start"', '"red"', "0.5", "-1", "1e400", "true", "[1]",
+                                           '"left"', '"centre"'])),
                 max_size=5), st.sampled_from(["place", "hand"]))
 def test_any_place_or_hand_table_is_one_or_one_scenario_error(pairs, kind):
     text = f"[[{kind}]]\n" + "".join(f"{k} = {v}\n" for k, v in dict(pairs).items())
@@ -214,6 +215,7 @@ def test_any_place_or_hand_table_is_one_or_one_scenario_error(pairs, kind):
     assert entry.at_us >= 0
     if kind == "place":
         assert (entry.over is None) == ("over" not in dict(pairs))
+        assert entry.edge is None or (entry.over == "start" and entry.edge in ("left", "centre"))
     else:
         assert entry.for_us > 0 and 0 <= entry.distance_mm < 2550
 
