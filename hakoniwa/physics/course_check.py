@@ -2,8 +2,8 @@
 
 A course whose start pose puts the robot into a wall, off its floor image or into an area out of bounds, or
 whose checkpoints it cannot reach would end every test the same way (HIT_WALL or COURSE_OUT at 0.00 m, or
-TIME_OVER with no checkpoint), and a
-campaign would score every parameter set as a failure of the parameters while the fault is the course's.
+TIME_OVER with no checkpoint), and a campaign would score every parameter set as a failure of the parameters
+while the fault is the course's.
 So the course is refused in one line naming its file, as any other bad course file is.
 
 Reachability is a geometric check, kept cheap (a few ms on the oval): the floor image is cut into

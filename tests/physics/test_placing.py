@@ -176,6 +176,8 @@ def given_file(tmp_path: Path, arg: str) -> str:
     (PLACE_OK + '[[place]]\nat_s = 2\nx = -1.45\ny = 0\nyaw_deg = 180\n', ("--course", "OPEN"),
      ["place 2", "the colour sensor at the place (-1.530, 0.000) is off the floor image"]),
     ('[[place]]\nat_s = 1\nover = "black"\n', ("--course", "BLANK"), ["place 1", "no black floor within 30 cm"]),
+    ('[[place]]\nat_s = 1\nover = "start"\nedge = "left"\n', ("--course", "BLANK"),
+     ["place 1", "no line within 30 cm", "for edge = 'left'"]),
     ('[[place]]\nat_s = 1\nover = "grey"\n', (), ["place 1", "over must be one of 'black', 'white', 'start'"]),
     ('[[place]]\nat_s = 1\nover = "start"\nx = 0\n', (), ["place 1", "give either over"]),
     ('[[place]]\nat_s = 1\nx = 0\ny = 0.5\n', (), ["place 1", "missing 'yaw_deg'"]),
