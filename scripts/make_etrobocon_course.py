@@ -43,12 +43,13 @@ GARAGE_HALF_M = (0.16, 0.18)  # across, along the line
 GARAGE_BORDER_M = 0.02
 BOTTLE = {"radius": 0.0325, "height": 0.205, "mass": 0.3, "friction": 0.3}  # a 500 ml PET bottle, part full
 START_SIDE_M = 0.02  # the robot starts with its colour sensor on the line's right edge
+START_LINE_M = 0.30  # from the start to the start line
 
 # The L lane: from the start heading north, a left turn into the top straight (a blue section there), the
 # first loop, the west straight (checkpoints 2 and 3), the second loop, the LAP gate, then the sumo ring on the
 # line's left, a second blue section and the garage. ("A", degrees, radius): an arc, positive to the left.
 LOOP = [("A", -90, 0.22), ("A", 270, 0.36), ("A", -90, 0.22)]
-LANE = [("mark", "start"), ("S", 0.30), ("mark", "startline"), ("S", 1.0), ("mark", "cp1"), ("S", 0.9),
+LANE = [("mark", "start"), ("S", START_LINE_M), ("mark", "startline"), ("S", 1.0), ("mark", "cp1"), ("S", 0.9),
         ("A", 90, 0.45), ("S", 0.10), ("blue", 0.25), ("S", 0.05), *LOOP, ("S", 0.2), ("mark", "cp2"), ("S", 1.2),
         ("mark", "cp3"), ("S", 0.2), *LOOP, ("S", 0.15), ("mark", "lap"), ("S", 0.05), ("A", 90, 0.3),
         ("S", 0.27), ("mark", "ring"), ("S", 0.73), ("blue", 0.25), ("S", 0.1), ("mark", "garage")]
@@ -179,10 +180,17 @@ def course_toml(lane: Lane, name: str, image: str, mirror: bool) -> str:
         "reflect_white = 40",
         "reflect_black = 10",
         "",
-        "[start]                       # the axle centre; the colour sensor on the line's right edge",
-        f"x = {sign * sx + START_SIDE_M:.4f}",
+        "# The start area (regulation 5.2.2): the black line and the white beside it, out to the start line's",
+        f"# ends ({GATE_HALF_M:g} m either side of the line's centre), before the start line, which crosses the lane",
+        f"# {START_LINE_M:g} m ahead of the start. A scenario's [[place]] over = \"start\" with edge = \"left\",",
+        "# \"right\" or \"centre\" slides the robot across it until its colour sensor is there on the line.",
+        "[start]                       # the axle centre, heading along the line; the colour sensor 2 cm right",
+        f"{f'x = {sign * sx + START_SIDE_M:.4f}':30s}# of the line's centre, just clear of its right edge",
         f"y = {sy:.4f}",
         f"yaw_deg = {heading:g}",
+        "",
+        "[course_out]                  # the run ends COURSE_OUT (コースアウト) with the axle past the mat's edge",
+        "margin_m = 0",
     ]
     for gate in ("cp1", "cp2", "cp3", "lap"):
         x, y, hx, hy = gate_box(lane.marks[gate])

@@ -109,19 +109,27 @@ class TrialRunner:
         self.write_noise(noise_seed, noise_scale)
         self.athrill.write_i32(Tx.START, 1)
         self._wait(lambda: u.read_i32(Rx.EVENT) != Event.NONE, "an event")
-        event = Event(u.read_i32(Rx.EVENT))
-        goal_us = goal_time_from_words(u.read_u32(Rx.GOAL_TIME_HI), u.read_u32(Rx.GOAL_TIME_LO))
-        result = TestResult(event, goal_us if event == Event.GOAL else 0, 0.0, u.read_u32(Rx.CHECKPOINTS),
-                            u.read_u32(Rx.DISTANCE_MM), u.read_u32(Rx.MAX_TIME_DIFF_US),
-                            SyncMode(u.read_u32(Rx.SYNC_MODE)), CrashKind(u.read_i32(Rx.CRASH_KIND)),
-                            u.read_i32(Rx.CRASH_DETAIL), self._program_output() if event == Event.CRASH else "",
-                            goal_time_from_words(u.read_u32(Rx.COMPLETED_TIME_HI), u.read_u32(Rx.COMPLETED_TIME_LO)),
-                            Objective(u.read_u32(Rx.OBJECTIVE)), BenchCause(u.read_u32(Rx.BENCH_CAUSE)))
-        if result.objective == Objective.ETROBOCON and event != Event.CRASH:
+        result = self.read_result()
+        if result.objective == Objective.ETROBOCON and result.event != Event.CRASH:
             result = dataclasses.replace(result, score=self._score())
         self.athrill.write_i32(Tx.START, 0)
         self._wait(lambda: u.read_i32(Rx.EVENT) == Event.NONE, "the reset after the test")
         return dataclasses.replace(result, wall_s=time.monotonic() - start)
+
+    def read_result(self) -> TestResult:
+        """The test's result as the physics process reported it in unity_mmap.bin (`Slots.report`), but for its
+        wall time and ET Robocon's score, which `run_test` adds."""
+        u = self.unity
+        event = Event(u.read_i32(Rx.EVENT))
+        goal_us = goal_time_from_words(u.read_u32(Rx.GOAL_TIME_HI), u.read_u32(Rx.GOAL_TIME_LO))
+        return TestResult(event, goal_us if event == Event.GOAL else 0, 0.0, u.read_u32(Rx.CHECKPOINTS),
+                          u.read_u32(Rx.DISTANCE_MM), u.read_u32(Rx.MAX_TIME_DIFF_US),
+                          SyncMode(u.read_u32(Rx.SYNC_MODE)), CrashKind(u.read_i32(Rx.CRASH_KIND)),
+                          u.read_i32(Rx.CRASH_DETAIL), self._program_output() if event == Event.CRASH else "",
+                          goal_time_from_words(u.read_u32(Rx.COMPLETED_TIME_HI), u.read_u32(Rx.COMPLETED_TIME_LO)),
+                          Objective(u.read_u32(Rx.OBJECTIVE)), BenchCause(u.read_u32(Rx.BENCH_CAUSE)),
+                          out_time_us=goal_time_from_words(u.read_u32(Rx.OUT_TIME_HI), u.read_u32(Rx.OUT_TIME_LO)),
+                          out_xy_mm=(u.read_i32(Rx.OUT_X_MM), u.read_i32(Rx.OUT_Y_MM)))
 
     def _score(self) -> Score | None:
         """ET Robocon's score the physics process wrote before it reported the event (None if it could not:

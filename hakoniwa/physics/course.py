@@ -7,7 +7,8 @@ grey or in colour; each kind of sensor's response to a colour, calibrated per co
 `[sensor.spike]`), is `color_response.py`'s. The same folder describes the robot's wiring (which motor ports
 drive the wheels), since a course is built for a robot, the levels of the seeded noise tests may turn on
 (`[noise]`, see docs/NOISE.md), the movable objects and named zones on the floor (`course_items.py`), and
-what ET Robocon's score calls its garage, ring and bottle (`[score]`).
+what ET Robocon's score calls its garage, ring and bottle (`[score]`), and where a run leaves the course
+(`[course_out]`: the mat's edge, areas marked out of bounds, and the margin past them; ET Robocon's コースアウト).
 """
 
 from __future__ import annotations
@@ -68,6 +69,22 @@ class ColorArea:
 
 
 @dataclass(frozen=True)
+class CourseOut:
+    """Where a run leaves the course (COURSE_OUT, ET Robocon's コースアウト): the robot's axle centre more than
+    `margin_m` past the mat's edge (the floor image's), or more than `margin_m` inside an area the course marks
+    out of bounds. The axle, because the drive wheels sit on it: past the edge by the axle, a robot on a mat
+    lying on a table or the floor has its wheels off the mat; the gates are judged at the same point."""
+
+    margin_m: float = 0.0
+    areas: tuple[Box, ...] = ()
+
+    def area_at(self, x: float, y: float) -> Box | None:
+        """The out-of-bounds area (x, y) is more than the margin inside, if any."""
+        m = self.margin_m
+        return next((a for a in self.areas if abs(x - a.x) < a.hx - m and abs(y - a.y) < a.hy - m), None)
+
+
+@dataclass(frozen=True)
 class CourseInfo:
     """ET Robocon's course information (`[etroboc]`), which its programs read through etroboc_ext.h: the
     number card, the number on the black block, and each block's position (one byte each)."""
@@ -109,6 +126,7 @@ class Course:
     zones: tuple[Zone, ...] = ()
     objects: tuple[CourseObject, ...] = ()
     score: ScoreSpec = ScoreSpec()
+    out: CourseOut = CourseOut()
 
     @functools.cached_property
     def ev3(self) -> Calibration:
@@ -121,6 +139,16 @@ class Course:
         h, w = self.floor.shape
         x0, y0 = self.origin
         return x0, x0 + w * self.meters_per_pixel, y0, y0 + h * self.meters_per_pixel
+
+    def left_at(self, x: float, y: float) -> str | None:
+        """Where the robot with its axle centre at (x, y) has left the course ("the mat", or the out-of-bounds
+        area's name), or None while it is on it."""
+        xmin, xmax, ymin, ymax = self.extent
+        m = self.out.margin_m
+        if not (xmin - m <= x <= xmax + m and ymin - m <= y <= ymax + m):
+            return "the mat"
+        area = self.out.area_at(x, y)
+        return None if area is None else area.name
 
     def reflect_at(self, x: float, y: float) -> float:
         """Bilinear lookup of the floor under world point (x, y); off the image reads as the image border."""
@@ -286,6 +314,37 @@ def _noise(table: object, where: str) -> NoiseLevels:
     return dataclasses.replace(DEFAULT_NOISE, **levels)
 
 
+def _course_out(table: object, where: str) -> CourseOut:
+    """The `[course_out]` table: `margin_m` (>= 0, default 0) and `[[course_out.area]]` boxes (x, y, hx, hy,
+    name), each checked against the floor image once it is loaded (`_check_items`)."""
+    if table is None:
+        return CourseOut()
+    where = f"{where} [course_out]"
+    if not isinstance(table, dict):
+        raise CourseError(f"{where}: must be a table")
+    unknown = sorted(set(table) - {"margin_m", "area"})
+    if unknown:
+        raise CourseError(f"{where}: unknown key {unknown[0]!r} (known: area, margin_m)")
+    margin = _number(table, "margin_m", where) if "margin_m" in table else 0.0
+    if margin < 0:
+        raise CourseError(f"{where}: 'margin_m' must not be negative, got {margin:g}")
+    areas = table.get("area", [])
+    if not (isinstance(areas, list) and all(isinstance(a, dict) for a in areas)):
+        raise CourseError(f"{where}: 'area' must be an array of tables ([[course_out.area]])")
+    boxes = []
+    for i, area in enumerate(areas):
+        at = f"{where} area {i}"
+        extra = sorted(set(area) - {"name", "x", "y", "hx", "hy"})
+        if extra:
+            raise CourseError(f"{at}: unknown key {extra[0]!r} (known: hx, hy, name, x, y)")
+        box = _box(area, at)
+        if min(box.hx, box.hy) <= margin:
+            raise CourseError(f"{at}: {box.name!r} is no wider than twice the margin ({margin:g} m): no robot "
+                              f"could be out in it")
+        boxes.append(box)
+    return CourseOut(margin, tuple(boxes))
+
+
 def builtin_course(name: str | Path) -> Path | None:
     """The folder of the built-in course called `name`, if it is one. A built-in name means the built-in course
     even where the working directory holds a file or folder of that name (write `./oval` for that one), so
@@ -359,6 +418,7 @@ def load_course(name_or_path: str | Path) -> Course:
         zones=zones,
         objects=objects,
         score=score,
+        out=_course_out(spec.get("course_out"), where),
     )
     _check_items(course, where)
     return course
@@ -422,8 +482,14 @@ def _scaled(channels: np.ndarray, ev3: Calibration) -> np.ndarray:
 
 
 def _check_items(course: Course, where: str) -> None:
-    """Objects and zones on the floor image, and no object standing in a wall."""
+    """Objects, zones and out-of-bounds areas on the floor image, and no object standing in a wall."""
     xmin, xmax, ymin, ymax = course.extent
+    for area in course.out.areas:
+        if not (xmin <= area.x - area.hx and area.x + area.hx <= xmax and ymin <= area.y - area.hy
+                and area.y + area.hy <= ymax):
+            raise CourseError(f"{where}: out-of-bounds area {area.name!r} reaches off the mat (the floor image, "
+                              f"x {xmin:g}..{xmax:g}, y {ymin:g}..{ymax:g}): past the mat's edge the run has "
+                              f"already left the course")
     for zone in course.zones:
         x0, x1, y0, y1 = zone.bounds()
         if not (xmin <= x0 and x1 <= xmax and ymin <= y0 and y1 <= ymax):

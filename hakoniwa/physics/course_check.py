@@ -1,8 +1,9 @@
 """Whether a robot can run a course at all, checked before any test.
 
-A course whose start pose puts the robot into a wall, off its floor image, or whose checkpoints it cannot
-reach would end every test the same way (HIT_WALL at 0.00 m, or TIME_OVER with no checkpoint), and a
-campaign would score every parameter set as a failure of the parameters while the fault is the course's.
+A course whose start pose puts the robot into a wall, off its floor image or into an area out of bounds, or
+whose checkpoints it cannot reach would end every test the same way (HIT_WALL or COURSE_OUT at 0.00 m, or
+TIME_OVER with no checkpoint), and a campaign would score every parameter set as a failure of the parameters
+while the fault is the course's.
 So the course is refused in one line naming its file, as any other bad course file is.
 
 Reachability is a geometric check, kept cheap (a few ms on the oval): the floor image is cut into
@@ -61,11 +62,16 @@ def color_sensor_xy(body: Body, pose: Pose) -> tuple[float, float]:
 
 def off_floor(course: Course, body: Body, pose: Pose, at: str) -> str | None:
     """Why `body` cannot stand at `pose` for being off the floor image (`at` names the pose: "the start"),
-    or None: the robot there, or its colour sensor, would read the image's border."""
+    or None: the robot there, or its colour sensor, would read the image's border; or in an area the course
+    marks out of bounds, where the first event check would end the test COURSE_OUT."""
     xmin, xmax, ymin, ymax = course.extent
     for what, (x, y) in ((f"{at} pose", (pose.x, pose.y)), (f"the colour sensor at {at}", color_sensor_xy(body, pose))):
         if not (xmin <= x <= xmax and ymin <= y <= ymax):
             return f"{what} ({x:.3f}, {y:.3f}) is off the floor image (x {xmin:g}..{xmax:g}, y {ymin:g}..{ymax:g})"
+    area = course.out.area_at(pose.x, pose.y)
+    if area is not None:
+        return (f"{at} pose ({pose.x:.3f}, {pose.y:.3f}) is in out-of-bounds area {area.name!r}: the test would "
+                f"end COURSE_OUT at once")
     return None
 
 

@@ -5,7 +5,9 @@ never moves anything. A course's checkpoints are the competition's gates in the 
 the last one the LAP gate; its `[score]` table names the garage, the sumo ring and the sumo bottle.
 
 - At reset: nothing reached, the clock of a stop in the garage unset.
-- At each event check: the path driven (as the lap task measures it), wall contact (HIT_WALL), each
+- At each event check: the path driven (as the lap task measures it), wall contact (HIT_WALL), leaving the
+  course (COURSE_OUT: a run that ends so keeps the points it made, as 5.18 keeps them when the referee ends a
+  turn whose robot can no longer run; it has no finish), each
   checkpoint reached once before the LAP gate, in any order and the way its arrow points where the course
   gives one (`heading_deg`; 5.12), the LAP gate (5.13, likewise; it does not end the
   run, which goes on to the tasks), the sumo bottle leaving the ring, and the finish: part of the robot in the
@@ -64,6 +66,8 @@ class EtRoboconTask(LapTask):
         x, y = self._travel(world)
         if world.touching_wall():
             return Event.HIT_WALL
+        if self.course.left_at(x, y) is not None:
+            return Event.COURSE_OUT
         self._gates(world, x, y, time_us)
         self._sumo(world, x, y)
         if self._garage_stop(world, time_us):

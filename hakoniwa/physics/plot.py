@@ -39,7 +39,7 @@ def draw_trajectory(course: Course, path_xy: list[tuple[float, float]], out: Pat
 
 def draw_course(course: Course, out: Path) -> None:
     """The course alone, for a person to check before a campaign: its floor, walls, gates (checkpoints, in
-    their order), zones, objects and the start pose."""
+    their order), areas out of bounds, zones, objects and the start pose."""
     fig, ax = _course_figure(course)
     s = course.start
     yaw = math.radians(s.yaw_deg)
@@ -68,6 +68,9 @@ def _course_figure(course: Course) -> tuple[Any, Any]:
         b = area.box
         ax.add_patch(Rectangle((b.x - b.hx, b.y - b.hy), 2 * b.hx, 2 * b.hy, color=area.color.name.lower(),
                                alpha=0.6, label=f"{area.color.name.lower()} area"))
+    for i, b in enumerate(course.out.areas):
+        ax.add_patch(Rectangle((b.x - b.hx, b.y - b.hy), 2 * b.hx, 2 * b.hy, fill=False, hatch="xx", color="red",
+                               label="out of bounds (COURSE_OUT)" if i == 0 else None))
     for i, z in enumerate(course.zones):
         shape = (Circle((z.x, z.y), z.radius) if z.radius is not None
                  else Rectangle((z.x - z.hx, z.y - z.hy), 2 * z.hx, 2 * z.hy))

@@ -6,8 +6,9 @@ the robot has one), an EV3 brick's button (`button = "ENTER"`, ...) or a SPIKE h
 or "uart", "default") at `at_s`. A program that waits for a touch or a remote start then starts by itself.
 
 What a person does by hand before a start, for a program that calibrates: `[[place]]` lifts the robot and sets
-it down at `at_s` (`over = "black"`, `"white"` or `"start"`, or a pose `x`, `y`, `yaw_deg`; `placing.py`
-finds the spot on the course), and `[[hand]]` holds a hand `distance_cm` in front of the ultrasonic sensor
+it down at `at_s` (`over = "black"`, `"white"` or `"start"`, the last with the colour sensor on the line's
+`edge`, "left", "right" or "centre", if given; or a pose `x`, `y`, `yaw_deg`; `placing.py` finds the spot on
+the course), and `[[hand]]` holds a hand `distance_cm` in front of the ultrasonic sensor
 from `at_s` for `for_s`. Which robot can take which stimulus is checked against the robot (`check_robot`)."""
 
 from __future__ import annotations
@@ -36,6 +37,7 @@ SPIKE_PORTS = "ABCDEF"
 PRESS_S = 0.1  # how long a press holds when `for_s` is not given: a click
 HAND_S = 0.5  # how long a hand is held when `for_s` is not given: a wave in front of the sensor
 PLACE_OVER = ("black", "white", "start")
+START_EDGES = ("left", "right", "centre")  # where on the line `over = "start"` may put the colour sensor
 
 
 class ScenarioError(HakoError, ValueError):
@@ -81,6 +83,7 @@ class Place:
     x: float = 0.0
     y: float = 0.0
     yaw_deg: float = 0.0
+    edge: str | None = None  # over the start: one of START_EDGES, or None for the course's own start pose
 
 
 @dataclass(frozen=True)
@@ -220,17 +223,22 @@ def _serial(table: object, where: str) -> SerialInput:
 
 
 def _place(table: object, where: str) -> Place:
-    table = _table(table, where, {"at_s", "over", "x", "y", "yaw_deg"})
+    table = _table(table, where, {"at_s", "over", "x", "y", "yaw_deg", "edge"})
     at = _seconds(table, "at_s", where)
     pose = {"x", "y", "yaw_deg"} & set(table)
     if ("over" in table) == bool(pose):
         raise ScenarioError(f"{where}: give either over = \"black\", \"white\" or \"start\", or a pose x, y, "
                             "yaw_deg (one of them)")
+    edge = table.get("edge")
+    if edge is not None and table.get("over") != "start":
+        raise ScenarioError(f"{where}: 'edge' goes with over = \"start\" only")
     if "over" in table:
         over = table["over"]
         if over not in PLACE_OVER:
             raise ScenarioError(f"{where}: over must be one of {', '.join(map(repr, PLACE_OVER))}, got {over!r}")
-        return Place(where, at, over)
+        if edge is not None and edge not in START_EDGES:
+            raise ScenarioError(f"{where}: edge must be one of {', '.join(map(repr, START_EDGES))}, got {edge!r}")
+        return Place(where, at, over, edge=edge)
     x, y = _number(table, "x", where, "metres"), _number(table, "y", where, "metres")
     return Place(where, at, None, x, y, _number(table, "yaw_deg", where, "degrees"))
 

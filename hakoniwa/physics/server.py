@@ -200,11 +200,15 @@ class PhysicsServer:
         env = self.env
         if crash is not None:
             env.end(Event.CRASH)
+        out = env.event == Event.COURSE_OUT  # the world stopped at the check that saw it: it is where it left
+        x, y = env.world.position()
         result = TestResult(env.event, env.event_us if env.event == Event.GOAL else 0, time.monotonic() - wall_start,
                             len(env.task.passed_us), env.task.distance_mm, self._max_diff_us, self.launcher.sync,
                             crash.kind if crash else CrashKind.NONE, crash.detail if crash else 0,
                             completed_time_us=env.completed_us or 0, objective=env.task.objective,
-                            bench_cause=crash.cause if crash else BenchCause.NONE)
+                            bench_cause=crash.cause if crash else BenchCause.NONE,
+                            out_time_us=env.event_us if out else 0,
+                            out_xy_mm=(round(x * 1000), round(y * 1000)) if out else (0, 0))
         draw_screen(self.run_dir)  # before the report: whoever sees the event sees the screen
         if crash is not None and crash.kind == CrashKind.PROGRAM and proc is not None and proc.poll() is not None:
             self._write_program_output(self.launcher.last_lines(proc, PROGRAM_OUTPUT_LINES))
@@ -222,6 +226,7 @@ class PhysicsServer:
                         f"{result.checkpoints} checkpoints, {result.distance_mm} mm, "
                         f"max time diff {result.max_time_diff_us} us, wall {result.wall_s:.3f} s"
                         + ("" if env.completed_us is None else f", completed at {env.completed_us} us")
+                        + (f", left the course at ({x:.3f}, {y:.3f}): {env.course.left_at(x, y)}" if out else "")
                         + ("" if score is None else f", {score.describe()}") + "\n")
         self._log.flush()
         return result

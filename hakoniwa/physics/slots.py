@@ -141,6 +141,10 @@ class Slots:
         hi, lo = goal_time_words(r.completed_time_us)
         u.write_u32(Rx.COMPLETED_TIME_HI, hi)
         u.write_u32(Rx.COMPLETED_TIME_LO, lo)
+        hi, lo = goal_time_words(r.out_time_us)
+        u.write_u32(Rx.OUT_TIME_HI, hi)
+        u.write_u32(Rx.OUT_TIME_LO, lo)
+        u.write_i32s(Rx.OUT_X_MM, list(r.out_xy_mm))
         self.publish_event(r.event, r.goal_time_us)
 
     def publish_event(self, event: Event, goal_time_us: int) -> None:

@@ -8,6 +8,10 @@ last checkpoint, scored by the lap time), `CompletedTask` (ET Robocon's competit
 a completion notice; the goal line is one more checkpoint) and `etrobocon_task.EtRoboconTask` (the regulation's
 result points).
 
+Every task ends a test where the robot leaves the course (COURSE_OUT, ET Robocon's コースアウト): past the
+mat's edge or into an area the course marks out of bounds (`Course.left_at`); a course with walls round its
+floor, as the oval's, ends it at the wall first (HIT_WALL).
+
 Checkpoints are the paper's transparent squares; only the next one in order counts, so driving backwards over
 the finish line first does not shorten a lap. Both tasks measure the path the robot drove, which says how far
 a program got when it did not finish.
@@ -109,11 +113,13 @@ class LapTask:
 
     def check(self, world: World, time_us: int, completed: bool = False) -> Event:
         """Wall contact wins over a goal seen at the same tick: a robot that crashes into the wall at the line
-        has not finished cleanly. A completion notice ends the test at the first check that raises nothing
-        else."""
+        has not finished cleanly; so does leaving the course (`Course.left_at`). A completion notice ends the
+        test at the first check that raises nothing else."""
         x, y = self._travel(world)
         if world.touching_wall():
             return Event.HIT_WALL
+        if self.course.left_at(x, y) is not None:
+            return Event.COURSE_OUT
         checkpoints = self.course.checkpoints
         if checkpoints[self.next_checkpoint].contains(x, y):
             self.passed_us.append(time_us)

@@ -208,7 +208,8 @@ class Filmer:
 
 
 _EVENT_COLOUR = {"GOAL": (110, 235, 130), "COMPLETED": (110, 235, 130), "FINISH": (110, 235, 130),
-                 "HIT_WALL": (255, 120, 100), "TIME_OVER": (255, 200, 90), "CRASH": (255, 120, 100)}
+                 "HIT_WALL": (255, 120, 100), "TIME_OVER": (255, 200, 90), "CRASH": (255, 120, 100),
+                 "COURSE_OUT": (255, 120, 100)}
 
 
 def _event_text(r: Replay) -> str:

@@ -99,6 +99,10 @@ class Rx:
     SPIKE_HSV_S = 300  # i32, 0..100 [%]
     SPIKE_HSV_V = 304  # i32, 0..100 [%]
     # Our extension (unused by the real layout): lockstep and test reports.
+    OUT_X_MM = 400  # i32 [mm]: where the axle centre was when the robot left the course (COURSE_OUT; 0 otherwise)
+    OUT_Y_MM = 404  # i32 [mm]
+    OUT_TIME_HI = 408  # u32: when the robot left the course [us], upper 32 bits (0: it did not)
+    OUT_TIME_LO = 412  # u32, lower 32 bits
     BUTTONS_UNTIL = 416  # u64 [us]: the buttons hold their value until then (the scenario's next press or release;
     # NEVER_WAKES: none); a patched athrill2 reads them before then without stopping (scripts/athrill-patches/01-*)
     BENCH_CAUSE = 424  # u32, BenchCause of a CRASH of kind BENCH: what spoiled the test (0 otherwise)
@@ -167,8 +171,10 @@ FORCE_PRESSED_N = 10
 
 class Event(enum.IntEnum):
     """Event state at RX 528 (paper Table 3, plus CRASH for an Athrill that dies or goes silent, COMPLETED for
-    a program that said it is done, ET Robocon's `ETRoboc_notifyCompletedToSimulator()`, and FINISH for ET
-    Robocon's finish: the robot stopped in the garage for 3 s)."""
+    a program that said it is done, ET Robocon's `ETRoboc_notifyCompletedToSimulator()`, FINISH for ET
+    Robocon's finish: the robot stopped in the garage for 3 s, and COURSE_OUT for what ET Robocon's teams
+    call コースアウト, course-out: the robot left the course, past the mat's edge or into an area the course
+    marks out of bounds; `Course.left_at`)."""
 
     NONE = 0
     GOAL = 1
@@ -177,6 +183,7 @@ class Event(enum.IntEnum):
     CRASH = 4
     COMPLETED = 5
     FINISH = 6
+    COURSE_OUT = 7
 
 
 class CrashKind(enum.IntEnum):
@@ -227,7 +234,8 @@ class Objective(enum.IntEnum):
     COMPLETED = 1  # ET Robocon's: the program's ETRoboc_notifyCompletedToSimulator(), scored by its time; the
     # goal line does not end the test (a competition program ends its whole run that way)
     ETROBOCON = 2  # ET Robocon's result points (hakoniwa.physics.etrobocon_task): the LAP time, the gates, the
-    # sumo, the finish in the garage; a test ends at FINISH, the time limit, a wall or the completion notice
+    # sumo, the finish in the garage; a test ends at FINISH, the time limit, a wall, leaving the course or the
+    # completion notice
 
 
 class LedBit(enum.IntFlag):

@@ -11,8 +11,9 @@ from hakoniwa.wire.etrobocon_rules import Score
 from hakoniwa.wire.protocol import BenchCause, CrashKind, Event, Objective, SyncMode
 
 # What ends a test under ET Robocon's score: each of them is a scored run (5.18: a run that ends without the
-# finish keeps the points it made); only a crash says nothing.
-SCORED_EVENTS = (Event.FINISH, Event.TIME_OVER, Event.HIT_WALL, Event.COMPLETED)
+# finish keeps the points it made: a robot off the course can no longer run, and the referee ends its turn so);
+# only a crash says nothing.
+SCORED_EVENTS = (Event.FINISH, Event.TIME_OVER, Event.HIT_WALL, Event.COMPLETED, Event.COURSE_OUT)
 
 
 @dataclass(frozen=True)
@@ -32,6 +33,8 @@ class TestResult:
     the process that ended (the physics process's, for `PHYSICS_KILLED` and a `FILE_DAMAGED` that killed it).
     Under `Objective.ETROBOCON` every test that ends without a crash succeeds with its `score` (ET Robocon's
     result points and their parts); `lap_time_s` is then the LAP gate's time, and `cost` minus the score.
+    A test that ends COURSE_OUT says when the robot left the course (`out_time_us`) and where its axle centre
+    was then (`out_xy_mm`); both are 0 for every other event.
     """
 
     __test__ = False  # not a pytest class
@@ -50,6 +53,8 @@ class TestResult:
     objective: Objective = Objective.LAP
     bench_cause: BenchCause = BenchCause.NONE
     score: Score | None = None
+    out_time_us: int = 0
+    out_xy_mm: tuple[int, int] = (0, 0)
 
     @property
     def success_event(self) -> Event:
@@ -122,17 +127,22 @@ class TestResult:
             d["objective"] = self.objective.name.lower()
         if self.score is not None:
             d["score"] = self.score.to_dict()
+        if self.event == Event.COURSE_OUT:
+            d["course_out"] = {"time_s": self.out_time_us / 1e6, "x_m": self.out_xy_mm[0] / 1000,
+                               "y_m": self.out_xy_mm[1] / 1000}
         return d
 
     @classmethod
     def from_dict(cls, d: dict, wall_s: float) -> TestResult:
         """The inverse of `to_dict` (which leaves the wall time out); a field an older journal lacks takes
         the value every test had then."""
-        crash = d.get("crash")
+        crash, out = d.get("crash"), d.get("course_out")
         return cls(Event[d["event"]], int(d["goal_time_us"]), wall_s, int(d.get("checkpoints", 0)),
                    round(float(d.get("distance_m", 0.0)) * 1000), int(d.get("max_time_diff_us", 0)),
                    SyncMode[d.get("sync", "lockstep").upper()],
                    CrashKind[crash.upper()] if crash else CrashKind.NONE, int(d.get("crash_detail", 0)),
                    str(d.get("program_output", "")), int(d.get("completed_time_us", 0)),
                    Objective[d.get("objective", "lap").upper()], BenchCause[d.get("bench_cause", "none").upper()],
-                   None if d.get("score") is None else Score.from_dict(d["score"]))
+                   None if d.get("score") is None else Score.from_dict(d["score"]),
+                   0 if out is None else round(float(out["time_s"]) * 1e6),
+                   (0, 0) if out is None else (round(float(out["x_m"]) * 1000), round(float(out["y_m"]) * 1000)))

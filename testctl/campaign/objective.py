@@ -35,7 +35,7 @@ PAPER_PENALTY_S = 60.0
 # before any lap: it ends the test early, as a program that stops driving ends it at the time limit, and
 # scores as that would: a failure. Under the completed objective it is the success (`TestResult.success`),
 # and a test that ends without it fails.
-_OUTCOMES = (Event.GOAL, Event.TIME_OVER, Event.HIT_WALL, Event.COMPLETED, Event.FINISH)
+_OUTCOMES = (Event.GOAL, Event.TIME_OVER, Event.HIT_WALL, Event.COMPLETED, Event.FINISH, Event.COURSE_OUT)
 
 
 @dataclass(frozen=True)

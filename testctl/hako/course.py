@@ -110,6 +110,8 @@ hy = 0.25
 # [[zone]]  name, x, y and radius (a ring) or hx, hy (a box, such as the garage)
 # [[object]]  name, shape ("cylinder": radius; "box": length, width), height, mass, friction, color, x, y
 # [score]  class ("basic" or "applied"), garage, sumo_ring, sumo_bottle: what --objective etrobocon scores
+# [course_out]  margin_m: how far past the mat's edge the axle may go before the run ends COURSE_OUT (default 0);
+#   [[course_out.area]]  name, x, y, hx, hy: a box on the mat that is out of bounds too
 """
 
 

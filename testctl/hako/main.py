@@ -25,6 +25,7 @@ from hakoniwa.conventions import HELP, Float32, OneLineErrorsGroup, option_group
 from hakoniwa.physics.video_options import VideoOptions, check_video_path, film_options
 from hakoniwa.wire.exits import exit_status
 from hakoniwa.wire.processes import describe_exit
+from hakoniwa.wire.protocol import Event
 from hakoniwa.wire.rundir import TRAJECTORY_FILE, diagnose
 from hakoniwa.wire.timebase import CLOCK_EPOCH_S
 from testctl import paper
@@ -194,6 +195,9 @@ def _trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: floa
         reason = result.crash_reason()
         why = f" ({reason})" if reason else ""
         done = f"  completed at: {result.completed_time_us / 1e6:.3f} s" if result.completed_time_us else ""
+        if result.event == Event.COURSE_OUT:
+            x, y = (v / 1000 for v in result.out_xy_mm)
+            done += f"  left the course at: {result.out_time_us / 1e6:.3f} s, ({x:.3f}, {y:.3f}) m"
         click.echo(f"event: {result.event.name}{why}  lap time: {lap}  distance: {result.distance_m:.2f} m  "
                    f"checkpoints: {result.checkpoints}{done}")
         if result.score is not None:

@@ -176,6 +176,8 @@ def given_file(tmp_path: Path, arg: str) -> str:
     (PLACE_OK + '[[place]]\nat_s = 2\nx = -1.45\ny = 0\nyaw_deg = 180\n', ("--course", "OPEN"),
      ["place 2", "the colour sensor at the place (-1.530, 0.000) is off the floor image"]),
     ('[[place]]\nat_s = 1\nover = "black"\n', ("--course", "BLANK"), ["place 1", "no black floor within 30 cm"]),
+    ('[[place]]\nat_s = 1\nover = "start"\nedge = "left"\n', ("--course", "BLANK"),
+     ["place 1", "no line within 30 cm", "for edge = 'left'"]),
     ('[[place]]\nat_s = 1\nover = "grey"\n', (), ["place 1", "over must be one of 'black', 'white', 'start'"]),
     ('[[place]]\nat_s = 1\nover = "start"\nx = 0\n', (), ["place 1", "give either over"]),
     ('[[place]]\nat_s = 1\nx = 0\ny = 0.5\n', (), ["place 1", "missing 'yaw_deg'"]),
@@ -200,8 +202,9 @@ def test_each_bad_entry_is_one_line_naming_it_from_hako_trial(tmp_path, scenario
     assert not (tmp_path / "run" / "unity_mmap.bin").exists()  # refused before any bench started
 
 
-@given(st.lists(st.tuples(st.sampled_from(["at_s", "over", "x", "y", "yaw_deg", "for_s", "distance_cm", "z"]),
-                          st.sampled_from(['"black"', '"start"', '"red"', "0.5", "-1", "1e400", "true", "[1]"])),
+@given(st.lists(st.tuples(st.sampled_from(["at_s", "over", "x", "y", "yaw_deg", "for_s", "distance_cm", "z", "edge"]),
+                          st.sampled_from(['"black"', '"start"', '"red"', "0.5", "-1", "1e400", "true", "[1]",
+                                           '"left"', '"centre"'])),
                 max_size=5), st.sampled_from(["place", "hand"]))
 def test_any_place_or_hand_table_is_one_or_one_scenario_error(pairs, kind):
     text = f"[[{kind}]]\n" + "".join(f"{k} = {v}\n" for k, v in dict(pairs).items())
@@ -214,6 +217,7 @@ def test_any_place_or_hand_table_is_one_or_one_scenario_error(pairs, kind):
     assert entry.at_us >= 0
     if kind == "place":
         assert (entry.over is None) == ("over" not in dict(pairs))
+        assert entry.edge is None or (entry.over == "start" and entry.edge in ("left", "centre"))
     else:
         assert entry.for_us > 0 and 0 <= entry.distance_mm < 2550
 
