@@ -189,8 +189,35 @@ static int cmp_int32(const void *a, const void *b) {
     return (x > y) - (x < y);
 }
 
+/* A*'s tries: Dijkstra that stops, rather than ends, at the first node whose time is over `limit`, so that a try
+ * under a larger limit resumes it where the last stopped (its heap, `size`, and times kept) instead of settling
+ * the same nodes again. The nodes it settles are those a search limited as `dijkstra` is would settle, with the
+ * same times: every node whose time is at most the limit. Returns how many it settled. */
+static int32_t settle_to(const int32_t *indptr, const int32_t *indices, const double *w, const uint8_t *mask,
+                         double limit, double *dist, workspace *ws, int64_t *size, int32_t *ntouched) {
+    int32_t settled = 0;
+    while (*size && ws->heap[0].key <= limit) {
+        int32_t v = pop(ws, size).node;
+        ws->done[v] = 1;
+        settled++;
+        double at = dist[v];
+        for (int32_t j = indptr[v]; j < indptr[v + 1]; j++) {
+            int32_t u = indices[j];
+            if (ws->done[u] || (mask && !mask[j])) continue;
+            double next = at + w[j];
+            if (next < dist[u]) {
+                if (dist[u] == INFINITY) ws->touched[(*ntouched)++] = u;
+                dist[u] = next;
+                push(ws, size, next, u);
+            }
+        }
+    }
+    return settled;
+}
+
 /* FastestSearch.search: A* from the start (the last node) on the reduced prices `astar` of the open edges under limits
- * limit0 * growth^k (k < tries, then none), adding the nodes each try settles to *spent; then the exact search
+ * limit0 * growth^k (k < tries, then none), each try resuming the last (settle_to), adding the nodes settled to
+ * *spent; then the exact search
  * of the nodes that could lie on a fastest route (narrowed to those the goal is reached from by tight edges when
  * more than narrow_from are kept) on the prices, limited to the fastest time plus the bound at the start; and
  * the route walked back from the goal. Writes the route's nodes (start first) and their times, sets *hint to
@@ -202,17 +229,17 @@ static int32_t fp_search(void *p, const int32_t *indptr, const int32_t *indices,
     workspace *ws = p;
     int32_t n = ws->n, start = n - 1, ntouched = 0, best = -1;
     double *reduced = ws->reduced;
-    for (int32_t k = 0; k <= tries; k++) {
+    int64_t size = 0;
+    reduced[start] = 0.0;
+    ws->touched[ntouched++] = start;
+    push(ws, &size, 0.0, start);
+    for (int32_t k = 0; k <= tries && best < 0; k++) {
         double limit = k < tries ? limit0 * pow(growth, k) : INFINITY;
-        clear(reduced, ws, ntouched);
-        ntouched = 0;
-        *spent += dijkstra(indptr, indices, astar, NULL, open, &start, 1, limit, reduced, ws, &ntouched);
-        best = goal_lo;
-        for (int32_t g = goal_lo + 1; g < goal_hi; g++)
-            if (reduced[g] < reduced[best]) best = g;
-        if (goal_lo < goal_hi && reduced[best] < INFINITY) break;
-        best = -1;
+        *spent += settle_to(indptr, indices, astar, open, limit, reduced, ws, &size, &ntouched);
+        for (int32_t g = goal_lo; g < goal_hi; g++)  /* the lowest-numbered of the first reached */
+            if (ws->done[g] && (best < 0 || reduced[g] < reduced[best])) best = g;
     }
+    while (size) pop(ws, &size);  /* the nodes over the last limit leave the heap (`slot` all -1 again) */
     if (best < 0) {
         clear(reduced, ws, ntouched);
         return 0;
@@ -223,8 +250,8 @@ static int32_t fp_search(void *p, const int32_t *indptr, const int32_t *indices,
 
     /* the kept nodes, ascending, and the open edges between them, in row order */
     int32_t count = 0;
-    for (int32_t i = 0; i < ntouched; i++)
-        if (reduced[ws->touched[i]] <= keep_to) ws->nodes[count++] = ws->touched[i];
+    for (int32_t i = 0; i < ntouched; i++)  /* settled: a node given a time over the limit is not */
+        if (ws->done[ws->touched[i]] && reduced[ws->touched[i]] <= keep_to) ws->nodes[count++] = ws->touched[i];
     qsort(ws->nodes, count, sizeof(int32_t), cmp_int32);
     for (int32_t i = 0; i < count; i++) {
         ws->kept[ws->nodes[i]] = 1;

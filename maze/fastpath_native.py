@@ -49,14 +49,25 @@ def _doubles(values: Sequence[float]) -> ctypes.Array[ctypes.c_double]:
 
 
 class _Graph:
-    """The kernel's graph of one start and goal set (fp_graph copies what it keeps of the spec), freed with this."""
+    """The kernel's graph of one start and goal set (fp_graph copies what it keeps of the spec), freed with this;
+    and what its queries write, kept from query to query (a 32x32 graph's route arrays alone are 0.5 MB)."""
 
     def __init__(self, lib: ctypes.CDLL, spec: Spec) -> None:
         self.handle = lib.fp_graph(ctypes.byref(spec))
         if not self.handle:
             raise MemoryError("no memory for the fastest-path kernel's graph")
-        self.nodes = lib.fp_graph_nodes(self.handle)
         weakref.finalize(self, lib.fp_graph_free, self.handle)
+        nodes = lib.fp_graph_nodes(self.handle)
+        self.route, self.times = (ctypes.c_int32 * nodes)(), (ctypes.c_double * nodes)()
+        self.kind, self.value = (ctypes.c_int32 * nodes)(), (ctypes.c_int32 * nodes)()
+        self.cells, self.seconds = (ctypes.c_double * nodes)(), (ctypes.c_double * nodes)()
+        self.points: list[ctypes.Array[ctypes.c_int32]] = []
+
+    def point_arrays(self, most: int) -> list[ctypes.Array[ctypes.c_int32]]:
+        """Per wall point of a route: x, y, the cell entered (x, y) and the wall; at least `most` of each."""
+        if not self.points or len(self.points[0]) < most:
+            self.points = [(ctypes.c_int32 * (2 * most))() for _ in range(5)]
+        return self.points
 
 
 class NativeGraph:
@@ -114,29 +125,24 @@ class NativeGraph:
 
     def fastest(self, blocked: bytes | bytearray, start: Cell, goals: tuple[Cell, ...]) -> Route | None:
         """The fastest run through walls not blocked (1 = blocked, indexed by wall id); None if there is none."""
-        graph = self._graph(start, goals)
-        handle, nodes = graph.handle, graph.nodes
-        route, times = (ctypes.c_int32 * nodes)(), (ctypes.c_double * nodes)()
-        count = self.lib.fp_query(handle, bytes(blocked), ctypes.addressof(route), ctypes.addressof(times))
+        g = self._graph(start, goals)
+        count = self.lib.fp_query(g.handle, bytes(blocked), ctypes.addressof(g.route), ctypes.addressof(g.times))
         if not count:
             return None
-        return self._decode(handle, route, times, count, start)
+        return self._decode(g, count, start)
 
-    def _decode(self, handle: int, route: ctypes.Array[ctypes.c_int32], times: ctypes.Array[ctypes.c_double],
-                count: int, start: Cell) -> Route:
+    def _decode(self, g: _Graph, count: int, start: Cell) -> Route:
         """The moves of a route, by fp_decode: per move its kind (0 the start's straight, 1 a turn, 2 a straight
         along the walls, 3 a diagonal one), value (cells, shape or steps), cells and time."""
-        most = count * (2 * (2 * self.size + 1) + MAX_CROSSINGS) + 1
-        kind, value = (ctypes.c_int32 * count)(), (ctypes.c_int32 * count)()
-        cells, seconds = (ctypes.c_double * count)(), (ctypes.c_double * count)()
-        px, py, cell_x, cell_y, wall = ((ctypes.c_int32 * most)() for _ in range(5))
+        points = g.point_arrays(count * (2 * (2 * self.size + 1) + MAX_CROSSINGS) + 1)
+        px, py, cell_x, cell_y, wall = points
         npoints = ctypes.c_int32(0)
-        moves = self.lib.fp_decode(handle, ctypes.addressof(route), ctypes.addressof(times), count,
+        moves = self.lib.fp_decode(g.handle, ctypes.addressof(g.route), ctypes.addressof(g.times), count,
                                    2 * start[0] + 1, 2 * start[1] + 1,
-                                   *(ctypes.addressof(a) for a in (kind, value, cells, seconds, px, py, cell_x,
-                                                                   cell_y, wall)), ctypes.addressof(npoints))
+                                   *(ctypes.addressof(a) for a in [g.kind, g.value, g.cells, g.seconds, *points]),
+                                   ctypes.addressof(npoints))
         out = []
-        for k, v, c, t in zip(kind[:moves], value[:moves], cells[:moves], seconds[:moves]):
+        for k, v, c, t in zip(g.kind[:moves], g.value[:moves], g.cells[:moves], g.seconds[:moves]):
             if k == 0:
                 out.append(Move(f"S{v - 0.5:g}", v - 0.5, t))
             elif k == 1:
@@ -144,5 +150,5 @@ class NativeGraph:
             else:
                 out.append(Move(f"{'S' if k == 2 else 'D'}{v}", c, t))
         n = npoints.value
-        return Route(out, times[count - 1], list(zip(px[:n], py[:n])), wall[:n - 1],
+        return Route(out, g.times[count - 1], list(zip(px[:n], py[:n])), wall[:n - 1],
                      [start] + list(zip(cell_x[:n - 1], cell_y[:n - 1])))
