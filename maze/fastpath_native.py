@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import ctypes
 import weakref
+from array import array
 from collections.abc import Sequence
 from typing import Any
 
@@ -58,15 +59,15 @@ class _Graph:
             raise MemoryError("no memory for the fastest-path kernel's graph")
         weakref.finalize(self, lib.fp_graph_free, self.handle)
         nodes = lib.fp_graph_nodes(self.handle)
-        self.route, self.times = (ctypes.c_int32 * nodes)(), (ctypes.c_double * nodes)()
-        self.kind, self.value = (ctypes.c_int32 * nodes)(), (ctypes.c_int32 * nodes)()
-        self.cells, self.seconds = (ctypes.c_double * nodes)(), (ctypes.c_double * nodes)()
-        self.points: list[ctypes.Array[ctypes.c_int32]] = []
+        self.route, self.times = array("i", [0]) * nodes, array("d", [0.0]) * nodes
+        self.kind, self.value = array("i", [0]) * nodes, array("i", [0]) * nodes
+        self.cells, self.seconds = array("d", [0.0]) * nodes, array("d", [0.0]) * nodes
+        self.points: list[array[int]] = []
 
-    def point_arrays(self, most: int) -> list[ctypes.Array[ctypes.c_int32]]:
+    def point_arrays(self, most: int) -> list[array[int]]:
         """Per wall point of a route: x, y, the cell entered (x, y) and the wall; at least `most` of each."""
         if not self.points or len(self.points[0]) < most:
-            self.points = [(ctypes.c_int32 * (2 * most))() for _ in range(5)]
+            self.points = [array("i", [0]) * (2 * most) for _ in range(5)]
         return self.points
 
 
@@ -103,7 +104,7 @@ class NativeGraph:
                           growth=LIMIT_GROWTH, slack=TIME_SLACK, hint_margin=HINT_MARGIN,
                           min_limit=first_limit_floor(mouse), tries=LIMIT_TRIES, narrow_from=NARROW_FROM)
         self._graphs: dict[tuple[Cell, tuple[Cell, ...]], _Graph] = {}
-        self._cells_of_shape = [TURNS[s.name].cells for s in self.shapes]
+        self._turns = [(s.token, TURNS[s.name].cells) for s in self.shapes]  # per shape: its move's token, cells
 
     def _graph(self, start: Cell, goals: tuple[Cell, ...]) -> _Graph:
         """The kernel's graph of one start and goal set, built once and kept."""
@@ -126,7 +127,7 @@ class NativeGraph:
     def fastest(self, blocked: bytes | bytearray, start: Cell, goals: tuple[Cell, ...]) -> Route | None:
         """The fastest run through walls not blocked (1 = blocked, indexed by wall id); None if there is none."""
         g = self._graph(start, goals)
-        count = self.lib.fp_query(g.handle, bytes(blocked), ctypes.addressof(g.route), ctypes.addressof(g.times))
+        count = self.lib.fp_query(g.handle, bytes(blocked), _at(g.route), _at(g.times))
         if not count:
             return None
         return self._decode(g, count, start)
@@ -135,20 +136,27 @@ class NativeGraph:
         """The moves of a route, by fp_decode: per move its kind (0 the start's straight, 1 a turn, 2 a straight
         along the walls, 3 a diagonal one), value (cells, shape or steps), cells and time."""
         points = g.point_arrays(count * (2 * (2 * self.size + 1) + MAX_CROSSINGS) + 1)
-        px, py, cell_x, cell_y, wall = points
         npoints = ctypes.c_int32(0)
-        moves = self.lib.fp_decode(g.handle, ctypes.addressof(g.route), ctypes.addressof(g.times), count,
-                                   2 * start[0] + 1, 2 * start[1] + 1,
-                                   *(ctypes.addressof(a) for a in [g.kind, g.value, g.cells, g.seconds, *points]),
-                                   ctypes.addressof(npoints))
+        moves = self.lib.fp_decode(g.handle, _at(g.route), _at(g.times), count, 2 * start[0] + 1, 2 * start[1] + 1,
+                                   *(_at(a) for a in (g.kind, g.value, g.cells, g.seconds)),
+                                   *(_at(a) for a in points), ctypes.addressof(npoints))
+        turns = self._turns
         out = []
-        for k, v, c, t in zip(g.kind[:moves], g.value[:moves], g.cells[:moves], g.seconds[:moves]):
+        for k, v, c, t in zip(g.kind[:moves].tolist(), g.value[:moves].tolist(), g.cells[:moves].tolist(),
+                              g.seconds[:moves].tolist()):
             if k == 0:
                 out.append(Move(f"S{v - 0.5:g}", v - 0.5, t))
             elif k == 1:
-                out.append(Move(self.shapes[v].token, self._cells_of_shape[v], t))
+                token, cells = turns[v]
+                out.append(Move(token, cells, t))
             else:
                 out.append(Move(f"{'S' if k == 2 else 'D'}{v}", c, t))
         n = npoints.value
-        return Route(out, g.times[count - 1], list(zip(px[:n], py[:n])), wall[:n - 1],
+        px, py, cell_x, cell_y, wall = (a[:n].tolist() for a in points)
+        return Route(out, g.times[count - 1], list(zip(px, py)), wall[:n - 1],
                      [start] + list(zip(cell_x[:n - 1], cell_y[:n - 1])))
+
+
+def _at(a: array[int] | array[float]) -> int:
+    """Where an array's items are, for the kernel."""
+    return a.buffer_info()[0]
