@@ -1,5 +1,7 @@
-/* The inner loops of mazelog's fastest-path query (maze/fastpath_query.py and maze/fastpath_bound.py say what
- * each step is for), compiled at first use by maze/fastpath_kernel.py and called through ctypes.
+/* mazelog's move graph and its fastest-path queries (maze/fastpath_query.py and maze/fastpath_bound.py say what
+ * each step is for, on the scipy path that does the same where no C compiler works), compiled at first use by
+ * maze/fastpath_kernel.py and called through ctypes by maze/fastpath_native.py: fp_graph builds a graph,
+ * fp_query answers a query on it, fp_decode decodes its route, fp_graph_free frees it.
  *
  * Every step computes exactly what the scipy path computes, so that routes stay identical to the bit: Dijkstra's
  * times are the minimum over paths of the left-to-right sums dist[u] + w (whatever order nodes are settled in),

@@ -1,4 +1,4 @@
-"""The compiled inner loops of the fastest-path query (maze/fastpath_kernel.c), built at first use and cached.
+"""The compiled move graph and fastest-path queries (maze/fastpath_kernel.c), built at first use and cached.
 
 Why: every query went through scipy's Dijkstra from Python, three calls and a few dozen numpy operations a
 query, and importing scipy alone cost a whole-process `mazelog explore --objective time` 0.2-0.3 s. The C file
