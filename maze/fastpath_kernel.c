@@ -19,6 +19,11 @@ typedef struct {
     int32_t node;
 } item;
 
+typedef struct {
+    item *at;
+    int64_t count, cap;
+} bucket;
+
 /* The working memory of one query graph of n nodes and m edges, kept between its queries: the time arrays are
  * all infinite and the flags all clear between calls (each call resets only what it touched). */
 typedef struct {
@@ -28,12 +33,13 @@ typedef struct {
     double *exact;    /* the exact search's times, local numbering */
     uint8_t *done;
     uint8_t *kept;
-    item *heap;
     int32_t *touched;
     int32_t *local;   /* node -> its number among the kept nodes */
     int32_t *nodes;   /* the kept nodes, ascending */
     int32_t *lrow, *lcol, *ledge, *lindptr, *rindptr, *rsrc, *queue, *pred;
-    int32_t *slot;    /* where each node is in the heap, -1 for nowhere (between searches: everywhere -1) */
+    bucket buckets[65]; /* the radix heap: bucket b holds keys whose highest bit differing from `last` is b - 1 */
+    uint64_t last;    /* the key last taken out (keys only grow: the searches' prices are never negative) */
+    int64_t queued;
     double *lprice;
     int32_t walls;          /* pricing (fp_price): 0 before the first query */
     uint8_t *open_wall;     /* per wall id and the two sentinels, the last query's: whether it is open */
@@ -42,52 +48,69 @@ typedef struct {
     int32_t *wall_edges;
 } workspace;
 
-/* A 4-ary heap of nodes keyed by their tentative times, each node in it at most once (`slot`: where it is, -1
- * for nowhere), so that lowering a node's time moves it rather than adding a second entry. */
-static void place(workspace *ws, int64_t i, item it) {
-    while (i > 0) {
-        int64_t parent = (i - 1) / 4;
-        if (ws->heap[parent].key <= it.key) break;
-        ws->heap[i] = ws->heap[parent];
-        ws->slot[ws->heap[i].node] = (int32_t)i;
-        i = parent;
+/* A radix heap of nodes keyed by their tentative times: a search's keys never fall below the last one taken out
+ * (its prices are never negative), and a double's bits order as the double does for keys >= 0, so a key goes in
+ * the bucket of the highest bit in which it differs from that last key, and only the lowest non-empty bucket is
+ * ever sorted out. A node whose time is lowered is put in again; the searches skip an entry whose key is no
+ * longer its node's time, or whose node is settled. Empty between searches (`queued` 0, `last` 0). */
+static uint64_t bits(double key) {
+    uint64_t b;
+    memcpy(&b, &key, sizeof b);
+    return b;
+}
+
+static int32_t bucket_of(uint64_t key, uint64_t last) { return key == last ? 0 : 64 - __builtin_clzll(key ^ last); }
+
+static int put(bucket *b, item it) {
+    if (b->count == b->cap) {
+        int64_t cap = b->cap ? 2 * b->cap : 256;
+        item *at = realloc(b->at, sizeof(item) * cap);
+        if (!at) return 0;
+        b->at = at, b->cap = cap;
     }
-    ws->heap[i] = it;
-    ws->slot[it.node] = (int32_t)i;
+    b->at[b->count++] = it;
+    return 1;
 }
 
 static void push(workspace *ws, int64_t *size, double key, int32_t node) {
-    int64_t i = ws->slot[node];
-    place(ws, i < 0 ? (*size)++ : i, (item){key, node});
+    if (put(&ws->buckets[bucket_of(bits(key), ws->last)], (item){key, node})) (*size)++;
+}
+
+/* The lowest key queued (the heap not empty), its entries moved into bucket 0. */
+static double lowest(workspace *ws) {
+    if (!ws->buckets[0].count) {
+        int32_t b = 1;
+        while (!ws->buckets[b].count) b++;
+        bucket *from = &ws->buckets[b];
+        uint64_t low = bits(from->at[0].key);
+        for (int64_t i = 1; i < from->count; i++)
+            if (bits(from->at[i].key) < low) low = bits(from->at[i].key);
+        ws->last = low;
+        for (int64_t i = 0; i < from->count; i++)  /* each to a lower bucket: it shares the bits above b with low */
+            put(&ws->buckets[bucket_of(bits(from->at[i].key), low)], from->at[i]);
+        from->count = 0;
+    }
+    return ws->buckets[0].at[ws->buckets[0].count - 1].key;
 }
 
 static item pop(workspace *ws, int64_t *size) {
-    item *heap = ws->heap, top = heap[0], last = heap[--(*size)];
-    ws->slot[top.node] = -1;
-    int64_t i = 0, n = *size;
-    if (!n) return top;
-    for (;;) {
-        int64_t c = 4 * i + 1, best = c;
-        if (c >= n) break;
-        for (int64_t k = c + 1; k < c + 4 && k < n; k++)
-            if (heap[k].key < heap[best].key) best = k;
-        if (heap[best].key >= last.key) break;
-        heap[i] = heap[best];
-        ws->slot[heap[i].node] = (int32_t)i;
-        i = best;
-    }
-    heap[i] = last;
-    ws->slot[last.node] = (int32_t)i;
-    return top;
+    lowest(ws);
+    (*size)--;
+    return ws->buckets[0].at[--ws->buckets[0].count];
 }
 
-/* Dijkstra from `sources` (time 0) over CSR rows (indptr, indices), the weight of entry j being
- * w[edge_of ? edge_of[j] : j], or infinite where mask says the edge is closed. Times go to dist (infinite on
- * entry); nodes given a time are appended to touched. Returns how many nodes it settled (their times are
- * finite and <= limit). */
-static int32_t dijkstra(const int32_t *indptr, const int32_t *indices, const double *w, const int32_t *edge_of,
-                        const uint8_t *mask, const int32_t *sources, int32_t nsrc, double limit, double *dist,
-                        workspace *ws, int32_t *ntouched) {
+static void empty(workspace *ws, int64_t *size) {
+    for (int32_t b = 0; b < 65; b++) ws->buckets[b].count = 0;
+    ws->last = 0;
+    *size = 0;
+}
+
+/* Dijkstra from `sources` (time 0) over CSR rows (indptr, indices), the weight of entry j being w[j], or
+ * infinite where mask says the edge is closed. Times go to dist (infinite on entry); nodes given a time are
+ * appended to touched. Returns how many nodes it settled (their times are finite and <= limit). */
+static int32_t dijkstra(const int32_t *indptr, const int32_t *indices, const double *w, const uint8_t *mask,
+                        const int32_t *sources, int32_t nsrc, double limit, double *dist, workspace *ws,
+                        int32_t *ntouched) {
     int64_t size = 0;
     int32_t settled = 0;
     for (int32_t s = 0; s < nsrc; s++) {
@@ -98,15 +121,15 @@ static int32_t dijkstra(const int32_t *indptr, const int32_t *indices, const dou
     while (size) {
         item it = pop(ws, &size);
         int32_t v = it.node;
+        if (ws->done[v] || it.key != dist[v]) continue;  /* settled, or put in again at a lower time */
         ws->done[v] = 1;
         settled++;
         double at = dist[v];
         for (int32_t j = indptr[v]; j < indptr[v + 1]; j++) {
             int32_t u = indices[j];
             if (ws->done[u]) continue;
-            int32_t e = edge_of ? edge_of[j] : j;
-            if (mask && !mask[e]) continue;
-            double next = at + w[e];
+            if (mask && !mask[j]) continue;
+            double next = at + w[j];
             if (next <= limit && next < dist[u]) {
                 if (dist[u] == INFINITY) ws->touched[(*ntouched)++] = u;
                 dist[u] = next;
@@ -114,6 +137,7 @@ static int32_t dijkstra(const int32_t *indptr, const int32_t *indices, const dou
             }
         }
     }
+    ws->last = 0;  /* empty again */
     return settled;
 }
 
@@ -133,8 +157,6 @@ static void *fp_new(int32_t n, int64_t m) {
     ws->exact = malloc(sizeof(double) * n);
     ws->done = calloc(n, 1);
     ws->kept = calloc(n + 1, 1);
-    ws->heap = malloc(sizeof(item) * (n + 1));
-    ws->slot = malloc(sizeof(int32_t) * (n + 1));
     ws->touched = malloc(sizeof(int32_t) * (n + 1));
     ws->local = malloc(sizeof(int32_t) * n);
     ws->nodes = malloc(sizeof(int32_t) * n);
@@ -147,35 +169,36 @@ static void *fp_new(int32_t n, int64_t m) {
     ws->queue = malloc(sizeof(int32_t) * (n + 1));
     ws->pred = malloc(sizeof(int32_t) * n);
     ws->lprice = malloc(sizeof(double) * (m + 1));
-    if (!ws->reduced || !ws->exact || !ws->done || !ws->kept || !ws->heap || !ws->slot || !ws->touched || !ws->local
+    if (!ws->reduced || !ws->exact || !ws->done || !ws->kept || !ws->touched || !ws->local
         || !ws->nodes || !ws->lrow || !ws->lcol || !ws->ledge || !ws->lindptr || !ws->rindptr || !ws->rsrc
         || !ws->queue || !ws->pred || !ws->lprice) {
         return NULL;  /* the caller falls back; what was allocated is lost once, at start-up */
     }
-    for (int32_t i = 0; i < n; i++) ws->reduced[i] = ws->exact[i] = INFINITY, ws->slot[i] = -1;
+    for (int32_t i = 0; i < n; i++) ws->reduced[i] = ws->exact[i] = INFINITY;
     return ws;
 }
 
 static void fp_free(void *p) {
     workspace *ws = p;
     if (!ws) return;
-    free(ws->reduced); free(ws->exact); free(ws->done); free(ws->kept); free(ws->heap); free(ws->slot); free(ws->touched);
+    free(ws->reduced); free(ws->exact); free(ws->done); free(ws->kept); free(ws->touched);
     free(ws->local); free(ws->nodes); free(ws->lrow); free(ws->lcol); free(ws->ledge); free(ws->lindptr);
     free(ws->rindptr); free(ws->rsrc); free(ws->queue); free(ws->pred); free(ws->lprice);
     free(ws->open_wall); free(ws->was_open); free(ws->wall_indptr); free(ws->wall_edges);
+    for (int32_t b = 0; b < 65; b++) free(ws->buckets[b].at);
     free(ws);
 }
 
 /* TimeBound.find: the exact times to the goal (`times`, every node) by one search back from the goal nodes over
- * the reversed graph (rindptr, rindices, redge: the forward edge of each reversed entry) through the open edges,
- * and the reduced prices of the forward edges (rows, indices) under them. Returns the nodes it reached. */
-static int32_t fp_bound(void *p, const int32_t *rindptr, const int32_t *rindices, const int32_t *redge,
-                 const int32_t *rows, const int32_t *indices, const double *price, const uint8_t *open,
+ * the reversed graph (rindptr, rindices, with each entry's price and open flag: rprice, ropen) through the open
+ * edges, and the reduced prices of the forward edges (rows, indices) under them. Returns the nodes it reached. */
+static int32_t fp_bound(void *p, const int32_t *rindptr, const int32_t *rindices, const double *rprice,
+                 const uint8_t *ropen, const int32_t *rows, const int32_t *indices, const double *price,
                  const int32_t *goals, int32_t ngoals, double *times, double *reduced) {
     workspace *ws = p;
     int32_t ntouched = 0;
     for (int32_t i = 0; i < ws->n; i++) times[i] = INFINITY;
-    int32_t cost = dijkstra(rindptr, rindices, price, redge, open, goals, ngoals, INFINITY, times, ws, &ntouched);
+    int32_t cost = dijkstra(rindptr, rindices, rprice, ropen, goals, ngoals, INFINITY, times, ws, &ntouched);
     for (int32_t i = 0; i < ntouched; i++) ws->done[ws->touched[i]] = 0;
     for (int64_t e = 0; e < ws->m; e++) {
         double r = (price[e] + times[indices[e]]) - times[rows[e]];
@@ -198,8 +221,10 @@ static int cmp_int32(const void *a, const void *b) {
 static int32_t settle_to(const int32_t *indptr, const int32_t *indices, const double *w, const uint8_t *mask,
                          double limit, double *dist, workspace *ws, int64_t *size, int32_t *ntouched) {
     int32_t settled = 0;
-    while (*size && ws->heap[0].key <= limit) {
-        int32_t v = pop(ws, size).node;
+    while (*size && lowest(ws) <= limit) {
+        item it = pop(ws, size);
+        int32_t v = it.node;
+        if (ws->done[v] || it.key != dist[v]) continue;  /* settled, or put in again at a lower time */
         ws->done[v] = 1;
         settled++;
         double at = dist[v];
@@ -241,7 +266,7 @@ static int32_t fp_search(void *p, const int32_t *indptr, const int32_t *indices,
         for (int32_t g = goal_lo; g < goal_hi; g++)  /* the lowest-numbered of the first reached */
             if (ws->done[g] && (best < 0 || reduced[g] < reduced[best])) best = g;
     }
-    while (size) pop(ws, &size);  /* the nodes over the last limit leave the heap (`slot` all -1 again) */
+    empty(ws, &size);  /* the nodes over the last limit leave the heap */
     if (best < 0) {
         clear(reduced, ws, ntouched);
         return 0;
@@ -331,7 +356,7 @@ static int32_t fp_search(void *p, const int32_t *indptr, const int32_t *indices,
     ntouched = 0;
     double *dist = ws->exact;
     int32_t local_start = count - 1;
-    dijkstra(ws->lindptr, ws->lcol, ws->lprice, NULL, NULL, &local_start, 1,
+    dijkstra(ws->lindptr, ws->lcol, ws->lprice, NULL, &local_start, 1,
              with_slack(fastest + at_start, slack), dist, ws, &ntouched);
     int32_t at = -1;
     for (int32_t i = 0; i < count; i++)
@@ -591,6 +616,8 @@ typedef struct {
     /* the bound (TimeBound) */
     double *times, *reduced;
     int32_t *rindptr, *rsrc, *redge, cost;
+    double *rprice;  /* the prices and open flags in the reversed rows' order: a search back reads them in turn */
+    uint8_t *ropen;
     uint8_t *valid_for;
     int has_bound, has_hint;
     int64_t spent;
@@ -678,7 +705,7 @@ static void graph_free(graph_t *g) {
                      g->open, g->outer, g->line_walls, g->line_len, g->line_nodes, g->run_from, g->open_needed,
                      g->turn_walls, g->turn_shape, g->start_first_wall, g->start_run_from, g->start_open_needed,
                      g->run, g->times, g->reduced, g->rindptr, g->rsrc, g->redge, g->valid_for, g->turn_keys,
-                     g->turn_key_shape, g->offsets, g->noffsets};
+                     g->turn_key_shape, g->offsets, g->noffsets, g->rprice, g->ropen};
     for (size_t i = 0; i < sizeof owned / sizeof owned[0]; i++) free(owned[i]);
     fp_free(g->ws);
     free(g);
@@ -948,11 +975,13 @@ void *fp_graph(const spec_t *s) {
         g->times = malloc(sizeof(double) * g->n);
         g->reduced = malloc(sizeof(double) * (m + 1));
         g->valid_for = malloc((size_t)g->walls + 1);
-        ok = by_dst && g->rindptr && g->rsrc && g->times && g->reduced && g->valid_for;
+        g->rprice = malloc(sizeof(double) * (m + 1));
+        g->ropen = malloc((size_t)m + 1);
+        ok = by_dst && g->rindptr && g->rsrc && g->times && g->reduced && g->valid_for && g->rprice && g->ropen;
         if (ok) {
             for (int64_t e = 0; e < m; e++) g->rindptr[g->indices[e] + 1]++;
             for (int32_t i = 0; i < g->n; i++) g->rindptr[i + 1] += g->rindptr[i];
-            for (int64_t i = 0; i < m; i++) g->rsrc[i] = g->rows[by_dst[i]];
+            for (int64_t i = 0; i < m; i++) g->rsrc[i] = g->rows[by_dst[i]], g->rprice[i] = g->price[by_dst[i]];
         }
     }
     /* decoding: the turns' keys (source * node count + destination, global numbers), sorted, with their shapes */
@@ -1004,7 +1033,8 @@ int32_t fp_query(void *p, const uint8_t *blocked, int32_t *route, double *times)
     int stale = !g->has_bound || g->spent > g->cost;
     for (int32_t w = 0; w < g->walls && !stale; w++) stale = g->valid_for[w] > blocked[w];
     if (stale) {
-        g->cost = fp_bound(g->ws, g->rindptr, g->rsrc, g->redge, g->rows, g->indices, g->price, g->open,
+        for (int64_t j = 0; j < g->m; j++) g->ropen[j] = g->open[g->redge[j]];
+        g->cost = fp_bound(g->ws, g->rindptr, g->rsrc, g->rprice, g->ropen, g->rows, g->indices, g->price,
                            g->goal_nodes, g->ngoals, g->times, g->reduced);
         memcpy(g->valid_for, blocked, (size_t)g->walls);
         g->has_bound = 1, g->spent = 0, g->has_hint = 0;  /* the last answer was under another bound */
