@@ -13,29 +13,39 @@ itself comes from a second search, on the real prices, of the small graph of the
 fastest route, and is walked back from the goal by those exact times alone, so that it depends neither on the
 bound nor on the limit A* ran under.
 
-The parts: fastpath_build.py builds the graph of a maze size, diagonal flag and mouse; fastpath_query.py answers
-a query on it (pricing, A*, the second search); fastpath_route.py decodes the nodes found into moves. The
-searches run in a small C library compiled at first use (fastpath_kernel.py and .c), or in scipy where no C
-compiler works: the same routes to the bit either way.
+The parts: fastpath_model.py says what the graph is (layers, turns, prices, the start's edges); where a C
+compiler works, a small C library compiled at first use (fastpath_kernel.py and .c) builds it and answers its
+queries (fastpath_native.py), and no numpy is imported. Elsewhere fastpath_build.py builds the graph of a maze
+size, diagonal flag and mouse in numpy, fastpath_query.py answers a query on it with scipy (pricing, A*, the
+second search) and fastpath_route.py decodes the nodes found into moves: the same routes to the bit either way.
 """
 
 from __future__ import annotations
 
 from functools import lru_cache
+from typing import Protocol
 
 from .direction import DELTA
 from .errors import MazeError
-from .fastpath_build import StaticGraph
-from .fastpath_query import FastestSearch
-from .fastpath_route import Route, RouteDecoder
+from .fastpath_kernel import kernel
 from .model import Cell, Maze
 from .mouseparams import MouseParams
+from .route import Route
+
+
+class Graph(Protocol):
+    def fastest(self, blocked: bytes | bytearray, start: Cell, goals: tuple[Cell, ...]) -> Route | None: ...
 
 
 class MoveGraph:
-    """The move graph of one maze size, diagonal flag and mouse, with its queries and their routes."""
+    """The move graph of one maze size, diagonal flag and mouse in numpy, with its queries (scipy's searches)
+    and their routes: the path where the kernel cannot be built."""
 
     def __init__(self, size: int, diagonal: bool, mouse: MouseParams) -> None:
+        from .fastpath_build import StaticGraph
+        from .fastpath_query import FastestSearch
+        from .fastpath_route import RouteDecoder
+
         self.static = StaticGraph(size, diagonal, mouse)
         self.search = FastestSearch(self.static)
         self.decoder = RouteDecoder(self.static)
@@ -51,8 +61,14 @@ class MoveGraph:
 
 
 @lru_cache(maxsize=4)
-def move_graph(size: int, diagonal: bool, mouse: MouseParams) -> MoveGraph:
-    return MoveGraph(size, diagonal, mouse)
+def move_graph(size: int, diagonal: bool, mouse: MouseParams) -> Graph:
+    """The kernel's graph where it can be built (maze/fastpath_native.py), else numpy's and scipy's."""
+    lib = kernel()
+    if lib is None:
+        return MoveGraph(size, diagonal, mouse)
+    from .fastpath_native import NativeGraph
+
+    return NativeGraph(lib, size, diagonal, mouse)
 
 
 def fastest_route(maze: Maze, blocked: bytes | bytearray, diagonal: bool, mouse: MouseParams) -> Route | None:

@@ -23,8 +23,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .fastpath_kernel import Workspace
-
 if TYPE_CHECKING:
     from scipy.sparse import csr_array
 
@@ -38,7 +36,7 @@ def row_pointers(rows: np.ndarray, count: int) -> np.ndarray:
 @dataclass
 class Csr:
     """A graph as compressed rows: the edges of node u are indices[indptr[u]:indptr[u + 1]], priced `data`.
-    Its own type and not scipy's, so that the compiled kernel's queries never import scipy (0.2 s)."""
+    Its own type and not scipy's, so that scipy is imported (0.2 s) only by the searches that need it."""
 
     data: np.ndarray  # float64
     indices: np.ndarray  # int32
@@ -59,9 +57,8 @@ class TimeBound:
     """Per node of a query graph, a lower bound of the time left to the goal; and the reduced prices
     price(u, v) + bound(v) - bound(u) of the graph's edges (in row order) under it."""
 
-    def __init__(self, prices: Csr, rows: np.ndarray, goal_nodes: np.ndarray, work: Workspace | None) -> None:
-        self.prices, self.rows, self.goal_nodes, self.work = prices, rows, goal_nodes, work
-        self._reversed: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # the kernel's, built once
+    def __init__(self, prices: Csr, rows: np.ndarray, goal_nodes: np.ndarray) -> None:
+        self.prices, self.rows, self.goal_nodes = prices, rows, goal_nodes
         self.valid_for: np.ndarray | None = None  # the walls it was found under (None: not found yet)
         self.nodes = np.zeros(prices.nodes)
         self.reduced = np.zeros(len(rows))
@@ -76,14 +73,11 @@ class TimeBound:
     def find(self, open_edges: np.ndarray, blocked: np.ndarray) -> None:
         """The exact times to the goal through the edges `open_edges` marks, which `blocked`'s walls leave
         open; infinite where the goal cannot be reached."""
-        if self.work is None:
-            self._find_scipy(open_edges)
-        else:
-            self._find_kernel(self.work, open_edges)
+        self._search_back(open_edges)
         self.valid_for = blocked.copy()
         self.spent = 0
 
-    def _find_scipy(self, open_edges: np.ndarray) -> None:
+    def _search_back(self, open_edges: np.ndarray) -> None:
         from scipy.sparse import csr_array
         from scipy.sparse.csgraph import dijkstra
 
@@ -95,19 +89,6 @@ class TimeBound:
         reduced[~np.isfinite(reduced)] = np.inf  # such an edge is never on a route
         self.reduced = reduced  # never negative up to rounding, which is clamped
         self.cost = int(np.isfinite(self.nodes).sum())
-
-    def _find_kernel(self, work: Workspace, open_edges: np.ndarray) -> None:
-        """The same times and reduced prices, by fp_bound (maze/fastpath_kernel.c) on the reversed graph."""
-        p = self.prices
-        if self._reversed is None:
-            order = np.argsort(p.indices, kind="stable").astype(np.int32)
-            indptr = row_pointers(p.indices, p.nodes)
-            self._reversed = indptr, self.rows[order], order
-        indptr, sources, edges = self._reversed
-        self.nodes, self.reduced = np.empty(p.nodes), np.empty(len(p.data))
-        self.cost = work.lib.fp_bound(work.handle, *(a.ctypes.data for a in (
-            indptr, sources, edges, self.rows, p.indices, p.data, open_edges)), self.goal_nodes.ctypes.data,
-            len(self.goal_nodes), self.nodes.ctypes.data, self.reduced.ctypes.data)
 
     @property
     def at_start(self) -> float:

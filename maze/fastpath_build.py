@@ -13,83 +13,28 @@ the query (maze/fastpath_query.py).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from math import ceil
 from typing import overload
 
 import numpy as np
 
-from .direction import ALONG, DIAGONAL, STEP, opposite
-from .model import Cell, point_wall, sides_of
-from .motion import HALF_DIAGONAL, straight_seconds, turn_seconds
+from .direction import ALONG, DIAGONAL, STEP
+from .fastpath_model import (
+    LAYERS,
+    MAX_CROSSINGS,
+    A,
+    B,
+    C,
+    G,
+    chain_prices,
+    chain_steps,
+    straight_prices,
+    stride,
+    turn_shapes,
+    unit,
+)
+from .model import point_wall
+from .motion import turn_seconds
 from .mouseparams import MouseParams
-
-LAYERS = 4  # A, B, G, C
-A, B, G, C = range(LAYERS)
-MIN_SECONDS = 1e-9  # zero-length straights still need an edge, and scipy drops zero weights
-MAX_CROSSINGS = 4  # the most walls a turn crosses (the 180)
-
-
-@dataclass(frozen=True, order=True)
-class TurnShape:
-    """A turn placed with its entry point at the origin; `offsets` are the walls it crosses, the last one the exit."""
-
-    name: str
-    side: str  # "R" or "L"
-    h_in: int
-    h_out: int
-    x_parity: int  # X % 2 of the entry point: 1 when it enters across a horizontal wall
-    offsets: tuple[tuple[int, int], ...]
-
-    @property
-    def token(self) -> str:
-        return self.side + self.name
-
-    def rotated(self) -> TurnShape:
-        """90 degrees anticlockwise: (x, y) -> (-y, x) swaps which walls are horizontal."""
-        return TurnShape(self.name, self.side, (self.h_in + 2) % 8, (self.h_out + 2) % 8, 1 - self.x_parity,
-                         tuple((-y, x) for x, y in self.offsets))
-
-    def mirrored(self) -> TurnShape:
-        return TurnShape(self.name, "L" if self.side == "R" else "R", (4 - self.h_in) % 8, (4 - self.h_out) % 8,
-                         self.x_parity, tuple((-x, y) for x, y in self.offsets))
-
-    def reversed(self) -> TurnShape:
-        """The same curve run backwards (a 45 out of a diagonal is a 45 into one, run from its far end)."""
-        ex, ey = self.offsets[-1]
-        points = [(x - ex, y - ey) for x, y in self.offsets[-2::-1]] + [(-ex, -ey)]
-        return TurnShape(self.name, "L" if self.side == "R" else "R", opposite(self.h_out), opposite(self.h_in),
-                         (self.x_parity + ex) % 2, tuple(points))
-
-
-# Right-hand turns entering northwards across a horizontal wall at (0, 0) (the V90: north-east across a
-# vertical wall, turning left round the post at (1, 1)). The others are their rotations, mirror images and
-# reversals.
-ALONG_TURNS = (
-    TurnShape("90s", "R", 2, 0, 1, ((1, 1),)),
-    TurnShape("90", "R", 2, 0, 1, ((0, 2), (1, 3), (3, 3))),
-    TurnShape("180", "R", 2, 6, 1, ((0, 2), (1, 3), (2, 2), (2, 0))),
-)
-DIAGONAL_TURNS = (
-    TurnShape("45", "R", 2, 1, 1, ((0, 2), (1, 3))),
-    TurnShape("135", "R", 2, 7, 1, ((0, 2), (1, 3), (2, 2))),
-    TurnShape("V90", "L", 1, 3, 0, ((1, 1), (0, 2))),
-)
-
-
-def turn_shapes(diagonal: bool) -> list[TurnShape]:
-    shapes: set[TurnShape] = set()
-    for base in ALONG_TURNS + (DIAGONAL_TURNS if diagonal else ()):
-        for shape in (base, base.reversed()):
-            for _ in range(4):
-                shape = shape.rotated()
-                shapes.update((shape, shape.mirrored()))
-    return sorted(shapes)
-
-
-def entered_cell(point: tuple[int, int], previous: tuple[int, int]) -> Cell:
-    """The cell on the far side of the wall at `point` for a mouse coming from `previous`."""
-    x, y, _ = sides_of(point, previous)[1]
-    return x, y
 
 
 @dataclass
@@ -167,8 +112,7 @@ class StaticGraph:
         return (x >= 0) & (x < self.side) & (y >= 0) & (y < self.side)
 
     def stride(self, h: int) -> tuple[int, int]:
-        dx, dy = STEP[h]
-        return (2 * dx, 2 * dy) if h in ALONG else (dx, dy)
+        return stride(h)
 
     def point(self, node: int) -> tuple[tuple[int, int], int]:
         """The point and heading of a node of any layer."""
@@ -184,20 +128,11 @@ class StaticGraph:
             mid &= self.point_x % 2 == 1
         return np.flatnonzero(mid)
 
-    def _top_speed(self, h: int) -> float:
-        return self.mouse.run.top_speed if h in ALONG else self.mouse.run.diagonal_top_speed
-
     def unit(self, h: int) -> float:
-        """Cells per step in heading h."""
-        return 1.0 if h in ALONG else HALF_DIAGONAL
+        return unit(h)
 
     def chain_steps(self, h: int) -> int:
-        """Steps a straight in heading h needs to reach top speed from turn speed (and to brake back)."""
-        run, top = self.mouse.run, self._top_speed(h)
-        step = self.unit(h) * self.mouse.cell
-        d_up = (top * top - run.turn_speed ** 2) / (2 * run.accel)
-        k = max(1, ceil(d_up / step))
-        return k + 1 if k * step < d_up else k
+        return chain_steps(self.mouse, h)
 
     # -- the static graph -------------------------------------------------------------------------------------
     def _build_lines(self) -> None:
@@ -231,27 +166,23 @@ class StaticGraph:
         self.line_nodes, self.on_line = lines[on_line], on_line
 
     def _build_straights(self) -> StraightEdges:
-        run = self.mouse.run
         src, dst, run_from, length, to_turn, to_goal, ends = [], [], [], [], [], [], []
         for h in self.headings:
             pts = self._entry_points(h)
             sx, sy = self.stride(h)
-            top, unit = self._top_speed(h), self.unit(h)
             for n in range(min(2 * self.chain_steps(h), 2 * self.size + 1)):
                 ex, ey = self.point_x[pts] + n * sx, self.point_y[pts] + n * sy
                 ok = self.inside(ex, ey)
                 if not ok.any():
                     break
                 p, e = pts[ok], self.index(ex[ok], ey[ok])
-                metres = n * unit * self.mouse.cell
+                seconds_to_turn, seconds_to_goal = straight_prices(self.mouse, h, n)
                 src.append(p * 8 + h)
                 dst.append(e * 8 + h)
                 run_from.append(p * 8 + h)
                 length.append(np.full(len(p), n))
-                to_turn.append(np.full(len(p), max(MIN_SECONDS, straight_seconds(
-                    metres, run.turn_speed, run.turn_speed, top, run.accel))))
-                to_goal.append(np.full(len(p), max(MIN_SECONDS, straight_seconds(
-                    metres, run.turn_speed, None, top, run.accel))))
+                to_turn.append(np.full(len(p), seconds_to_turn))
+                to_goal.append(np.full(len(p), seconds_to_goal))
                 ends.append(self._entered_cells(e, h))
         from_node, open_needed = np.concatenate(run_from), np.concatenate(length)
         # a free-ended straight to the goal line of k or more steps goes through the chain (see _build_chain)
@@ -264,16 +195,14 @@ class StaticGraph:
         steps speeding up to top speed into layer C; in C one step at top speed at a time; from C, k steps braking
         into B, or straight over the goal line into G. A straight of n >= 2k steps then costs exactly its
         trapezoid, and one of n >= k steps to the goal line its free-ended time."""
-        run = self.mouse.run
         src, dst, run_from, length, cost, goal_cell = [], [], [], [], [], []
         for h in self.headings:
             pts = self._entry_points(h)
             sx, sy = self.stride(h)
-            k, top = self.chain_steps(h), self._top_speed(h)
-            step = self.unit(h) * self.mouse.cell
-            speed_up = straight_seconds(k * step, run.turn_speed, None, top, run.accel)  # braking costs the same
+            k = self.chain_steps(h)
+            speed_up, cruise = chain_prices(self.mouse, h)
             nodes = pts * 8 + h
-            for n, seconds, from_layer, to_layer in ((k, speed_up, A, C), (1, step / top, C, C), (k, speed_up, C, B)):
+            for n, seconds, from_layer, to_layer in ((k, speed_up, A, C), (1, cruise, C, C), (k, speed_up, C, B)):
                 ex, ey = self.point_x[pts] + n * sx, self.point_y[pts] + n * sy
                 ok = self.inside(ex, ey)
                 src.append(nodes[ok] + from_layer * self.layer_size)

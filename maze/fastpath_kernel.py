@@ -1,4 +1,4 @@
-"""The compiled inner loops of the fastest-path query (maze/fastpath_kernel.c), built at first use and cached.
+"""The compiled move graph and fastest-path queries (maze/fastpath_kernel.c), built at first use and cached.
 
 Why: every query went through scipy's Dijkstra from Python, three calls and a few dozen numpy operations a
 query, and importing scipy alone cost a whole-process `mazelog explore --objective time` 0.2-0.3 s. The C file
@@ -17,7 +17,6 @@ import shutil
 import subprocess
 import sys
 import tempfile
-import weakref
 from functools import cache
 from importlib.resources import files
 from pathlib import Path
@@ -66,25 +65,34 @@ def _build(source: bytes, cc: Path, target: Path) -> None:
         so_file.replace(target)
 
 
+_i32_p = ctypes.POINTER(ctypes.c_int32)
+
+
+class Spec(ctypes.Structure):
+    """What fp_graph reads to build a query graph (spec_t in maze/fastpath_kernel.c, field for field)."""
+
+    _fields_ = [("size", ctypes.c_int32), ("has", ctypes.c_int32 * 8), ("k", ctypes.c_int32 * 8),
+                ("max_n", ctypes.c_int32), ("to_turn", _double_p), ("to_goal", _double_p),
+                ("speed_up", ctypes.c_double * 8), ("cruise", ctypes.c_double * 8), ("unit", ctypes.c_double * 8),
+                ("nshapes", ctypes.c_int32), ("shape_in", _i32_p), ("shape_out", _i32_p), ("shape_parity", _i32_p),
+                ("shape_noffsets", _i32_p), ("shape_offsets", _i32_p), ("shape_seconds", _double_p),
+                ("nstart", ctypes.c_int32), ("start_dst", _i32_p), ("start_run_from", _i32_p),
+                ("start_open_needed", _i32_p), ("start_first_wall", _i32_p), ("start_seconds", _double_p),
+                ("ngoals", ctypes.c_int32), ("goal_cells", _i32_p), ("wall_at", _i32_p),
+                ("growth", ctypes.c_double), ("slack", ctypes.c_double), ("hint_margin", ctypes.c_double),
+                ("min_limit", ctypes.c_double), ("tries", ctypes.c_int32), ("narrow_from", ctypes.c_int32)]
+
+
 def _bind(lib: ctypes.CDLL) -> ctypes.CDLL:
-    lib.fp_new.argtypes, lib.fp_new.restype = [ctypes.c_int32, ctypes.c_int64], _void_p
-    lib.fp_free.argtypes, lib.fp_free.restype = [_void_p], None
-    lib.fp_bound.argtypes = [_void_p] + [_void_p] * 7 + [_void_p, ctypes.c_int32, _void_p, _void_p]
-    lib.fp_bound.restype = ctypes.c_int32
-    search: list[type[ctypes._SimpleCData[Any]] | type[ctypes._Pointer[Any]]] = [_void_p] * 6
-    search += [ctypes.c_int32, ctypes.c_int32, ctypes.c_double, ctypes.c_double, ctypes.c_int32, ctypes.c_double,
-               ctypes.c_double, ctypes.c_int32, ctypes.POINTER(ctypes.c_int64), _double_p, _void_p, _void_p]
-    lib.fp_search.argtypes = search
+    lib.fp_graph.argtypes, lib.fp_graph.restype = [ctypes.POINTER(Spec)], _void_p
+    lib.fp_graph_free.argtypes, lib.fp_graph_free.restype = [_void_p], None
+    lib.fp_graph_nodes.argtypes, lib.fp_graph_nodes.restype = [_void_p], ctypes.c_int32
+    lib.fp_query.argtypes = [_void_p, ctypes.c_char_p, _void_p, _void_p]
+    lib.fp_query.restype = ctypes.c_int32
     i32 = ctypes.c_int32
-    lib.fp_price.argtypes = [_void_p, _void_p, i32, _void_p, i32, _void_p, _void_p, i32, i32, _void_p, _void_p, i32,
-                             i32, i32, _void_p, _void_p, i32, i32, _void_p, i32, _void_p, _void_p, _void_p, _void_p]
-    lib.fp_price.restype = None
-    i64 = ctypes.c_int64
-    route: list[type[ctypes._SimpleCData[Any]]] = [_void_p, _void_p, i32, i64, i32, i32, i32, i32, i32, i32]
-    route += [_void_p] * 5 + [i64] + [_void_p] * 3 + [i32] + [_void_p] * 11
-    lib.fp_route.argtypes = route
-    lib.fp_route.restype = i32
-    lib.fp_search.restype = ctypes.c_int32
+    decode: list[type[ctypes._SimpleCData[Any]]] = [_void_p, _void_p, _void_p, i32, i32, i32]
+    lib.fp_decode.argtypes = decode + [_void_p] * 10
+    lib.fp_decode.restype = i32
     return lib
 
 
@@ -113,21 +121,3 @@ def kernel() -> ctypes.CDLL | None:
         why = f"{e.filename or e}: {e.strerror}" if e.strerror else str(e)
     print(f"note: the fastest-path kernel could not be built ({why}), {FALLBACK}", file=sys.stderr)
     return None
-
-
-class Workspace:
-    """The kernel and its working memory for one query graph of `nodes` nodes and `edges` edges (kept from query
-    to query, so that none allocates; freed with the graph)."""
-
-    def __init__(self, lib: ctypes.CDLL, nodes: int, edges: int) -> None:
-        self.lib = lib
-        self.handle = lib.fp_new(nodes, edges)
-        if not self.handle:
-            raise MemoryError("no memory for the fastest-path kernel's working arrays")
-        weakref.finalize(self, lib.fp_free, self.handle)
-
-
-def workspace(nodes: int, edges: int) -> Workspace | None:
-    """A workspace for a query graph, or None where the kernel cannot be had (the scipy path)."""
-    lib = kernel()
-    return None if lib is None else Workspace(lib, nodes, edges)

@@ -3,25 +3,26 @@ goal, and the nodes and times of the fastest route (maze/fastpath.py says why it
 
 from __future__ import annotations
 
-import ctypes
 from dataclasses import dataclass
 
 import numpy as np
 
-from .direction import ALONG, STEP
 from .fastpath_bound import Csr, TimeBound, row_pointers
-from .fastpath_build import B, G, StaticGraph, entered_cell
-from .fastpath_kernel import Workspace, workspace
+from .fastpath_build import StaticGraph
+from .fastpath_model import (
+    HINT_MARGIN,
+    LIMIT_GROWTH,
+    LIMIT_TRIES,
+    MAX_QUERY_GRAPHS,
+    NARROW_FROM,
+    TIME_SLACK,
+    B,
+    G,
+    first_limit_floor,
+    start_edges,
+)
 from .fastpath_walls import wall_edges
 from .model import Cell
-from .motion import straight_seconds
-
-MAX_QUERY_GRAPHS = 4  # (start, goals) pairs kept per move graph: a search has one, `path` of a cell run another
-TIME_SLACK = 1e-9  # rounding in reduced prices must not leave out a node of an equally fast route
-LIMIT_GROWTH = 2.0  # how much the search limit grows when the goal lies beyond it
-HINT_MARGIN = 1.25  # the first limit over the last answer: a search's walls only ever make its run slower
-NARROW_FROM = 1000  # kept nodes: narrowing them costs about 0.1 ms, the exact search 0.3 us a node it spares
-LIMIT_TRIES = 16  # then no limit: a route that slow is unlikely, and without one the goal may be out of reach
 
 
 def _predecessors(row: np.ndarray, col: np.ndarray, price: np.ndarray, dist: np.ndarray) -> np.ndarray:
@@ -88,8 +89,7 @@ class QueryGraph:
     straight, `open_needed` open walls ahead of node `run_from`; for a turn, its walls (`turn_walls`, one row
     per wall crossed); for a start edge, its first wall too. `prices` holds the prices (they depend on the mouse
     only); `open` marks the edges the last query's walls leave open; `astar` has the same edges, with the
-    reduced prices for A* where open and infinity elsewhere (the scipy path's: the kernel reads the bound's
-    reduced prices where `open` says); `bound` is A*'s bound and the reduced prices under
+    reduced prices for A* where open and infinity elsewhere; `bound` is A*'s bound and the reduced prices under
     it (maze/fastpath_bound.py); `hint` is the last query's reduced time to the goal, where the next one's limit
     starts (walls change a few at a time). `walls` are the walls `open` was worked out for (None before the
     first query), and `wall_edges` the edges through each wall (maze/fastpath_walls.py).
@@ -112,39 +112,8 @@ class QueryGraph:
     start: StartEdges
     nodes: np.ndarray
     goal: slice
-    work: Workspace | None  # the compiled kernel's (maze/fastpath_kernel.py); None: scipy's searches
-    priced_by: PriceArrays | None = None  # the kernel's copy of what pricing reads, made by its first query
     walls: np.ndarray | None = None
     wall_edges: tuple[np.ndarray, np.ndarray] | None = None  # built by the first query that can use it
-
-
-@dataclass
-class PriceArrays:
-    """What fp_price (maze/fastpath_kernel.c) reads, as the 32-bit arrays it takes, and where it writes: the
-    line of crossings each node lies on and which walls each edge needs open (`StaticGraph._build_lines`,
-    `QueryGraph`)."""
-
-    outer: np.ndarray
-    line_walls: np.ndarray
-    line_len: np.ndarray
-    line_nodes: np.ndarray
-    run_from: np.ndarray
-    open_needed: np.ndarray
-    turn_walls: np.ndarray
-    start_first_wall: np.ndarray
-    start_run_from: np.ndarray
-    start_open_needed: np.ndarray
-    run: np.ndarray  # written: open walls ahead of each node of a layer
-
-    @classmethod
-    def of(cls, graph: StaticGraph, q: QueryGraph) -> PriceArrays:
-        def i32(a: np.ndarray) -> np.ndarray:
-            return np.ascontiguousarray(a, dtype=np.int32)
-
-        return cls(i32(graph.outer_walls), i32(graph.line_walls), i32(graph.on_line.sum(axis=1)),
-                   i32(graph.line_nodes), i32(q.run_from), i32(q.open_needed), i32(q.turn_walls),
-                   i32(q.start.first_wall), i32(q.start.run_from), i32(q.start.open_needed),
-                   np.zeros(graph.layer_size, dtype=np.int16))
 
 
 class FastestSearch:
@@ -201,12 +170,12 @@ class FastestSearch:
         ahead_cost = np.concatenate([straights.seconds_to_turn, straights.seconds_to_goal[to_goal],
                                      chain.seconds[in_chain]])[order]
         turn_order = np.argsort(turns.src, kind="stable")
-        start_edges = self._start_edges(start, goals)
+        from_start = self._start_edges(start, goals)
         src = src[order]
         before = int(np.searchsorted(src, B * g.layer_size))  # rows of A; those of C follow the turns
         rows = np.concatenate([src[:before], turns.src[turn_order], src[before:],
-                               np.full(len(start_edges.dst), g.start_node)])
-        cols = np.concatenate([ahead_dst[:before], turns.dst[turn_order], ahead_dst[before:], start_edges.dst])
+                               np.full(len(from_start.dst), g.start_node)])
+        cols = np.concatenate([ahead_dst[:before], turns.dst[turn_order], ahead_dst[before:], from_start.dst])
         used = np.zeros(g.start_node + 1, dtype=bool)
         used[rows], used[cols] = True, True
         nodes = np.flatnonzero(used)  # the start node has edges, and the highest number: it stays last
@@ -215,51 +184,20 @@ class FastestSearch:
         n = len(nodes)
         indptr = row_pointers(rows, n)
         cost = np.concatenate([ahead_cost[:before], turns.seconds[turn_order], ahead_cost[before:],
-                               start_edges.seconds])
+                               from_start.seconds])
         prices = Csr(cost.astype(np.float64), cols, indptr)
         astar = Csr(np.zeros(len(cols)), cols, indptr)
         goal = slice(*np.searchsorted(nodes, [G * g.layer_size, (G + 1) * g.layer_size]).tolist())
         goal_layer = cols[(cols >= goal.start) & (cols < goal.stop)]
-        work = workspace(n, len(cols))
-        return QueryGraph(prices, astar, TimeBound(prices, rows, np.unique(goal_layer).astype(np.int32), work),
+        return QueryGraph(prices, astar, TimeBound(prices, rows, np.unique(goal_layer).astype(np.int32)),
                           np.zeros(len(cols), dtype=bool), None, before, run_from, open_needed,
-                          turns.walls[turn_order].T.copy(), start_edges, nodes, goal, work)
+                          turns.walls[turn_order].T.copy(), from_start, nodes, goal)
 
     def _start_edges(self, start: Cell, goals: tuple[Cell, ...]) -> StartEdges:
-        """Straights from a standing start in the start cell's centre, along each of its four headings, of every
-        length: the n-th needs the first wall open and n - 1 open ones after it."""
         g = self.graph
-        p = g.mouse.run
-        cx, cy = 2 * start[0] + 1, 2 * start[1] + 1
-        dst: list[int] = []
-        run_from: list[int] = []
-        open_needed: list[int] = []
-        first_wall: list[int] = []
-        cost: list[float] = []
-        goal_set = set(goals)
-        for h in ALONG:
-            dx, dy = STEP[h]
-            first = g.index(cx + dx, cy + dy)
-            for n in range(1, 2 * g.size + 1):
-                x, y = cx + (2 * n - 1) * dx, cy + (2 * n - 1) * dy
-                if not (0 <= x < g.side and 0 <= y < g.side):
-                    break
-                node = g.index(x, y) * 8 + h
-                metres = (n - 0.5) * g.mouse.cell
-                ends = [(node + B * g.layer_size,
-                         straight_seconds(metres, 0.0, p.turn_speed, p.top_speed, p.accel))]
-                if entered_cell((x, y), (x - dx, y - dy)) in goal_set:
-                    ends.append((node + G * g.layer_size,
-                                 straight_seconds(metres, 0.0, None, p.top_speed, p.accel)))
-                for end, seconds in ends:
-                    dst.append(end)
-                    run_from.append(first * 8 + h)
-                    open_needed.append(n - 1)
-                    first_wall.append(int(g.wall_at[first]))
-                    cost.append(seconds)
-        return StartEdges(np.array(dst, dtype=np.int64), np.array(run_from, dtype=np.int64),
-                          np.array(open_needed, dtype=np.int64), np.array(first_wall, dtype=np.int64),
-                          np.array(cost))
+        edges = start_edges(g.size, g.wall_at.tolist(), g.mouse, start, goals)
+        return StartEdges(*(np.array([getattr(e, f) for e in edges], dtype=np.float64 if f == "seconds" else np.int64)
+                            for f in ("dst", "run_from", "open_needed", "first_wall", "seconds")))
 
     def _open_edges(self, q: QueryGraph, blocked: np.ndarray) -> np.ndarray:
         """Per edge (in row order), whether the walls not blocked let the mouse make it. The outer walls are
@@ -278,9 +216,6 @@ class FastestSearch:
         """Which edges the walls leave open, and the reduced prices for A* (infinite where a wall is blocked),
         under a bound found again for these walls where the one kept is stale."""
         walls = np.frombuffer(bytes(blocked), dtype=np.uint8)
-        if q.work is not None:
-            self._price_kernel(q, q.work, walls)
-            return
         closed = self._closed_edges(q, walls)
         if closed is None:
             q.open = self._open_edges(q, walls)
@@ -294,23 +229,6 @@ class FastestSearch:
             q.astar.data[closed] = np.inf
             return
         q.astar.data = np.where(q.open, q.bound.reduced, np.inf)
-
-    def _price_kernel(self, q: QueryGraph, work: Workspace, walls: np.ndarray) -> None:
-        """Which edges are open, by fp_price: as `_closed_edges` and `_open_edges` do, with no numpy call."""
-        g, a = self.graph, q.priced_by
-        if a is None:
-            a = q.priced_by = PriceArrays.of(g, q)
-        work.lib.fp_price(work.handle, walls.ctypes.data, g.walls, a.outer.ctypes.data, len(a.outer),
-                          a.line_walls.ctypes.data, a.line_len.ctypes.data, len(a.line_len), a.line_walls.shape[1],
-                          a.line_nodes.ctypes.data, a.run.ctypes.data, len(a.run), len(a.run_from), q.before_turns,
-                          a.run_from.ctypes.data, a.open_needed.ctypes.data, a.turn_walls.shape[1],
-                          a.turn_walls.shape[0], a.turn_walls.ctypes.data, len(a.start_run_from),
-                          a.start_first_wall.ctypes.data, a.start_run_from.ctypes.data,
-                          a.start_open_needed.ctypes.data, q.open.ctypes.data)
-        q.walls = walls
-        if q.bound.stale(walls):
-            q.bound.find(q.open, walls)
-            q.hint = None  # the last answer was under another bound
 
     def _closed_edges(self, q: QueryGraph, walls: np.ndarray) -> np.ndarray | None:
         """The edges through the walls this query closes and the last one left open; None where it opens one
@@ -334,10 +252,8 @@ class FastestSearch:
         a search on their prices, limited to that time, then finds the exact time of each (the sums of a
         search of the whole graph, bit for bit), and the route is walked back from the goal by those times
         alone (`_predecessors`), so that among equally fast routes it picks the same one whatever A*'s bound
-        and limit were. That search runs on the graph of those nodes alone. The compiled kernel does all of it
-        in one call where there is one (fp_search in maze/fastpath_kernel.c)."""
-        if q.work is not None:
-            return self._search_kernel(q, q.work)
+        and limit were. That search runs on the graph of those nodes alone. The compiled kernel does the same on
+        the graph it builds itself (maze/fastpath_native.py)."""
         from scipy.sparse.csgraph import dijkstra
 
         reduced = self._reduced_search(q)
@@ -374,23 +290,8 @@ class FastestSearch:
         at.reverse()
         return q.nodes[nodes[at]].tolist(), dist[at].tolist()
 
-    def _search_kernel(self, q: QueryGraph, work: Workspace) -> tuple[list[int], list[float]] | None:
-        spent, hint = ctypes.c_int64(0), ctypes.c_double(0.0)
-        route, times = np.empty(len(q.nodes), dtype=np.int32), np.empty(len(q.nodes))
-        length = work.lib.fp_search(
-            work.handle, q.prices.indptr.ctypes.data, q.prices.indices.ctypes.data, q.bound.reduced.ctypes.data,
-            q.prices.data.ctypes.data, q.open.ctypes.data, q.goal.start, q.goal.stop, self._first_limit(q),
-            LIMIT_GROWTH, LIMIT_TRIES, q.bound.at_start, TIME_SLACK, NARROW_FROM, ctypes.byref(spent),
-            ctypes.byref(hint), route.ctypes.data, times.ctypes.data)
-        q.bound.spent += spent.value
-        if not length:
-            return None
-        q.hint = hint.value
-        return q.nodes[route[:length]].tolist(), times[:length].tolist()
-
     def _first_limit(self, q: QueryGraph) -> float:
-        mouse = self.graph.mouse
-        return max((q.hint or 0.0) * HINT_MARGIN, mouse.cell / mouse.run.top_speed)
+        return max((q.hint or 0.0) * HINT_MARGIN, first_limit_floor(self.graph.mouse))
 
     def _reduced_search(self, q: QueryGraph) -> np.ndarray | None:
         """A* up to the goal: the reduced times; None if the goal cannot be reached. The limit

@@ -1,43 +1,19 @@
-"""A route as the commands print it: the nodes and times a query found (maze/fastpath_query.py) decoded into moves,
-the wall points crossed, the walls and the cells entered."""
+"""The nodes and times a query of the scipy path found (maze/fastpath_query.py) decoded into a Route (maze/route.py):
+its moves, the wall points crossed, the walls and the cells entered. The compiled kernel decodes its own
+(fp_decode in maze/fastpath_kernel.c)."""
 
 from __future__ import annotations
 
-import ctypes
-from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
 
 from .direction import ALONG, STEP
-from .fastpath_build import MAX_CROSSINGS, B, G, StaticGraph
-from .fastpath_kernel import kernel
+from .fastpath_build import StaticGraph
+from .fastpath_model import B, G
 from .model import Cell
 from .motion import TURNS
-
-
-@dataclass(frozen=True)
-class Move:
-    token: str  # S3 (3 cells along the walls), D2 (2 diagonal steps), R90, L45, RV90, ...
-    cells: float  # path length in cells
-    seconds: float
-
-
-@dataclass(frozen=True)
-class Route:
-    moves: list[Move]
-    seconds: float
-    points: list[tuple[int, int]]  # half-cell coordinates: the start cell's centre, then every wall crossed
-    walls: list[int]  # wall ids crossed, in order
-    cells: list[Cell]  # the start cell, then each cell entered
-
-    @property
-    def length(self) -> float:
-        return sum(m.cells for m in self.moves)
-
-    @property
-    def sequence(self) -> str:
-        return " ".join(m.token for m in self.moves)
+from .route import Move, Route
 
 
 class RouteDecoder:
@@ -72,60 +48,7 @@ class RouteDecoder:
         sorted_keys, shapes = self._turn_keys
         return shapes[np.searchsorted(sorted_keys, keys)].tolist()
 
-    @cached_property
-    def _kernel_arrays(self) -> tuple[np.ndarray, ...]:
-        """What fp_route (maze/fastpath_kernel.c) reads: per heading its step, stride and cells a step; the
-        turns' keys and shapes (`_turn_keys`); per shape its wall points (padded to MAX_CROSSINGS) and their
-        count; the wall at each point."""
-        g = self.graph
-        offsets = np.zeros((len(g.shapes), MAX_CROSSINGS, 2), dtype=np.int32)
-        for i, shape in enumerate(g.shapes):
-            offsets[i, :len(shape.offsets)] = shape.offsets
-        keys, shapes = self._turn_keys
-        return (np.array([dx for dx, _ in STEP], dtype=np.int32), np.array([dy for _, dy in STEP], dtype=np.int32),
-                np.array([max(abs(c) for c in g.stride(h)) for h in range(8)], dtype=np.int32),
-                np.array([g.unit(h) for h in range(8)]), keys.astype(np.int64), shapes.astype(np.int32), offsets,
-                np.array([len(s.offsets) for s in g.shapes], dtype=np.int32), g.wall_at.astype(np.int64))
-
-    @cached_property
-    def _cells_of_shape(self) -> list[float]:
-        return [TURNS[shape.name].cells for shape in self.graph.shapes]
-
     def route(self, nodes: list[int], times: list[float], start: Cell) -> Route:
-        """The moves of a route, by fp_route where the kernel was built, else in Python (`_route`)."""
-        lib = kernel()
-        if lib is None:
-            return self._route(nodes, times, start)
-        g = self.graph
-        count = len(nodes)
-        node_array, time_array = np.array(nodes, dtype=np.int64), np.array(times)
-        kind, value = np.empty(count, dtype=np.int32), np.empty(count, dtype=np.int32)
-        cells, seconds = np.empty(count), np.empty(count)
-        most = count * (2 * g.side + MAX_CROSSINGS) + 1
-        px, py, cell_x, cell_y = (np.empty(most, dtype=np.int32) for _ in range(4))
-        wall, npoints = np.empty(most, dtype=np.int64), ctypes.c_int32(0)
-        moves = lib.fp_route(
-            node_array.ctypes.data, time_array.ctypes.data, count, g.start_node, g.layer_size, g.side,
-            B, G, 2 * start[0] + 1, 2 * start[1] + 1,
-            *(a.ctypes.data for a in self._kernel_arrays[:5]), len(self._kernel_arrays[4]),
-            *(a.ctypes.data for a in self._kernel_arrays[5:8]), MAX_CROSSINGS, self._kernel_arrays[8].ctypes.data,
-            *(a.ctypes.data for a in (kind, value, cells, seconds, px, py, cell_x, cell_y, wall)),
-            ctypes.byref(npoints))
-        n = npoints.value
-        shapes, cells_of = self.graph.shapes, self._cells_of_shape
-        out = []
-        for k, v, c, t in zip(kind[:moves].tolist(), value[:moves].tolist(), cells[:moves].tolist(),
-                              seconds[:moves].tolist()):
-            if k == 0:
-                out.append(Move(f"S{v - 0.5:g}", v - 0.5, t))
-            elif k == 1:
-                out.append(Move(shapes[v].token, cells_of[v], t))
-            else:
-                out.append(Move(f"{'S' if k == 2 else 'D'}{v}", c, t))
-        return Route(out, times[-1], list(zip(px[:n].tolist(), py[:n].tolist())), wall[:n - 1].tolist(),
-                     [start] + list(zip(cell_x[:n - 1].tolist(), cell_y[:n - 1].tolist())))
-
-    def _route(self, nodes: list[int], times: list[float], start: Cell) -> Route:
         """The moves of a route: a straight is its pieces (A to B or G directly, or through the chain in C)
         joined, its walls counted from where it began. Nodes are decoded all at once and the turns looked up
         together: a route has a hundred-odd nodes, and a query with known walls is mostly this."""

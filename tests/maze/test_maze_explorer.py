@@ -10,7 +10,7 @@ from maze.mazefile import parse_maze
 from maze.restore import restore
 from maze.strategies import OPTIMAL_CLAIMED, STRATEGIES
 from maze.wallrecord import WallRecord
-from tests.maze.test_maze_builtin import large_maze_params
+from tests.maze.test_maze_builtin import builtin_maze_params, large_maze_params
 
 # five built-in 16x16 mazes, spread over the years
 CLASSIC = [builtin_path(n) for n in ("alljapan-001-1980", "alljapan-007-1986-pre", "alljapan-011-1990-exp-pre",
@@ -135,6 +135,15 @@ def test_dead_end_closing_does_not_change_the_time_rule():
     truth = parse_maze(builtin_path("alljapan-010-1989-fin").read_text())
     plain, closing = (explore(truth, s, "time", True) for s in ("stop", "closing-stop"))
     assert plain.trace == closing.trace
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("path", builtin_maze_params())
+@pytest.mark.parametrize("diagonal", [False, True], ids=["along", "diagonal"])
+def test_every_builtin_maze_time_optimal(path, diagonal):
+    """Without ../shared too: the time rule stops only once its run is as fast as the full-knowledge optimum."""
+    r = explore(parse_maze(path.read_text()), "stop", "time", diagonal)
+    assert r.fastest and r.found_route.seconds == pytest.approx(r.true_route.seconds, abs=1e-9)
 
 
 @pytest.mark.slow

@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 from maze.builtin import builtin_path
 from maze.fastpath import MoveGraph, move_graph
-from maze.fastpath_build import G
+from maze.fastpath_model import G
 from maze.mazefile import parse_maze
 from maze.model import Maze
 from maze.mouseparams import load_mouse
@@ -62,7 +62,7 @@ def maze_series(draw) -> list[Maze]:
 @given(maze_series(), st.booleans())
 def test_fastest_is_a_plain_dijkstra(series: list[Maze], diagonal: bool) -> None:
     mouse = load_mouse(None, series[0].size)
-    graph = move_graph(series[0].size, diagonal, mouse)
+    graph = MoveGraph(series[0].size, diagonal, mouse)  # the numpy path's graph, which plain_fastest reads
     for maze in series:
         for blocked in (optimistic(maze), pessimistic(maze)):
             route = graph.fastest(blocked, maze.start, maze.goals)

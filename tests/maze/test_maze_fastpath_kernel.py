@@ -1,6 +1,7 @@
-"""The compiled fastest-path kernel (maze/fastpath_kernel.c) against the scipy path it replaces: the same routes to
-the bit, query after query on one graph (so that the bound, the limits and the edges priced from the last query's
-walls all come into play); and how it is built: cached, and the scipy path, said once, where no compiler works."""
+"""The compiled fastest-path kernel (maze/fastpath_kernel.c, its graph built in C: maze/fastpath_native.py) against
+the numpy and scipy path it replaces: the same routes to the bit, query after query on one graph (so that the bound,
+the limits and the edges priced from the last query's walls all come into play); and how it is built: cached, and
+the scipy path, said once, where no compiler works; and which commands import numpy or scipy."""
 
 import subprocess
 import sys
@@ -12,7 +13,8 @@ from hypothesis import given, settings
 from maze import fastpath_kernel
 from maze.builtin import builtin_names, builtin_path
 from maze.explorer import explore
-from maze.fastpath import MoveGraph, Route
+from maze.fastpath import Graph, MoveGraph, Route, move_graph
+from maze.fastpath_native import NativeGraph
 from maze.mazefile import parse_maze
 from maze.model import Maze
 from maze.mouseparams import load_mouse
@@ -22,24 +24,22 @@ from tests.maze.test_maze_fastpath import maze_series
 pytestmark = pytest.mark.skipif(fastpath_kernel.kernel() is None, reason="no C compiler to build the kernel")
 
 
-def routes(mazes: list[Maze], diagonal: bool) -> list[Route | None]:
-    size = mazes[0].size
-    graph = MoveGraph(size, diagonal, load_mouse(None, size))
+def routes(graph: Graph, mazes: list[Maze]) -> list[Route | None]:
     return [graph.fastest(blocked, maze.start, maze.goals) for maze in mazes
             for blocked in (optimistic(maze), pessimistic(maze))]
 
 
 def same_routes(mazes: list[Maze], diagonal: bool) -> None:
-    """The kernel's routes (its searches and its decoding) and the scipy path's, query after query."""
-    with mock.patch("maze.fastpath_query.workspace", return_value=None), \
-            mock.patch("maze.fastpath_route.kernel", return_value=None):
-        fallback = routes(mazes, diagonal)
-    assert routes(mazes, diagonal) == fallback
+    """The kernel's routes (its graph, its searches and its decoding) and the numpy and scipy path's, query after
+    query."""
+    size, mouse = mazes[0].size, load_mouse(None, mazes[0].size)
+    native = NativeGraph(fastpath_kernel.kernel(), size, diagonal, mouse)
+    assert routes(native, mazes) == routes(MoveGraph(size, diagonal, mouse), mazes)
 
 
-def test_query_graphs_search_with_the_kernel():
-    graph = MoveGraph(4, True, load_mouse(None, 4))
-    assert graph.search.query_graph((0, 0), ((1, 1),)).work is not None
+def test_queries_search_with_the_kernel():
+    move_graph.cache_clear()
+    assert isinstance(move_graph(4, True, load_mouse(None, 4)), NativeGraph)
 
 
 @settings(max_examples=60, deadline=None)
@@ -65,8 +65,8 @@ def fallback_notes(cc: str, tmp_path, monkeypatch, capsys) -> list[str]:
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
     fastpath_kernel.kernel.cache_clear()
     try:
-        assert fastpath_kernel.workspace(10, 10) is None
-        assert fastpath_kernel.workspace(10, 10) is None
+        assert fastpath_kernel.kernel() is None
+        assert move_graph.__wrapped__(4, True, load_mouse(None, 4)).fastest(bytes(40), (0, 0), ((1, 1),))
     finally:
         fastpath_kernel.kernel.cache_clear()
     return capsys.readouterr().err.splitlines()
@@ -111,13 +111,14 @@ def heavy_modules(*args: str, cwd) -> str:
     return run.stderr.strip().splitlines()[-1]
 
 
-def test_commands_that_need_no_search_load_neither_numpy_nor_scipy(tmp_path):
-    """numpy and scipy took 0.4-0.5 s of CPU to import; only a fastest-path query needs numpy, and with the
-    kernel none needs scipy."""
+def test_with_the_kernel_no_command_loads_numpy_or_scipy(tmp_path):
+    """numpy and scipy took 0.4-0.5 s of CPU to import, and the move graph 0.05 s more to build in numpy; with the
+    kernel the graph is built in C, and no command needs either."""
     heavy_modules("explore", "japan2019hef", "--log", "run.log", cwd=tmp_path)
     assert heavy_modules("--help", cwd=tmp_path) == "[]"
     assert heavy_modules("replay", "run.log", cwd=tmp_path) == "[]"
     assert heavy_modules("explore", "japan2019hef", "--log", "again.log", cwd=tmp_path) == "[]"
-    assert heavy_modules("path", "run.log", cwd=tmp_path) == "['numpy']"
+    assert heavy_modules("path", "run.log", cwd=tmp_path) == "[]"
+    assert heavy_modules("path", "japan2019hef", "--objective", "time", "--diagonal", cwd=tmp_path) == "[]"
     assert heavy_modules("explore", "japan2019hef", "--log", "t.log", "--objective", "time", "--diagonal",
-                         cwd=tmp_path) == "['numpy']"
+                         cwd=tmp_path) == "[]"
