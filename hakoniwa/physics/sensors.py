@@ -10,9 +10,9 @@ in one fixed order: sensor readings at each snapshot, motor factors at each comm
 
 A robot's sensors have the response of their kind (`color_response.py`): an EV3 colour sensor reads the
 floor's red channel as its reflect, a SPIKE one the mean of its channels mapped onto what it reads on the
-course's white and black (`[sensor.spike]`). A SPIKE robot also gets its hub IMU, the colour sensor's HSV, its
-force sensor in touch slot 0 and the SPIKE ultrasonic sensor's range; an EV3 robot's readings are what they
-always were.
+course's white and black (`[sensor.spike]`, or the robot's own, `Robot.reflection`). A SPIKE robot also gets
+its hub IMU, the colour sensor's HSV, its force sensor in touch slot 0 and the SPIKE ultrasonic sensor's range;
+an EV3 robot's readings are what they always were.
 """
 
 from __future__ import annotations
@@ -103,8 +103,9 @@ class SensorModel:
         )
 
     def _spike_reflect(self, channel: float) -> int:
-        """What a SPIKE colour sensor reads where the floor's mean channel (on the EV3's scale) is `channel`."""
-        return color_response.spike_reflect(channel, self.course.ev3, self.course.spike)
+        """What a SPIKE colour sensor reads where the floor's mean channel (on the EV3's scale) is `channel`: on
+        the robot's own white and black where its mounting sets them, else on the course's."""
+        return color_response.spike_reflect(channel, self.course.ev3, self.robot.reflection or self.course.spike)
 
     @staticmethod
     def _imu(world: World, yaw_rate_dps: float) -> Inertial:
