@@ -18,6 +18,7 @@ from athrill_sim.native import spike
 from athrill_sim.native.workspace import find_app
 from hakoniwa.physics.course import load_course
 from hakoniwa.physics.robots import BUILT_IN
+from tests.athrill.test_ev3rt_corpus import declarations
 from tests.helpers.commands import hako
 from tests.helpers.native_fixtures import FakePhysics, build, finish, need_cc
 from tests.helpers.paths import DOCS, PROGRAMS
@@ -184,6 +185,26 @@ def test_the_copies_are_spike_rts_byte_for_byte(copy, original):
     assert files == (sorted(f.relative_to(copy) for f in copy.rglob("*") if f.is_file()) if copy.is_dir()
                      else [Path()])
     assert all((copy / f).read_bytes() == (theirs / f).read_bytes() for f in files)
+
+
+def test_our_headers_declare_every_function_of_spike_rts_on_the_hub():
+    """The hub's own spike/pup/*.h and spike/hub/*.h (drivers/include/spike), which are libraspike-art's and
+    more (the IMU's readiness, rest, tilt and heading): each with the hub's signature. Its hub/bluetooth.h, the
+    hub's advertising, has no counterpart on the bench."""
+    if not SPIKE_RT.is_dir():
+        pytest.skip(NEEDS_SPIKE_RT)
+    hub = SPIKE_RT / "drivers" / "include" / "spike"
+    ours = spike.INCLUDE_DIRS[0] / "spike"
+    headers = sorted([*hub.glob("pup/*.h"), *hub.glob("hub/*.h")])
+    assert [h.relative_to(hub) for h in headers if not (ours / h.relative_to(hub)).is_file()] == \
+        [Path("hub/bluetooth.h")]
+    theirs, mine = {}, {}
+    for header in headers:
+        if (ours / header.relative_to(hub)).is_file():
+            theirs.update(declarations(header.read_text()))
+            mine.update(declarations((ours / header.relative_to(hub)).read_text()))
+    assert "hub_imu_get_heading" in theirs
+    assert {n: s for n, s in theirs.items() if mine.get(n) != s} == {}
 
 
 def trial(run_dir: Path, app: Path, lane: str) -> dict:
