@@ -21,7 +21,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from hakoniwa.physics import color_response
-from hakoniwa.physics.color_response import hsv_of
+from hakoniwa.physics.color_response import RGB_WHITE, hsv_of
 from hakoniwa.physics.course import Course
 from hakoniwa.physics.noise import NoiseDraw
 from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
@@ -41,7 +41,7 @@ class Sensors:
     reflect: int  # 0..100
     ambient: int
     color: ColorId
-    rgb: tuple[int, int, int]
+    rgb: tuple[int, int, int]  # an EV3's RGB-RAW: the course's white 255, up to 1020 (`color_response.raw_rgb`)
     ultrasonic_mm: int
     gyro_angle_deg: int  # whole turns counted, clockwise positive seen from above, from the last reset
     gyro_rate_dps: int
@@ -84,6 +84,8 @@ class SensorModel:
         wheels = ((wiring.left, wiring.left_forward, truth.wheel_angles_deg[0]),
                   (wiring.right, wiring.right_forward, truth.wheel_angles_deg[1]))
         spike = self.robot.spike
+        if spike:  # the SPIKE sensor's 8-bit RGB here, not the EV3's RGB-RAW scale
+            rgb = (min(rgb[0], RGB_WHITE), min(rgb[1], RGB_WHITE), min(rgb[2], RGB_WHITE))
         return Sensors(
             reflect=self._spike_reflect(reflect if colour is None else colour[2]) if spike else round(reflect),
             ambient=0,
