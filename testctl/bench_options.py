@@ -117,8 +117,8 @@ _OPTIONS = [
             "ports (127.x.x.x only) [default: the bench writes one with ports of its own]."),
     _Option("athrill_timeout_s", "--athrill-timeout",
             "Wall seconds a silent Athrill is waited for before the test counts as a crash.", SECONDS),
-    _Option("robot", "--robot", "The robot's wiring: a built-in name (default, hackev) or a robot TOML file "
-            "[default: the default robot, wheels as the course says]."),
+    _Option("robot", "--robot", "The robot's wiring: a built-in name (default, hackev, hackspi, basic) or a robot "
+            "TOML file [default: the default robot, wheels as the course says]."),
     _Option("scenario", "--scenario", "A scenario TOML: touch and button presses, serial input, the robot "
             "placed by hand and a hand in front of the ultrasonic sensor at simulated times, the same in every "
             "test."),

@@ -109,7 +109,8 @@ def cache_key(app: AppSources, compilers: Compilers, generated: dict[str, str]) 
     add("flags", "\0".join((*STRICT_FLAGS, *_c_flags(app), *_cxx_flags(app), *LIBS, *app.libs, *app.defines)).encode())
     add("layout", repr(([rel(s) for s in app.sources], [rel(s) for s in app.library_sources], rel(app.cfg),
                         [rel(d) for d in app.include_dirs])).encode())
-    for f in (*sorted(RUNTIME.rglob("*.[ch]")), *GENERATORS):
+    for f in (*sorted(RUNTIME.rglob("*.[ch]")), *sorted(f for f in spike.SPIKE_RT.rglob("*") if f.is_file()),
+              *GENERATORS):
         add(os.path.relpath(f, RUNTIME.parent), f.read_bytes())
     for f in app.hashed:
         add(rel(f), f.read_bytes())
@@ -150,8 +151,15 @@ def _compiler_env() -> dict[str, str]:
 def _include_flags(app: AppSources, build_dir: Path) -> list[str]:
     """Ours first: a stray kernel_cfg.h from a real EV3RT build in the program's folder, or ET Robocon's own
     etroboc_ext.h on the program's include path, must not win."""
-    ours = (RUNTIME_INCLUDE, *(spike.INCLUDE_DIRS if app.spike else ()), ETROBOC_COMMON)
+    ours = (RUNTIME_INCLUDE, *(spike.INCLUDE_DIRS if app.spike else ()), *_hub_include_dirs(app), ETROBOC_COMMON)
     return [f"-I{d}" for d in (build_dir, *ours, app.root, *app.include_dirs)]
+
+
+def _hub_include_dirs(app: AppSources) -> tuple[Path, ...]:
+    """SPIKE-RT's libcpp for a hub program, and for a C++ one its folders as the hub SDK's app.mk adds them."""
+    if not app.hub:
+        return ()
+    return (*spike.HUB_INCLUDE_DIRS, *(spike.HUB_CXX_INCLUDE_DIRS if app.cxx else ()))
 
 
 def _build(app: AppSources, compilers: Compilers, generated: dict[str, str], build_dir: Path) -> None:
@@ -168,7 +176,7 @@ def _build(app: AppSources, compilers: Compilers, generated: dict[str, str], bui
     (build_dir / KERNEL_CFG_H).write_text(config.header())
     (build_dir / KERNEL_CFG_C).write_text(config.source())
     sources = [*app.sources, build_dir / KERNEL_CFG_C, *sorted(RUNTIME_SRC.glob("*.c")),
-               *(spike.sources() if app.spike else ())]
+               *(spike.sources() if app.spike else ()), *(spike.hub_cxx_sources() if app.hub and app.cxx else ())]
     objects = _compile_all(app, compilers, includes, [*sources, *app.library_sources], build_dir)
     failure = f"{app.sources[0].name} does not build"
     archive = []

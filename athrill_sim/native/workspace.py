@@ -30,7 +30,7 @@ APP_CFG = "app.cfg"
 MAKEFILE_INC = "Makefile.inc"
 C_SUFFIX, CXX_SUFFIX = ".c", ".cpp"
 SOURCE_SUFFIXES = (C_SUFFIX, CXX_SUFFIX)
-HASHED_SUFFIXES = (".c", ".h", ".cfg", ".inc", ".cpp", ".hpp", ".cc", ".hh", ".cxx", ".hxx")
+HASHED_SUFFIXES = (".c", ".h", ".cfg", ".inc", ".cpp", ".hpp", ".cc", ".hh", ".cxx", ".hxx", ".cdl")
 # What a lone .cpp file is built as: EV3RT's C++ language and its C++ library, as a workspace would say it.
 LONE_CXX_MAKEFILE_INC = """SRCLANG := c++
 ifdef CONFIG_EV3RT_APPLICATION
@@ -55,6 +55,7 @@ class AppSources:
     cxx_std: str | None = None  # ... and for C++
     spike: bool = False  # a SPIKE program: built with the SPIKE-RT headers and runtime too (native/spike.py)
     library_sources: tuple[Path, ...] = ()  # of the EV3RT libraries it includes, linked as archives are
+    hub: bool = False  # built in SPIKE-RT's own SDK for the hub (the Basic class): SPIKE-RT's libcpp too (spike.py)
 
     @property
     def cxx(self) -> bool:
@@ -94,7 +95,7 @@ def _lone_app(source: Path) -> AppSources:
     make = dataclasses.replace(make, makefiles=tuple(m for m in make.makefiles if m != inc.resolve()))
     app = _workspace_sources(root, make, [source], hashed)
     return AppSources(root, app.sources, None, app.include_dirs, app.defines, app.hashed, spike=app.spike,
-                      library_sources=app.library_sources)
+                      library_sources=app.library_sources, hub=app.hub)
 
 
 def _workspace_app(root: Path, make: MakeVars) -> AppSources:
@@ -137,11 +138,12 @@ def _workspace_sources(root: Path, make: MakeVars, main: list[Path], hashed: lis
     libs = tuple(_libs(make.words("APPL_LIBS"), inc))
     files = {*hashed, *make.makefiles, *sources, *library}
     files |= {f for d in (*dirs, *includes) for f in d.iterdir() if f.is_file() and f.suffix in HASHED_SUFFIXES}
-    is_spike = spike.is_spike_program(make, sorted(files))
-    defines = (*spike.DEFINES, *defines) if is_spike else defines
+    is_hub = spike.is_hub_program(root, sorted(files))
+    is_spike = is_hub or spike.is_spike_program(make, sorted(files))
+    defines = (*spike.DEFINES, *defines) if is_spike and not is_hub else defines
     return AppSources(root, tuple(dict.fromkeys(sources)), root / APP_CFG if (root / APP_CFG).is_file() else None,
                       tuple(dict.fromkeys(d for d in includes if d != root)), defines, tuple(sorted(files)), libs,
-                      c_std, cxx_std, is_spike, tuple(dict.fromkeys(library)))
+                      c_std, cxx_std, is_spike, tuple(dict.fromkeys(library)), is_hub)
 
 
 def _split_options(words: list[str]) -> list[str]:

@@ -32,6 +32,10 @@ from hakoniwa.wire.protocol import ColorId
 BLACK_BELOW = 1 / 3
 WHITE_ABOVE = 2 / 3
 GREY_SATURATION = 0.25  # a colour at most this saturated (HSV s, 0..1) is a grey to the EV3's rule
+RGB_WHITE = 255  # what each raw RGB channel reads on the course's white (the bench's calibration)
+# The EV3 colour sensor's RGB-RAW full scale: 0..1020 on every channel (LEGO's mode table, as ev3dev's sensor
+# page lists it); EV3RT hands the 16 bits on untouched (uart_dri.c, uart_dri_get_data_color).
+RGB_RAW_MAX = 1020
 # Raw RGB of each colour id (0..255): what a painted `[[area]]` of that colour reads.
 COLOR_RGB = {ColorId.BLACK: (0, 0, 0), ColorId.BLUE: (0, 0, 255), ColorId.GREEN: (0, 160, 0),
              ColorId.YELLOW: (255, 220, 0), ColorId.RED: (220, 0, 0), ColorId.WHITE: (255, 255, 255),
@@ -77,9 +81,11 @@ def fraction(channel: float, ev3: Calibration) -> float:
 
 
 def raw_rgb(red: float, colour: tuple[float, float, float] | None, ev3: Calibration) -> tuple[int, int, int]:
-    """The raw RGB (0..255) of the channels: `colour` is (green, blue, mean), None on a grey."""
+    """The raw RGB of the channels: `colour` is (green, blue, mean), None on a grey. The course's white reads
+    RGB_WHITE; a brighter spot (the room's light, in the noise) reads more, as on the sensor, up to the sensor's
+    full scale RGB_RAW_MAX, not the course's white."""
     channels = (red,) if colour is None else (red, colour[0], colour[1])
-    values = tuple(round(min(max(fraction(c, ev3), 0.0), 1.0) * 255) for c in channels)
+    values = tuple(round(min(max(fraction(c, ev3), 0.0) * RGB_WHITE, RGB_RAW_MAX)) for c in channels)
     return (values[0],) * 3 if colour is None else (values[0], values[1], values[2])
 
 

@@ -25,8 +25,10 @@ most one sensor of each kind.
 
 Built in: `default`, the TOPPERS samples' robot (wheels A/B; colour 1, ultrasonic 2, touch 3 as the bumper,
 touch 4), whose wheel ports a course's `[robot]` table may change; `hackev`, ET Robocon's HackEV (wheels C
-left, B right; touch 1, colour 2, ultrasonic 3, gyro 4); and `hackspi`, ET Robocon's HackSPi (SPIKE hub: left
-wheel B mounted mirror-wise, right A; force D, colour E, ultrasonic F).
+left, B right; touch 1, colour 2, ultrasonic 3, gyro 4); `hackspi`, ET Robocon's HackSPi (SPIKE hub: left
+wheel B mounted mirror-wise, right A; force D, colour E, ultrasonic F); and `basic`, the Basic class's robot,
+which runs SPIKE-RT on the hub itself: HackSPi's wiring and body, with its colour sensor mounted lower, so that it
+reads white 80 and black 10 (`reflection`), as SPIKE-RT's own samples assume.
 """
 
 from __future__ import annotations
@@ -35,6 +37,7 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
+from hakoniwa.physics.color_response import Calibration
 from hakoniwa.physics.robot import DEFAULT_WIRING, EV3_BODY, HACKSPI_BODY, Body, Wiring
 from hakoniwa.wire.errors import HakoError
 
@@ -59,6 +62,8 @@ class Robot:
     bumper: bool  # the first touch sensor (a SPIKE robot's force sensor) reads the robot's contact with a wall
     hub: str = EV3
     body: Body = EV3_BODY
+    reflection: Calibration | None = None  # a SPIKE colour sensor's reading on white and black where its mounting
+    # decides it; None: the course's [sensor.spike]
 
     @property
     def spike(self) -> bool:
@@ -95,10 +100,14 @@ DEFAULT_ROBOT = Robot("default", None, (("1", "color"), ("2", "ultrasonic"), ("3
 # RasPike-ART programs; the samples do not use one (docs/DESIGN-NOTES.md).
 HACKSPI = Robot("hackspi", Wiring(left=1, right=0, left_forward=-1),
                 (("D", "force"), ("E", "color"), ("F", "ultrasonic")), False, SPIKE, HACKSPI_BODY)
+# The Basic class's robot as SPIKE-RT's own samples wire it (sdk/workspace/sample_c5 app.c and LineTracer.c:
+# HackSPi's ports and directions) and calibrate it (LineTracer.h: WHITE_BRIGHTNESS 80, BLACK_BRIGHTNESS 10).
+BASIC = Robot("basic", HACKSPI.wiring, HACKSPI.sensors, False, SPIKE, HACKSPI_BODY, Calibration(white=80, black=10))
 BUILT_IN = {"default": DEFAULT_ROBOT,
             "hackev": Robot("hackev", Wiring(left=2, right=1),
                             (("1", "touch"), ("2", "color"), ("3", "ultrasonic"), ("4", "gyro")), False),
-            "hackspi": HACKSPI}
+            "hackspi": HACKSPI,
+            "basic": BASIC}
 
 
 def sensor_port(value: object, hub: str) -> str:

@@ -10,9 +10,9 @@ in one fixed order: sensor readings at each snapshot, motor factors at each comm
 
 A robot's sensors have the response of their kind (`color_response.py`): an EV3 colour sensor reads the
 floor's red channel as its reflect, a SPIKE one the mean of its channels mapped onto what it reads on the
-course's white and black (`[sensor.spike]`). A SPIKE robot also gets its hub IMU, the colour sensor's HSV, its
-force sensor in touch slot 0 and the SPIKE ultrasonic sensor's range; an EV3 robot's readings are what they
-always were.
+course's white and black (`[sensor.spike]`, or the robot's own, `Robot.reflection`). A SPIKE robot also gets
+its hub IMU, the colour sensor's HSV, its force sensor in touch slot 0 and the SPIKE ultrasonic sensor's range;
+an EV3 robot's readings are what they always were.
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from hakoniwa.physics import color_response
-from hakoniwa.physics.color_response import hsv_of
+from hakoniwa.physics.color_response import RGB_WHITE, hsv_of
 from hakoniwa.physics.course import Course
 from hakoniwa.physics.noise import NoiseDraw
 from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
@@ -41,7 +41,7 @@ class Sensors:
     reflect: int  # 0..100
     ambient: int
     color: ColorId
-    rgb: tuple[int, int, int]
+    rgb: tuple[int, int, int]  # an EV3's RGB-RAW: the course's white 255, up to 1020 (`color_response.raw_rgb`)
     ultrasonic_mm: int
     gyro_angle_deg: int  # whole turns counted, clockwise positive seen from above, from the last reset
     gyro_rate_dps: int
@@ -84,6 +84,8 @@ class SensorModel:
         wheels = ((wiring.left, wiring.left_forward, truth.wheel_angles_deg[0]),
                   (wiring.right, wiring.right_forward, truth.wheel_angles_deg[1]))
         spike = self.robot.spike
+        if spike:  # the SPIKE sensor's 8-bit RGB here, not the EV3's RGB-RAW scale
+            rgb = (min(rgb[0], RGB_WHITE), min(rgb[1], RGB_WHITE), min(rgb[2], RGB_WHITE))
         return Sensors(
             reflect=self._spike_reflect(reflect if colour is None else colour[2]) if spike else round(reflect),
             ambient=0,
@@ -103,8 +105,9 @@ class SensorModel:
         )
 
     def _spike_reflect(self, channel: float) -> int:
-        """What a SPIKE colour sensor reads where the floor's mean channel (on the EV3's scale) is `channel`."""
-        return color_response.spike_reflect(channel, self.course.ev3, self.course.spike)
+        """What a SPIKE colour sensor reads where the floor's mean channel (on the EV3's scale) is `channel`: on
+        the robot's own white and black where its mounting sets them, else on the course's."""
+        return color_response.spike_reflect(channel, self.course.ev3, self.robot.reflection or self.course.spike)
 
     @staticmethod
     def _imu(world: World, yaw_rate_dps: float) -> Inertial:

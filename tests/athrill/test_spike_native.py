@@ -32,7 +32,8 @@ from tests.helpers.realemu_fixtures import need_v850_tools
 
 OURS = INCLUDE_DIRS[0]
 # Declared with SPIKE-RT's (or pbio's) signatures, but not provided: a call is a link error naming it.
-NOT_PROVIDED = {"hub_imu_get_temperature", "pup_force_sensor_distance", "pbio_error_str", "pbdrv_button_is_pressed",
+NOT_PROVIDED = {"hub_imu_get_temperature", "hub_imu_is_stationary", "hub_imu_set_tilt", "hub_imu_get_heading",
+                "hub_imu_reset_heading", "pup_force_sensor_distance", "pbio_error_str", "pbdrv_button_is_pressed",
                 *(f"pbio_color_{f}" for f in ("rgb_to_hsv", "hsv_to_rgb", "to_hsv", "to_rgb", "hsv_compress",
                                               "hsv_expand")),
                 *(f"pbio_light_matrix_{f}" for f in ("get_size", "set_orientation", "clear", "set_rows",

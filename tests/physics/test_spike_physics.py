@@ -19,6 +19,8 @@ from hakoniwa.physics.world import World
 from hakoniwa.wire.protocol import UNITY_FILE
 from testctl.bench_options import BenchOptions, load_bench
 from tests.helpers.commands import hako, one_line_error
+from tests.helpers.environments import environment
+from tests.physics.test_color_response import colour_course, stripes
 
 G_MM_S2 = 9806.65
 
@@ -183,3 +185,16 @@ def test_hako_trial_refuses_a_port_letter_a_hub_lacks_in_one_line(tmp_path):
     robot = tmp_path / "robot.toml"
     robot.write_text('hub = "spike"\n[[sensor]]\nport = "G"\nkind = "color"\n')
     one_line_error(hako("trial", "--robot", str(robot), timeout=60), "robot.toml sensor 1", "port 'G' does not exist")
+
+
+@pytest.mark.parametrize("floor, basic, hackspi", [((255, 255, 255), 80, 40), ((0, 0, 0), 10, 10)])
+def test_the_basic_robot_reads_white_80_and_black_10_whatever_the_courses_spike_figures(tmp_path, floor, basic,
+                                                                                        hackspi):
+    """The Basic class's robot carries its own calibration (SPIKE-RT sdk/workspace/sample_c5,
+    LineTracer/LineTracer.h: WHITE_BRIGHTNESS 80, BLACK_BRIGHTNESS 10); HackSPi reads the course's [sensor.spike]
+    (here RasPike-ART's 40 and 10) on the same floor."""
+    course = colour_course(tmp_path, stripes(floor), "\n[sensor.spike]\nreflect_white = 40\nreflect_black = 10\n")
+    robots = BUILT_IN["basic"], BUILT_IN["hackspi"]
+    assert [environment(course, course.time_limit_us, r).read_sensors().reflect for r in robots] == [basic, hackspi]
+    assert (BUILT_IN["basic"].wiring, BUILT_IN["basic"].sensors) == (BUILT_IN["hackspi"].wiring,
+                                                                     BUILT_IN["hackspi"].sensors)

@@ -13,6 +13,9 @@
 #define LOG_INFO 6U
 #define LOG_DEBUG 7U
 
+#define LOG_MASK(prio) (1U << (prio))
+#define LOG_UPTO(prio) ((1U << ((prio) + 1)) - 1)
+
 #ifndef TOPPERS_MACRO_ONLY
 #ifdef __cplusplus
 extern "C" {

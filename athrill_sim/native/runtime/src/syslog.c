@@ -1,14 +1,19 @@
 /*
  * syslog: one line on stderr (the run's athrill.log), stamped with the simulated time in the mock's format
  * ("[    12.300 s] message"). A line is written with a single write(), so the lines of the running and the
- * pre-launched process never interleave. The priority is not filtered.
+ * pre-launched process never interleave. Every priority is written until the program sets a log mask
+ * (syslog_msk_log): then a line is written if its priority is in either mask, the buffer's or the low-level
+ * output's, as ASP3's tSysLog would either log it or print it.
  */
 #include <stdarg.h>
 #include <stdio.h>
 #include <unistd.h>
 
 #include "runtime.h"
+#include "syssvc/syslog.h"
 #include "t_syslog.h"
+
+static uint_t log_mask = LOG_UPTO(LOG_DEBUG);
 
 void hako_vline(const char *prefix, const char *format, va_list args)
 {
@@ -36,9 +41,16 @@ void hako_log(const char *format, ...)
     va_end(args);
 }
 
+ER syslog_msk_log(uint_t logmask, uint_t lowmask)
+{
+    log_mask = logmask | lowmask;
+    return E_OK;
+}
+
 void syslog(uint_t prio, const char *format, ...)
 {
-    (void)prio;
+    if ((log_mask & LOG_MASK(prio)) == 0U)
+        return;
     va_list args;
     va_start(args, format);
     vlog(format, args);

@@ -49,6 +49,8 @@ pbio_error_t hub_button_is_pressed(hub_button_t *pressed)
 
 pbio_error_t hub_imu_init(void) { return PBIO_SUCCESS; } /* SPIKE-RT initializes it at start-up */
 
+bool hub_imu_is_ready(void) { return true; } /* the bench's IMU has no bias to learn at rest */
+
 static void read_floats(uint32_t rx_offset, float out[3])
 {
     for (int axis = 0; axis < 3; axis++) {
