@@ -472,6 +472,41 @@ def test_a_blocked_motor_is_stalled_after_200_ms(tmp_path, drive, first_stalled_
         assert got[-1]["power"] == 100  # at the limit: the reference waits for the motor
 
 
+STATUS_APP = r"""
+#include "spikeapi.h"
+#include "spike/pup/colorsensor.h"
+#include "spike/pup/motor.h"
+void main_task(intptr_t unused)
+{
+    pup_device_t *color = pup_color_sensor_get_device(PBIO_PORT_ID_E);
+    pup_motor_t *m = pup_motor_get_device(PBIO_PORT_ID_A);
+    pup_motor_setup(m, PUP_DIRECTION_CLOCKWISE, false);
+    for (int i = 0; i < 35; i++) {
+        syslog(LOG_NOTICE, "= %d", (int)(pup_color_sensor_reflection(color) * 1000 + pup_motor_get_count(m)));
+        dly_tsk(1000);
+    }
+    slp_tsk();
+}
+"""
+
+
+def test_readings_are_the_hubs_status_of_the_last_10_ms(tmp_path):
+    """The hub sends its status every 10 ms (the hub's raspike.cfg 11: APP_NOTIFY_CYC, 10*1000, activating the
+    task that calls notify_status, raspike.c 923), and libraspike-art's getters return the last one received
+    (raspike_internal.h: GET_AND_RET_SENSOR_COMMON, DELAYED_SENSOR_COMMON). A program polling every 1 ms, while
+    the reflection and the count change at every physics step, reads each status ten times."""
+    exe = build(tmp_path / "app", STATUS_APP)
+    bench = FakePhysics(tmp_path / "run")
+    proc = bench.start(exe)
+    while (wake := bench.next_wake(proc)) <= 40_000:
+        ms = wake // 1000
+        bench.unity.write_i32(Rx.COLOR0_REFLECT, ms)
+        bench.unity.write_i32(Rx.MOTOR_ANGLE, ms)
+        bench.answer(wake)
+    got = results(finish(proc))
+    assert got == [(ms // 10 * 10) * 1001 for ms in range(35)], got
+
+
 SAMPLE = "sample_c5_spike"
 SAMPLE_COPIES = {"raspike-art-samples": ART_SAMPLES / SAMPLE, "the SDK's workspace": SDK_SAMPLES / SAMPLE}
 
