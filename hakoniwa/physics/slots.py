@@ -113,7 +113,7 @@ class Slots:
                                       Rx.SPIKE_IMU_ANGVEL_X, Rx.SPIKE_IMU_ANGVEL_Y, Rx.SPIKE_IMU_ANGVEL_Z),
                                      (*s.imu.acceleration_mm_s2, *s.imu.angular_velocity_dps)):
                 u.write_f32(offset, value)
-        if s.spike is not None:  # what the hub answers: the SDK's HSV slots, then our extension's
+        if s.spike is not None:  # what the hub answers: the SDK's HSV slots, then ours after them, in one run
             u.write_i32s(Rx.SPIKE_HSV_H, [*s.spike.hsv, *s.spike.ambient_hsv, *s.spike.color, *s.spike.powers])
         u.snapshot_end_us = snapshot_end_us
         u.unity_time_us = unity_time_us

@@ -86,7 +86,7 @@ class Rx:
     COLOR1_RGB = 140
     MOTOR_ANGLE = 256  # + 4 p: encoder of motor port p (A = 0 .. D = 3) [deg], i32
     # ET Robocon's SPIKE SDK (raspike-athrill-v850e2m: ev3_vdev_common.h, read by spikeapi's raspike_hub.c and
-    # raspike_color.c), written only for a robot with a SPIKE hub (the IMU) and a SPIKE colour sensor (HSV).
+    # raspike_color.c), written only for a robot with a SPIKE hub.
     SPIKE_IMU = 272  # the hub IMU: six f32 words, acceleration then angular velocity
     SPIKE_IMU_ACCEL_X = SPIKE_IMU  # f32 bits [mm/s^2]: hub_imu_get_acceleration() x, y, z at 272, 276, 280
     SPIKE_IMU_ACCEL_Y = 276

@@ -1,8 +1,8 @@
 /*
  * What the SPIKE-RT runtime's parts share: ET Robocon's device table (raspike_device.c), guest memory access
- * by the layout header's offsets, and the motors' service at each snapshot. Every slot is the one ET Robocon's
- * SDK for Athrill reads or writes (its ev3_vdev.h addresses), so a program does here what it does in the real
- * emulator running the SDK's image.
+ * by the layout header's offsets, the hub's status (status.c) and the motors' service at each snapshot. The
+ * slots are those ET Robocon's SDK for Athrill reads or writes (its ev3_vdev.h addresses), and ours for what
+ * the hub answers beyond them (RX SPIKE_SHSV, SPIKE_COLOR, SPIKE_MOTOR_POWER; TX SPIKE_DIRECTION).
  */
 #ifndef HAKO_SPIKE_H
 #define HAKO_SPIKE_H
