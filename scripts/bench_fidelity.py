@@ -34,6 +34,7 @@ import click
 from athrill_sim.launcher import AthrillLauncher
 from athrill_sim.program import Program, ProgramError
 from athrill_sim.programs import resolve_program
+from hakoniwa.physics import spike_hub
 from hakoniwa.physics.course import load_course
 from hakoniwa.physics.server import PhysicsServer
 from hakoniwa.wire.result import TestResult
@@ -79,7 +80,7 @@ class Subject:
 @dataclass
 class Run:
     result: TestResult
-    commands: list[tuple[int, ...]] = field(default_factory=list)  # motor powers by port, each change in order
+    commands: list[tuple[int, ...]] = field(default_factory=list)  # duty by port (direction applied), each change
 
     def lap(self) -> str:
         return f"{self.result.lap_time_s:.3f}" if self.result.lap_time_s is not None else "-"
@@ -101,10 +102,13 @@ class RecordingBench:
         self.commands: list[tuple[int, ...]] = []
         drive = self.server.env.drive
 
-        def record(powers) -> None:
-            if not self.commands or self.commands[-1] != tuple(powers):
-                self.commands.append(tuple(powers))
-            drive(powers)
+        def record(powers, directions) -> None:
+            # as the motors get them: a native SPIKE program writes its power and the direction it set up, ET
+            # Robocon's SDK in the image the power already negated for a counter-clockwise motor
+            duty = tuple(spike_hub.direction_sign(d) * p for p, d in zip(powers, directions))
+            if not self.commands or self.commands[-1] != duty:
+                self.commands.append(duty)
+            drive(powers, directions)
 
         self.server.env.drive = record
         self._thread = threading.Thread(target=self.server.serve, daemon=True)

@@ -28,12 +28,26 @@ MAT_M = (5.46, 3.64)  # the mat (gihyo.jp's description of ET Robocon's field: 5
 MPP = 0.004  # metres per pixel: 1365 x 910 pixels
 LINE_M = 0.02  # the black line's width (an assumption: the regulation gives none)
 EDGE_M = 0.01  # the grey ramp across each edge, as a texture-filtered camera sees it
-WHITE = (255, 255, 255)
-BLACK = (0, 0, 0)
-BLUE = (0, 70, 170)  # the line's blue sections: dark enough that a tracer keeps following them
-RED = (220, 30, 30)  # start and gate lines
-YELLOW = (250, 215, 40)  # the sumo ring's outline
-GREY = (150, 150, 150)  # the garage's border
+# What a SPIKE colour sensor reads on each of the mat's colours (10-bit r, g, b, the course's [sensor.spike]):
+# white, black, blue and red as one team published them for the real mat (docs/DESIGN-NOTES.md, "The ET
+# Robocon-style course"); the yellow and grey are ours (no measurement published): the colours the image always had.
+SPIKE_READS = {"white": (1000, 1000, 1000), "black": (50, 50, 50), "blue": (70, 200, 400), "red": (800, 300, 350),
+               "yellow": (981, 851, 199), "grey": (609, 609, 609)}
+
+
+def pixel(name: str) -> tuple[int, int, int]:
+    """The image colour that reads SPIKE_READS[name]: each channel where the reading sits between black and
+    white (the course's channels are each their place between the two, `color_response.py`)."""
+    white, black = SPIKE_READS["white"], SPIKE_READS["black"]
+    r, g, b = (round(255 * (c - lo) / (hi - lo)) for c, hi, lo in zip(SPIKE_READS[name], white, black))
+    return r, g, b
+
+
+WHITE, BLACK = pixel("white"), pixel("black")
+BLUE = pixel("blue")  # the line's blue sections: dark enough that a tracer keeps following them
+RED = pixel("red")  # start and gate lines
+YELLOW = pixel("yellow")  # the sumo ring's outline
+GREY = pixel("grey")  # the garage's border
 GATE_GAP_M = 0.06  # how far from the line's centre a gate line stops (it never crosses the black line)
 GATE_HALF_M = 0.22  # how far a gate line reaches from the line's centre
 GATE_WIDTH_M = 0.015
@@ -176,9 +190,8 @@ def course_toml(lane: Lane, name: str, image: str, mirror: bool) -> str:
         "reflect_white = 23",
         "reflect_black = 0",
         "",
-        "[sensor.spike]                # the official SPIKE sample's calibration (RasPike-ART sample_c5_spike)",
-        "reflect_white = 40",
-        "reflect_black = 10",
+        "[sensor.spike]                # a SPIKE sensor's 10-bit r, g, b (docs/DESIGN-NOTES.md)",
+        *(f"{name} = [{r}, {g}, {b}]" for name, (r, g, b) in SPIKE_READS.items()),
         "",
         "# The start area (regulation 5.2.2): the black line and the white beside it, out to the start line's",
         f"# ends ({GATE_HALF_M:g} m either side of the line's centre), before the start line, which crosses the lane",

@@ -2,17 +2,18 @@
 
 The floor (or an object under the sensor) is measured as channels in the EV3 sensor's reflect units (the
 course's `[sensor.ev3]` white and black): the red channel, which an EV3 sensor's reflect mode reads (it lights
-the floor with its red LED), and, where the floor has colour, green, blue and their mean, which a SPIKE
-sensor's reflection reads (it lights the floor white; SPIKE-RT's `pup_color_sensor_reflection` is the mean of
-its raw r, g and b). On a grey floor the four are one number, so a grey course keeps a single channel and
-reads exactly what it always read. The seeded noise shifts every channel by the same amount: it models the
-room's light and the sensor's height, which brighten or darken all colours alike.
+the floor with its red LED), and, where the floor has colour, green, blue and their mean. On a grey floor the
+channels are one number, so a grey course keeps a single channel and reads exactly what it always read. The
+seeded noise shifts every channel by the same amount: it models the room's light and the sensor's height,
+which brighten or darken all colours alike.
 
 - EV3: reflect is the red channel; raw RGB each channel's place between the course's black and white, 0..255;
   the colour id the classification below.
-- SPIKE: reflection is the mean channel mapped from the EV3's scale onto the SPIKE sensor's (the course's
-  `[sensor.spike]` white and black); RGB as the EV3's, HSV of that RGB. Its colour is SPIKE-RT's
-  classification of that HSV (`spike_color`), which the program's own runtime makes, as on the robot.
+- SPIKE: the sensor lights the floor white and reads 10-bit RGB. The course says what a SPIKE sensor reads on
+  its white and black, channel by channel (`[sensor.spike]`, `SpikeFloor`), and each channel reads its place
+  between the two; the robot says how its own sensor responds (`Robot.reflection`: its reflection on the
+  course's white and black, which depends on how high it sits), a gain and an offset on every channel. What the
+  hub makes of that RGB (reflection, HSV, the colour) is `spike_hub.py`'s.
 
 The EV3's colour id: EV3RT hands on the id the sensor computes (ev3api_sensor.c reads the COL-COLOR mode over
 UART), and LEGO's rule is not published. A grey keeps the bench's rule (the darkest third BLACK, the lightest
@@ -24,8 +25,11 @@ docs/DESIGN-NOTES.md ("Colour floors") says why.
 from __future__ import annotations
 
 import colorsys
+import functools
 from dataclasses import dataclass
 
+from hakoniwa.physics import spike_hub
+from hakoniwa.physics.spike_hub import REFLECTION_SCALE, RGB_FULL, Hsv, Rgb, hsv_cost
 from hakoniwa.wire.protocol import ColorId
 
 # The grey rule: the darkest third of the way from black to white is BLACK, the lightest third WHITE.
@@ -44,40 +48,68 @@ COLOR_RGB = {ColorId.BLACK: (0, 0, 0), ColorId.BLUE: (0, 0, 255), ColorId.GREEN:
 EV3_HUES: tuple[tuple[ColorId, tuple[int, int, int]], ...] = (
     (ColorId.RED, (0, 100, 100)), (ColorId.YELLOW, (60, 100, 100)), (ColorId.GREEN, (120, 100, 100)),
     (ColorId.BLUE, (240, 100, 100)), (ColorId.BROWN, (30, 100, 50)))
-# SPIKE-RT's detectable colours by default (drivers/spike/pup/colorsensor.c, cb_color_map_default), in its
-# order (the first of two equal costs wins), with the colour id each stands for.
-SPIKE_COLORS: tuple[tuple[ColorId, tuple[int, int, int]], ...] = (
-    (ColorId.RED, (0, 100, 100)), (ColorId.YELLOW, (60, 100, 100)), (ColorId.GREEN, (120, 100, 100)),
-    (ColorId.BLUE, (240, 100, 100)), (ColorId.WHITE, (0, 0, 100)), (ColorId.NONE, (0, 0, 0)))
 
 
 @dataclass(frozen=True)
 class Calibration:
-    """What one kind of sensor reads on the course's white and black (`[sensor.ev3]`, `[sensor.spike]`)."""
+    """What a sensor reads on the course's white and black: an EV3's reflect (`[sensor.ev3]`), or a SPIKE
+    robot's reflection (`Robot.reflection`)."""
 
     white: float
     black: float
 
 
-# The SPIKE colour sensor on ET Robocon's course: the official sample's calibration (RasPike-ART sample_c5_spike,
-# LineTracer/LineTracer.h: WHITE_BRIGHTNESS 40, BLACK_BRIGHTNESS 10), for a course that gives none.
+# The SPIKE colour sensor on HackSPi: the official sample's calibration (RasPike-ART sample_c5_spike,
+# LineTracer/LineTracer.h: WHITE_BRIGHTNESS 40, BLACK_BRIGHTNESS 10).
 SPIKE_DEFAULT = Calibration(white=40, black=10)
+
+Channels = tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class SpikeFloor:
+    """What a SPIKE colour sensor reads on the course's white and black, channel by channel (10-bit, at the
+    height of the sensor that measured them), and on each other colour the course uses, by name."""
+
+    white: Channels
+    black: Channels
+    colours: tuple[tuple[str, Channels], ...] = ()
+
+
+# A course that gives no `[sensor.spike]`: one team's published measurement (docs/DESIGN-NOTES.md, "The ET
+# Robocon-style course"): white about 1000 on every channel, black about 50.
+SPIKE_FLOOR = SpikeFloor(white=(1000.0, 1000.0, 1000.0), black=(50.0, 50.0, 50.0))
 
 
 @dataclass(frozen=True)
 class ColorReading:
-    """A colour sensor's reading of one spot: reflect in its own kind's scale, the EV3's colour id and raw RGB,
-    and (a SPIKE sensor's) HSV."""
+    """An EV3 colour sensor's reading of one spot: reflect, colour id and raw RGB."""
 
     reflect: int
     color: ColorId
     rgb: tuple[int, int, int]
-    hsv: tuple[int, int, int] | None = None
+
+
+@dataclass(frozen=True)
+class SpikeReading:
+    """What SPIKE-RT on the hub answers for a SPIKE colour sensor over one spot (`spike_hub.py`)."""
+
+    rgb: Rgb  # pup_color_sensor_rgb, 0..1024
+    reflection: int
+    hsv: Hsv  # pup_color_sensor_hsv(surface = true)
+    color: Hsv  # pup_color_sensor_color: the detectable colour, as SPIKE-RT returns it
 
 
 def fraction(channel: float, ev3: Calibration) -> float:
     """A channel's place between the course's black (0) and white (1), unclamped."""
     return (channel - ev3.black) / (ev3.white - ev3.black)
+
+
+def fractions(red: float, colour: tuple[float, float, float] | None, ev3: Calibration) -> Channels:
+    """Each of red, green and blue's place between the course's black and white: `colour` is (green, blue,
+    mean), None on a grey."""
+    g, b = (red, red) if colour is None else colour[:2]
+    return fraction(red, ev3), fraction(g, ev3), fraction(b, ev3)
 
 
 def raw_rgb(red: float, colour: tuple[float, float, float] | None, ev3: Calibration) -> tuple[int, int, int]:
@@ -107,39 +139,27 @@ def _grey(f: float) -> ColorId:
     return ColorId.BLACK if f < BLACK_BELOW else ColorId.WHITE if f > WHITE_ABOVE else ColorId.NONE
 
 
-def spike_reflect(channel: float, ev3: Calibration, spike: Calibration) -> int:
-    """What a SPIKE colour sensor reads where the EV3-scale channel is `channel`: the course's black and white
-    mapped onto the SPIKE sensor's."""
-    f = fraction(channel, ev3)
-    return min(max(round(spike.black + (spike.white - spike.black) * f), 0), 100)
+@functools.cache
+def _response(floor: SpikeFloor, robot: Calibration) -> tuple[float, float]:
+    """The gain and offset that turn the course's channels into what the robot's sensor reads: its
+    reflection on the course's white and black falls in the middle of the robot's figures' steps (so white
+    reads `robot.white` and black `robot.black`, after the hub's truncating division, with room either side)."""
+    white, black = ((figure + 0.5) * REFLECTION_SCALE / 100 for figure in (robot.white, robot.black))
+    gain = (white - black) / (sum(floor.white) - sum(floor.black))
+    return gain, (black - gain * sum(floor.black)) / 3
 
 
-def hsv_of(rgb: tuple[int, int, int]) -> tuple[int, int, int]:
-    """HSV as SPIKE-RT's `pbio_color_hsv_t` holds it (h 0..359 degrees, s and v 0..100 percent), of the raw
-    RGB (0..255) the same snapshot reports, so that `pup_color_sensor_hsv` and `pup_color_sensor_rgb` agree."""
-    h, s, v = colorsys.rgb_to_hsv(*(c / 255 for c in rgb))
-    return round(h * 360) % 360, round(s * 100), round(v * 100)
+def spike_rgb(place: Channels, floor: SpikeFloor, robot: Calibration) -> Rgb:
+    """The 10-bit RGB a SPIKE sensor reads where each channel is at `place` between the course's black and
+    white (`fractions`)."""
+    gain, offset = _response(floor, robot)
+    rgb = tuple(min(max(round(gain * (b + (w - b) * f) + offset), 0), RGB_FULL)
+                for f, w, b in zip(place, floor.white, floor.black))
+    return rgb[0], rgb[1], rgb[2]
 
 
-def hsv_cost(x: tuple[int, int, int], c: tuple[int, int, int]) -> int:
-    """SPIKE-RT's `cb_get_hsv_cost` (Pybricks' `pbio_get_hsv_cost`): the hue error (ignored against a grey),
-    the saturation error with a penalty for a pale colour, and the value error, squared and weighted 1, 5, 2."""
-    hue = 0
-    if c[1] > 5 and x[1] > 5:
-        hue = abs(c[0] - x[0])
-        if hue > 180:
-            hue = 360 - hue
-    saturation = abs(x[1] - c[1]) + (100 - c[1]) // 2
-    value = abs(x[2] - c[2])
-    return hue * hue + 5 * saturation * saturation + 2 * value * value
-
-
-def spike_color(hsv: tuple[int, int, int]) -> ColorId:
-    """What SPIKE-RT's `pup_color_sensor_color` answers for this HSV with its default detectable colours, as a
-    colour id (its colourless {0, 0, 0}, which black reads as, is NONE)."""
-    best, best_cost = SPIKE_COLORS[0][0], None
-    for color, c in SPIKE_COLORS:
-        cost = hsv_cost(hsv, c)
-        if best_cost is None or cost < best_cost:
-            best, best_cost = color, cost
-    return best
+def spike_reading(place: Channels, floor: SpikeFloor, robot: Calibration) -> SpikeReading:
+    """What the hub answers for the sensor over that spot: its RGB, and SPIKE-RT's meanings of it."""
+    rgb = spike_rgb(place, floor, robot)
+    hsv = spike_hub.hsv(rgb)
+    return SpikeReading(rgb, spike_hub.reflection(rgb), hsv, spike_hub.color(hsv))

@@ -23,10 +23,19 @@ from pathlib import Path
 import numpy as np
 
 from hakoniwa.physics import color_response
-from hakoniwa.physics.color_response import COLOR_RGB, SPIKE_DEFAULT, Calibration, ColorReading
+from hakoniwa.physics.color_response import (
+    COLOR_RGB,
+    SPIKE_FLOOR,
+    Calibration,
+    Channels,
+    ColorReading,
+    SpikeFloor,
+    SpikeReading,
+)
 from hakoniwa.physics.course_items import CourseObject, ItemError, ScoreSpec, Zone, parse_items, parse_score
 from hakoniwa.physics.noise import DEFAULT_NOISE, NoiseLevels
 from hakoniwa.physics.robot import DEFAULT_WIRING, Wiring
+from hakoniwa.physics.spike_hub import RGB_FULL
 from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.etrobocon_rules import CLASSES
 from hakoniwa.wire.protocol import COURSE_BLOCK_POSITIONS, MOTOR_PORTS, ColorId
@@ -122,7 +131,7 @@ class Course:
     # A colour image's green, blue and mean channels (float32, the EV3's reflect units) per pixel; None for a
     # grey image, whose channels are all `floor`.
     colour: np.ndarray | None = None
-    spike: Calibration = SPIKE_DEFAULT  # the SPIKE sensor's reading on white and black
+    spike: SpikeFloor = SPIKE_FLOOR  # what a SPIKE sensor reads on white, black and the course's colours
     zones: tuple[Zone, ...] = ()
     objects: tuple[CourseObject, ...] = ()
     score: ScoreSpec = ScoreSpec()
@@ -189,16 +198,22 @@ class Course:
                 return area.color, COLOR_RGB[area.color]
         return color_response.ev3_color(reflect, colour, self.ev3), color_response.raw_rgb(reflect, colour, self.ev3)
 
-    def reading_at(self, x: float, y: float, spike: bool = False) -> ColorReading:
-        """What a colour sensor over (x, y) reads, without noise: an EV3's, or (`spike`) a SPIKE's with its
-        HSV. For a scenario or a test that needs to know what the floor at a point looks like to the robot."""
+    def reading_at(self, x: float, y: float) -> ColorReading:
+        """What an EV3 colour sensor over (x, y) reads, without noise. For a scenario or a test that needs to
+        know what the floor at a point looks like to the robot."""
         reflect, colour = self.reflect_at(x, y), self.colour_at(x, y)
         color, rgb = self.color_at(x, y, reflect, colour)
-        if not spike:
-            return ColorReading(round(reflect), color, rgb)
-        mean = reflect if colour is None else colour[2]
-        return ColorReading(color_response.spike_reflect(mean, self.ev3, self.spike), color, rgb,
-                            color_response.hsv_of(rgb))
+        return ColorReading(round(reflect), color, rgb)
+
+    def spike_reading(self, x: float, y: float, reflect: float, colour: tuple[float, float, float] | None,
+                      robot: Calibration) -> SpikeReading:
+        """What a SPIKE colour sensor over (x, y) reads, the floor's channels there being `reflect` (red) and
+        `colour` (None: a grey), on a robot whose sensor reads `robot` on the course's white and black."""
+        area = next((a for a in self.color_areas if a.box.contains(x, y)), None)
+        place: Channels = (color_response.fractions(reflect, colour, self.ev3) if area is None
+                           else (COLOR_RGB[area.color][0] / 255, COLOR_RGB[area.color][1] / 255,
+                                 COLOR_RGB[area.color][2] / 255))
+        return color_response.spike_reading(place, self.spike, robot)
 
     def picture(self) -> np.ndarray:
         """The floor as a person sees it (RGB, 0..255, row 0 at the image's top): each channel's place between
@@ -424,9 +439,10 @@ def load_course(name_or_path: str | Path) -> Course:
     return course
 
 
-def _calibrations(spec: dict, where: str) -> tuple[Calibration, Calibration]:
-    """The EV3's and the SPIKE's readings on white and black: `[sensor.ev3]` (or the top-level reflect_white and
-    reflect_black, the form the oval's file has always had) and `[sensor.spike]` (default: ET Robocon's 40 / 10)."""
+def _calibrations(spec: dict, where: str) -> tuple[Calibration, SpikeFloor]:
+    """The EV3's reflect on white and black (`[sensor.ev3]`, or the top-level reflect_white and reflect_black,
+    the form the oval's file has always had), and what a SPIKE sensor reads on the course's white, black and
+    colours (`[sensor.spike]`; default: `SPIKE_FLOOR`)."""
     sensor = spec.get("sensor", {})
     if not isinstance(sensor, dict):
         raise CourseError(f"{where}: [sensor] must be a table ([sensor.ev3], [sensor.spike])")
@@ -437,25 +453,42 @@ def _calibrations(spec: dict, where: str) -> tuple[Calibration, Calibration]:
     if top and "ev3" in sensor:
         raise CourseError(f"{where}: the EV3's reflect is given twice: [sensor.ev3] and the top-level "
                           f"{sorted(top)[0]}; keep one")
-    cals = {}
-    for kind, table, default in (("ev3", sensor.get("ev3", spec), None), ("spike", sensor.get("spike"), SPIKE_DEFAULT)):
-        if table is None and default is not None:
-            cals[kind] = default
-            continue
-        at = f"{where} [sensor.{kind}]" if table is not spec else where
-        if not isinstance(table, dict):
-            raise CourseError(f"{at}: must be a table")
-        if table is not spec:
-            extra = sorted(set(table) - {"reflect_white", "reflect_black"})
-            if extra:
-                raise CourseError(f"{at}: unknown key {extra[0]!r} (known: reflect_black, reflect_white)")
-        white, black = _number(table, "reflect_white", at), _number(table, "reflect_black", at)
-        if white <= black:
-            raise CourseError(f"{at}: reflect_white must be above reflect_black")
-        if not (0 <= black and white <= 100):
-            raise CourseError(f"{at}: a reflect reading is 0..100, got black {black:g} and white {white:g}")
-        cals[kind] = Calibration(white, black)
-    return cals["ev3"], cals["spike"]
+    table = sensor.get("ev3", spec)
+    at = f"{where} [sensor.ev3]" if table is not spec else where
+    if not isinstance(table, dict):
+        raise CourseError(f"{at}: must be a table")
+    if table is not spec:
+        extra = sorted(set(table) - {"reflect_white", "reflect_black"})
+        if extra:
+            raise CourseError(f"{at}: unknown key {extra[0]!r} (known: reflect_black, reflect_white)")
+    white, black = _number(table, "reflect_white", at), _number(table, "reflect_black", at)
+    if white <= black:
+        raise CourseError(f"{at}: reflect_white must be above reflect_black")
+    if not (0 <= black and white <= 100):
+        raise CourseError(f"{at}: a reflect reading is 0..100, got black {black:g} and white {white:g}")
+    return Calibration(white, black), _spike_floor(sensor.get("spike"), f"{where} [sensor.spike]")
+
+
+def _spike_floor(table: object, at: str) -> SpikeFloor:
+    """`[sensor.spike]`: white, black and any colour, each the three channels a SPIKE sensor reads there."""
+    if table is None:
+        return SPIKE_FLOOR
+    if not isinstance(table, dict):
+        raise CourseError(f"{at}: must be a table")
+    channels = {}
+    for name, value in table.items():
+        if not (isinstance(value, list) and len(value) == 3 and all(
+                isinstance(c, (int, float)) and not isinstance(c, bool) and 0 <= c <= RGB_FULL for c in value)):
+            raise CourseError(f"{at}: {name} must be three numbers 0..{RGB_FULL} (r, g, b as the sensor reads "
+                              f"them), got {value!r}")
+        channels[name] = (float(value[0]), float(value[1]), float(value[2]))
+    for name in ("white", "black"):
+        if name not in channels:
+            raise CourseError(f"{at}: missing '{name}'")
+    white, black = channels.pop("white"), channels.pop("black")
+    if not all(w > b for w, b in zip(white, black)):
+        raise CourseError(f"{at}: white must read above black on every channel")
+    return SpikeFloor(white, black, tuple(channels.items()))
 
 
 def _floor_channels(image_path: Path) -> tuple[np.ndarray, np.ndarray | None]:

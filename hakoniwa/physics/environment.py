@@ -22,7 +22,7 @@ from hakoniwa.physics.sensors import SensorModel, Sensors
 from hakoniwa.physics.task import Task
 from hakoniwa.physics.world import World
 from hakoniwa.wire.etrobocon_rules import Score
-from hakoniwa.wire.protocol import NEVER_WAKES, Event
+from hakoniwa.wire.protocol import MOTOR_PORTS, NEVER_WAKES, Event
 from hakoniwa.wire.timebase import EVENT_CHECK_PERIOD_US, PHYSICS_STEP_US, TRACE_PERIOD_US, Scheduler
 
 Pose = tuple[int, float, float, float]  # time [us], x, y [m], yaw [rad]
@@ -124,8 +124,8 @@ class Environment:
     def read_sensors(self) -> Sensors:
         return self.sensors.read(self.world, self.now_us)
 
-    def drive(self, powers: Sequence[int]) -> None:
-        self.sensors.drive(self.world, powers)
+    def drive(self, powers: Sequence[int], directions: Sequence[int] = (0,) * MOTOR_PORTS) -> None:
+        self.sensors.drive(self.world, powers, directions)
 
     def reset_motor_angle(self, port: int) -> None:
         self.sensors.reset_motor_angle(self.world, port)

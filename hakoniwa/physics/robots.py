@@ -13,6 +13,8 @@ A robot file is TOML:
                                       # "negative" for a motor mounted mirror-wise
     bumper = false                 # the first touch (or the force) sensor reads wall contact
     body = "ev3"                   # or "hackspi" [default: ev3 on an EV3, hackspi on a SPIKE hub]
+    reflection = { white = 40, black = 10 }  # a SPIKE hub's: what its colour sensor's reflection reads on a
+                                   # course's white and black, from how high it sits [default: HackSPi's]
     [[sensor]]
     port = 2                       # an EV3's sensor ports are 1..4; a SPIKE hub's are "A".."F"
     kind = "color"                 # EV3: color, ultrasonic, gyro, touch; SPIKE: color, ultrasonic, force
@@ -28,7 +30,11 @@ touch 4), whose wheel ports a course's `[robot]` table may change; `hackev`, ET 
 left, B right; touch 1, colour 2, ultrasonic 3, gyro 4); `hackspi`, ET Robocon's HackSPi (SPIKE hub: left
 wheel B mounted mirror-wise, right A; force D, colour E, ultrasonic F); and `basic`, the Basic class's robot,
 which runs SPIKE-RT on the hub itself: HackSPi's wiring and body, with its colour sensor mounted lower, so that it
-reads white 80 and black 10 (`reflection`), as SPIKE-RT's own samples assume.
+reads white 80 and black 10, as SPIKE-RT's own samples assume.
+
+A SPIKE robot's colour sensor has its own response (`reflection`): the course says what a sensor reads on
+its white, black and colours channel by channel, and the robot how its sensor, at its height, reads them
+(`color_response.py`). HackSPi's reads white 40 and black 10, as ET Robocon's official sample is tuned for.
 """
 
 from __future__ import annotations
@@ -37,7 +43,7 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
-from hakoniwa.physics.color_response import Calibration
+from hakoniwa.physics.color_response import SPIKE_DEFAULT, Calibration
 from hakoniwa.physics.robot import DEFAULT_WIRING, EV3_BODY, HACKSPI_BODY, Body, Wiring
 from hakoniwa.wire.errors import HakoError
 
@@ -62,8 +68,7 @@ class Robot:
     bumper: bool  # the first touch sensor (a SPIKE robot's force sensor) reads the robot's contact with a wall
     hub: str = EV3
     body: Body = EV3_BODY
-    reflection: Calibration | None = None  # a SPIKE colour sensor's reading on white and black where its mounting
-    # decides it; None: the course's [sensor.spike]
+    reflection: Calibration = SPIKE_DEFAULT  # a SPIKE colour sensor's reflection on white and black
 
     @property
     def spike(self) -> bool:
@@ -99,7 +104,8 @@ DEFAULT_ROBOT = Robot("default", None, (("1", "color"), ("2", "ultrasonic"), ("3
 # ultrasonic sensor is on F in ET Robocon's libraspike-art test program (sample/raspike_test) and in teams'
 # RasPike-ART programs; the samples do not use one (docs/DESIGN-NOTES.md).
 HACKSPI = Robot("hackspi", Wiring(left=1, right=0, left_forward=-1),
-                (("D", "force"), ("E", "color"), ("F", "ultrasonic")), False, SPIKE, HACKSPI_BODY)
+                (("D", "force"), ("E", "color"), ("F", "ultrasonic")), False, SPIKE, HACKSPI_BODY,
+                reflection=SPIKE_DEFAULT)
 # The Basic class's robot as SPIKE-RT's own samples wire it (sdk/workspace/sample_c5 app.c and LineTracer.c:
 # HackSPi's ports and directions) and calibrate it (LineTracer.h: WHITE_BRIGHTNESS 80, BLACK_BRIGHTNESS 10).
 BASIC = Robot("basic", HACKSPI.wiring, HACKSPI.sensors, False, SPIKE, HACKSPI_BODY, Calibration(white=80, black=10))
@@ -138,7 +144,7 @@ def parse_robot(text: str, where: str) -> Robot:
     except tomllib.TOMLDecodeError as e:
         raise RobotError(f"{where}: not valid TOML: {e}") from None
     unknown = sorted(set(spec) - {"name", "hub", "body", "left_motor", "right_motor", "left_motor_forward",
-                                  "right_motor_forward", "bumper", "sensor"})
+                                  "right_motor_forward", "bumper", "sensor", "reflection"})
     if unknown:
         raise RobotError(f"{where}: unknown key {unknown[0]!r}")
     hub = _choice(spec, "hub", HUB_PORTS, EV3, where)
@@ -184,7 +190,22 @@ def parse_robot(text: str, where: str) -> Robot:
     if not isinstance(bumper, bool):
         raise RobotError(f"{where}: bumper must be true or false")
     wiring = Wiring(ports["left_motor"], ports["right_motor"], forward["left_motor"], forward["right_motor"])
-    return Robot(str(spec.get("name", where)), wiring, tuple(sorted(sensors.items())), bumper, hub, body)
+    return Robot(str(spec.get("name", where)), wiring, tuple(sorted(sensors.items())), bumper, hub, body,
+                 _reflection(spec.get("reflection"), hub, where))
+
+
+def _reflection(table: object, hub: str, where: str) -> Calibration:
+    """`reflection = { white = .., black = .. }`: a SPIKE colour sensor's reflection on white and black."""
+    if table is None:
+        return SPIKE_DEFAULT
+    if hub != SPIKE:
+        raise RobotError(f"{where}: reflection is a SPIKE colour sensor's (hub = \"spike\")")
+    if not isinstance(table, dict) or set(table) != {"white", "black"} or not all(
+            isinstance(v, int) and not isinstance(v, bool) and 0 <= v <= 100 for v in table.values()):
+        raise RobotError(f"{where}: reflection must be {{ white = N, black = N }}, whole numbers 0..100")
+    if table["white"] <= table["black"]:
+        raise RobotError(f"{where}: reflection's white must be above its black")
+    return Calibration(table["white"], table["black"])
 
 
 def hub_name(hub: str) -> str:

@@ -9,10 +9,12 @@ sensor), counts the gyro's whole turns and its drift, and keeps the zeros that `
 in one fixed order: sensor readings at each snapshot, motor factors at each command.
 
 A robot's sensors have the response of their kind (`color_response.py`): an EV3 colour sensor reads the
-floor's red channel as its reflect, a SPIKE one the mean of its channels mapped onto what it reads on the
-course's white and black (`[sensor.spike]`, or the robot's own, `Robot.reflection`). A SPIKE robot also gets
-its hub IMU, the colour sensor's HSV, its force sensor in touch slot 0 and the SPIKE ultrasonic sensor's range;
-an EV3 robot's readings are what they always were.
+floor's red channel as its reflect, a SPIKE one 10-bit RGB (the course's `[sensor.spike]` channels through the
+robot's own response). A SPIKE robot's readings are what SPIKE-RT on the hub answers (`spike_hub.py`): counts
+in the direction the program set each motor up with (the hub applies it to the power too), the reflection,
+HSV and colour of that RGB, each motor's power as the hub reports it; it also gets its hub IMU, its force
+sensor in touch slot 0 and the SPIKE ultrasonic sensor's range. An EV3 robot's readings are what they always
+were.
 """
 
 from __future__ import annotations
@@ -20,8 +22,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from hakoniwa.physics import color_response
-from hakoniwa.physics.color_response import RGB_WHITE, hsv_of
+from hakoniwa.physics import spike_hub
 from hakoniwa.physics.course import Course
 from hakoniwa.physics.noise import NoiseDraw
 from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
@@ -29,19 +30,32 @@ from hakoniwa.physics.scenario import Scenario
 from hakoniwa.physics.world import Inertial, World
 from hakoniwa.wire.protocol import FORCE_PRESSED_N, MOTOR_PORTS, TOUCH_PRESSED, ColorId
 
+# What the bench's SPIKE colour sensor's SHSV mode (its light off) reads: the bench has no room light.
+DARK_SHSV = (0, 0, 0)
 # The SPIKE ultrasonic sensor's reading with nothing in range (Pybricks' UltrasonicSensor.distance: 2000 mm);
 # ET Robocon's SDK hands the slot's mm on unchanged (raspike_ultrasonicsensor.c).
 SPIKE_ULTRASONIC_MAX_MM = 2000
 
 
 @dataclass(frozen=True)
+class HubReadings:
+    """What SPIKE-RT on the hub answers beyond the SDK's slots (`spike_hub.py`)."""
+
+    hsv: tuple[int, int, int]  # pup_color_sensor_hsv(surface = true)
+    ambient_hsv: tuple[int, int, int]  # pup_color_sensor_hsv(surface = false)
+    color: tuple[int, int, int]  # pup_color_sensor_color(), the detectable colour
+    powers: tuple[int, ...]  # pup_motor_get_power() of motor ports A..D
+
+
+@dataclass(frozen=True)
 class Sensors:
     """What the robot's sensors read at one instant, in the units EV3RT's drivers expect."""
 
-    reflect: int  # 0..100
+    reflect: int  # 0..100 (a SPIKE robot's: the hub's reflection of `rgb`)
     ambient: int
     color: ColorId
-    rgb: tuple[int, int, int]  # an EV3's RGB-RAW: the course's white 255, up to 1020 (`color_response.raw_rgb`)
+    rgb: tuple[int, int, int]  # an EV3's RGB-RAW: the course's white 255, up to 1020 (`color_response.raw_rgb`);
+    # a SPIKE robot's: the hub's 10-bit RGB
     ultrasonic_mm: int
     gyro_angle_deg: int  # whole turns counted, clockwise positive seen from above, from the last reset
     gyro_rate_dps: int
@@ -49,8 +63,8 @@ class Sensors:
     # TOUCH_PRESSED for an EV3 touch sensor, FORCE_PRESSED_N for a SPIKE force sensor
     buttons: int  # the EV3 buttons the scenario holds down, as RX BUTTONS' bitmask
     buttons_until_us: int  # when the scenario next presses or releases a button (`Scenario.buttons_until`)
-    motor_angles_deg: dict[int, int]  # the wheel ports' encoders, from their last reset
-    hsv: tuple[int, int, int] | None = None  # a SPIKE colour sensor's h 0..359, s and v 0..100
+    motor_angles_deg: dict[int, int]  # the wheel ports' counts from their last reset, in each one's direction
+    spike: HubReadings | None = None  # a SPIKE hub's
     imu: Inertial | None = None  # a SPIKE hub's IMU
 
 
@@ -65,6 +79,8 @@ class SensorModel:
         """A new test with this noise (None: the noise-free bench): every zero and turn count back to 0."""
         self.noise = noise
         self._angle_zero = [0.0] * MOTOR_PORTS
+        self._powers: tuple[int, ...] = (0,) * MOTOR_PORTS
+        self._directions: tuple[int, ...] = (spike_hub.PBIO_CLOCKWISE,) * MOTOR_PORTS
         self._gyro_zero = 0.0
         self._yaw = (0.0, 0.0)  # (last wrapped reading, unwrapped angle): a gyro counts whole turns
 
@@ -83,12 +99,15 @@ class SensorModel:
         wiring = self.course.wiring
         wheels = ((wiring.left, wiring.left_forward, truth.wheel_angles_deg[0]),
                   (wiring.right, wiring.right_forward, truth.wheel_angles_deg[1]))
-        spike = self.robot.spike
-        if spike:  # the SPIKE sensor's 8-bit RGB here, not the EV3's RGB-RAW scale
-            rgb = (min(rgb[0], RGB_WHITE), min(rgb[1], RGB_WHITE), min(rgb[2], RGB_WHITE))
+        spike, hub, reflect_now = self.robot.spike, None, round(reflect)
+        if spike:
+            seen = self.course.spike_reading(*truth.sensor_xy, reflect, colour, self.robot.reflection)
+            rgb, reflect_now = seen.rgb, seen.reflection
+            hub = HubReadings(seen.hsv, spike_hub.ambient_hsv(DARK_SHSV), seen.color,
+                              tuple(spike_hub.power_report(p, d) for p, d in zip(self._powers, self._directions)))
         return Sensors(
-            reflect=self._spike_reflect(reflect if colour is None else colour[2]) if spike else round(reflect),
-            ambient=0,
+            reflect=reflect_now,
+            ambient=spike_hub.ambient(DARK_SHSV) if spike else 0,
             color=color,
             rgb=rgb,
             ultrasonic_mm=min(ultrasonic_mm, SPIKE_ULTRASONIC_MAX_MM) if spike else ultrasonic_mm,
@@ -97,17 +116,12 @@ class SensorModel:
             touch=self._touch(truth.touch, now_us),
             buttons=self.scenario.buttons(now_us),
             buttons_until_us=self.scenario.buttons_until(now_us),
-            motor_angles_deg={port: round(forward * (angle - self._angle_zero[port]))
-                              for port, forward, angle in wheels},
-            hsv=hsv_of(rgb) if spike and self.robot.has("color") else None,
+            motor_angles_deg={port: spike_hub.direction_sign(self._directions[port])
+                              * round(forward * (angle - self._angle_zero[port])) for port, forward, angle in wheels},
+            spike=hub,
             # The z rate is the gyro's (counter-clockwise positive, as the IMU's right-handed z), noise and all.
             imu=self._imu(world, -rate_dps) if spike else None,
         )
-
-    def _spike_reflect(self, channel: float) -> int:
-        """What a SPIKE colour sensor reads where the floor's mean channel (on the EV3's scale) is `channel`: on
-        the robot's own white and black where its mounting sets them, else on the course's."""
-        return color_response.spike_reflect(channel, self.course.ev3, self.robot.reflection or self.course.spike)
 
     @staticmethod
     def _imu(world: World, yaw_rate_dps: float) -> Inertial:
@@ -125,12 +139,15 @@ class SensorModel:
         first = FORCE_PRESSED_N if self.robot.spike else TOUCH_PRESSED  # the SDK reads slot 0 as the force
         return first if slots[0] else 0, TOUCH_PRESSED if slots[1] else 0
 
-    def drive(self, world: World, powers: Sequence[int]) -> None:
-        """Apply the motor powers of all ports: the wheel ports drive the wheels, each the way its motor is
-        mounted, with this command's noise."""
+    def drive(self, world: World, powers: Sequence[int], directions: Sequence[int]) -> None:
+        """Apply the motor powers of all ports, each in the direction its program set it up with (as pbio
+        applies it to the duty): the wheel ports drive the wheels, each the way its motor is mounted, with this
+        command's noise."""
+        self._powers, self._directions = tuple(powers), tuple(directions)
         wiring = self.course.wiring
+        duty = [spike_hub.direction_sign(d) * p for p, d in zip(powers, directions)]
         gains = None if self.noise is None else self.noise.motor_factors()
-        world.set_motor_power(wiring.left_forward * powers[wiring.left], wiring.right_forward * powers[wiring.right],
+        world.set_motor_power(wiring.left_forward * duty[wiring.left], wiring.right_forward * duty[wiring.right],
                               gains)
 
     def reset_motor_angle(self, world: World, port: int) -> None:

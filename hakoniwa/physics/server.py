@@ -114,7 +114,7 @@ class PhysicsServer:
 
     def apply_actuators(self) -> None:
         commands = self.slots.take_commands()
-        self.env.drive(commands.powers)
+        self.env.drive(commands.powers, commands.directions)
         for port in commands.reset_angle_ports:
             self.env.reset_motor_angle(port)
         if commands.reset_gyro:

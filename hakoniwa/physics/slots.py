@@ -33,9 +33,10 @@ from hakoniwa.wire.protocol import (
 from hakoniwa.wire.result import TestResult
 from hakoniwa.wire.waiting import futex_wake
 
-ACTUATORS_END = Tx.GYRO_RESET + 4  # TX body bytes a test starts with cleared
-COMMAND_WORDS = (Tx.MOTOR_POWER, (ACTUATORS_END - Tx.MOTOR_POWER) // 4)  # TX words of powers, brakes, resets
-_RESET_WORD, _GYRO_WORD = ((offset - Tx.MOTOR_POWER) // 4 for offset in (Tx.MOTOR_RESET_ANGLE, Tx.GYRO_RESET))
+ACTUATORS_END = Tx.SPIKE_DIRECTION + 4 * MOTOR_PORTS  # TX body bytes a test starts with cleared
+COMMAND_WORDS = (Tx.MOTOR_POWER, (ACTUATORS_END - Tx.MOTOR_POWER) // 4)  # TX words of powers .. directions
+_RESET_WORD, _GYRO_WORD, _DIRECTION_WORD = ((offset - Tx.MOTOR_POWER) // 4 for offset in
+                                            (Tx.MOTOR_RESET_ANGLE, Tx.GYRO_RESET, Tx.SPIKE_DIRECTION))
 OUR_EXT = (Rx.TEST_SEQ, Rx.CRASH_DETAIL + 4)  # RX bytes of our extension the physics side writes
 # EV3RT reads the battery from RX (uart_dri_get_data_battery); Unity leaves those slots 0, which no program
 # expects of a running brick, so the physics side writes a charged EV3 pack idling there.
@@ -48,6 +49,7 @@ class Commands:
     """What Athrill asked of the robot since the last look: motor powers by port, and the resets."""
 
     powers: tuple[int, ...]
+    directions: tuple[int, ...]  # each port's pup_motor_setup direction (0, clockwise, unless a SPIKE runtime set it)
     reset_angle_ports: list[int]
     reset_gyro: bool
     completed: bool  # ETRoboc_notifyCompletedToSimulator(): the program says its run is over
@@ -111,8 +113,8 @@ class Slots:
                                       Rx.SPIKE_IMU_ANGVEL_X, Rx.SPIKE_IMU_ANGVEL_Y, Rx.SPIKE_IMU_ANGVEL_Z),
                                      (*s.imu.acceleration_mm_s2, *s.imu.angular_velocity_dps)):
                 u.write_f32(offset, value)
-        if s.hsv is not None:
-            u.write_i32s(Rx.SPIKE_HSV_H, list(s.hsv))
+        if s.spike is not None:  # what the hub answers: the SDK's HSV slots, then ours after them, in one run
+            u.write_i32s(Rx.SPIKE_HSV_H, [*s.spike.hsv, *s.spike.ambient_hsv, *s.spike.color, *s.spike.powers])
         u.snapshot_end_us = snapshot_end_us
         u.unity_time_us = unity_time_us
         futex_wake(self._unity_time_address)
@@ -127,7 +129,8 @@ class Slots:
         gyro = bool(words[_GYRO_WORD])
         if gyro:
             a.write_i32(Tx.GYRO_RESET, 0)
-        return Commands(words[:MOTOR_PORTS], resets, gyro, a.read_i32(Tx.COMPLETED) == 1)
+        return Commands(words[:MOTOR_PORTS], words[_DIRECTION_WORD:_DIRECTION_WORD + MOTOR_PORTS], resets, gyro,
+                        a.read_i32(Tx.COMPLETED) == 1)
 
     def report(self, r: TestResult) -> None:
         """The test's result, for the controller (its sync mode and objective were written at the start)."""

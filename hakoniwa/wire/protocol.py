@@ -86,7 +86,7 @@ class Rx:
     COLOR1_RGB = 140
     MOTOR_ANGLE = 256  # + 4 p: encoder of motor port p (A = 0 .. D = 3) [deg], i32
     # ET Robocon's SPIKE SDK (raspike-athrill-v850e2m: ev3_vdev_common.h, read by spikeapi's raspike_hub.c and
-    # raspike_color.c), written only for a robot with a SPIKE hub (the IMU) and a SPIKE colour sensor (HSV).
+    # raspike_color.c), written only for a robot with a SPIKE hub.
     SPIKE_IMU = 272  # the hub IMU: six f32 words, acceleration then angular velocity
     SPIKE_IMU_ACCEL_X = SPIKE_IMU  # f32 bits [mm/s^2]: hub_imu_get_acceleration() x, y, z at 272, 276, 280
     SPIKE_IMU_ACCEL_Y = 276
@@ -98,6 +98,11 @@ class Rx:
     SPIKE_HSV_H = SPIKE_HSV  # i32, 0..359 [deg]: pup_color_sensor_hsv() h, s, v at 296, 300, 304
     SPIKE_HSV_S = 300  # i32, 0..100 [%]
     SPIKE_HSV_V = 304  # i32, 0..100 [%]
+    # Our extension for the native SPIKE runtime (the SDK never reads it): what SPIKE-RT on the hub answers
+    # that the SDK's slots do not carry (hakoniwa/physics/spike_hub.py), as the hub's status carries it.
+    SPIKE_SHSV = 308  # i32 h, s, v at 308, 312, 316: pup_color_sensor_hsv(surface = false)
+    SPIKE_COLOR = 320  # i32 h, s, v at 320, 324, 328: pup_color_sensor_color(), the detectable colour
+    SPIKE_MOTOR_POWER = 332  # + 4 p: pup_motor_get_power() of motor port p (A = 0 .. D = 3) on the hub, i32
     # Our extension (unused by the real layout): lockstep and test reports.
     OUT_X_MM = 400  # i32 [mm]: where the axle centre was when the robot left the course (COURSE_OUT; 0 otherwise)
     OUT_Y_MM = 404  # i32 [mm]
@@ -144,6 +149,9 @@ class Tx:
     MOTOR_RESET_ANGLE = 36  # + 4 p (A..D: motor_dri.c's motor_clr_angle writes 36 + 4 p, D at 48): 1 = reset the
     # encoder; the physics side clears it again
     GYRO_RESET = 52  # 1 = reset the gyro angle; the physics side clears it again
+    # Our extension (the SDK never writes it): the native SPIKE runtime's pup_motor_setup direction.
+    SPIKE_DIRECTION = 56  # + 4 p: pbio_direction_t of motor port p (0 clockwise, 1 counter-clockwise), which
+    # the physics side, as the hub, applies to the power and the count
     # Our extension (unused by the real layout): lockstep.
     NEXT_WAKE = 448  # i64: the simulation time [us] the robot program sleeps until (NEVER_WAKES: it ended)
     ANSWER_SEQ = 456  # u32: bumped last whenever Athrill publishes its outputs

@@ -90,9 +90,9 @@ time_limit_s = 120               # ET Robocon's maximum measuring time (regulati
 reflect_white = 23               # (these are ET Robocon's simulator's, for HackEV)
 reflect_black = 0
 
-[sensor.spike]                   # a SPIKE colour sensor's (these are the official SPIKE sample's)
-reflect_white = 40
-reflect_black = 10
+[sensor.spike]                   # a SPIKE colour sensor's 10-bit r, g, b on white, black and each colour
+white = [1000, 1000, 1000]       # (these are one team's published measurement of ET Robocon's mat)
+black = [50, 50, 50]
 
 [start]                          # EDIT: the robot's axle centre [m] and heading [deg, counter-clockwise from +x]
 x = 0.0

@@ -94,7 +94,7 @@ def test_a_film_of_the_sumo_run_shows_the_lanes_colours_the_bottle_moving_and_th
     assert r.returncode == 0, r.stderr
     frames = read_frames(film)
     first, last = frames[0].astype(int), frames[-1].astype(int)
-    blue = (first[:, :, 2] - first[:, :, 0] > 60) & (first[:, :, 2] > 100)
+    blue = (first[:, :, 2] - first[:, :, 0] > 50) & (first[:, :, 2] > 70)  # the image's blue is (5, 40, 94)
     yellow = (first[:, :, 0] > 150) & (first[:, :, 1] > 130) & (first[:, :, 2] < 90)
     assert blue.sum() > 20 and yellow.sum() > 20  # the lanes' blue sections and the sumo rings
     moved = np.abs(last - first).sum(axis=2) > 120

@@ -15,6 +15,7 @@ import pytest
 from athrill_sim.native import NativeBuildError
 from athrill_sim.native.build import RUNTIME_INCLUDE, build_app
 from athrill_sim.native.spike import INCLUDE_DIRS
+from hakoniwa.physics import spike_hub
 from hakoniwa.wire.protocol import TOUCH_PRESSED, Rx, Tx
 from tests.athrill.test_ev3rt_corpus import declarations
 from tests.helpers.commands import hako
@@ -163,7 +164,10 @@ def test_libcpp_spikes_classes_compile_against_our_headers_with_c_linkage(tmp_pa
 
 # (C expression, expected result, where the value comes from). Run in this order, each result logged. Unless
 # said otherwise the reference is the SDK's sdk/common/spikeapi/src (raspike_*.c); "SPIKE-RT" marks the calls
-# the SDK leaves incomplete, whose values come from SPIKE-RT's drivers/spike sources instead.
+# the SDK leaves incomplete, whose values come from SPIKE-RT's drivers/spike sources instead; "ART" marks
+# RasPike-ART's libraspike-art (../shared/third_party/raspike-art/RasPike-ART/libraspike-art/src/raspike_*.c),
+# whose getters return the hub's last status. The values of the hub's status are the physics process's
+# (hakoniwa/physics/spike_hub.py, tested in tests/physics/test_spike_hub.py); here they are the slots'.
 SPIKE_CALLS = [
     ("(color = pup_color_sensor_get_device(PBIO_PORT_ID_E)) != NULL", 1, "create_device_by_portid"),
     ("pup_color_sensor_reflection(color)", 0x1234_0049, "the whole word of EV3_SENSOR_ADDR_REFLECT(0)"),
@@ -172,13 +176,14 @@ SPIKE_CALLS = [
     ("pup_color_sensor_rgb(color).g", 300, "RGB_G"),
     ("pup_color_sensor_rgb(color).b", 0x0304, "RGB_B"),
     ("pup_color_sensor_hsv(color, true).h", 200, "SPIKE_SENSOR_HSV_ADDR_H"),
-    ("pup_color_sensor_hsv(color, false).s", 80, "surface ignored"),
+    ("pup_color_sensor_hsv(color, false).s", 5, "ART raspike_color.c 30: surface false asks for the SHSV reading"),
     ("pup_color_sensor_hsv(color, true).v", 60, "HSV_V"),
-    ("HSV3(pup_color_sensor_color(color, true))", 240_100_100, "SPIKE-RT: blue costs 6800, green 11600"),
-    ("pup_color_sensor_detectable_colors(0, NULL) != NULL", 1, "SPIKE-RT: a bad size returns the set"),
+    ("HSV3(pup_color_sensor_color(color, true))", 120_100_100, "ART raspike_color.c 16-19: the hub's colour"),
+    ("HSV3(pup_color_sensor_color(color, false))", 120_100_100, "ART raspike_color.c 18: surface ignored"),
+    ("pup_color_sensor_detectable_colors(0, NULL) != NULL", 0, "ART raspike_color.c 82: returns 0"),
     ("({ pup_color_hsv_t two[] = {{0, 0, 100}, {0, 0, 0}}; pup_color_sensor_detectable_colors(2, two) == NULL; })",
-     1, "SPIKE-RT: the set replaced"),
-    ("HSV3(pup_color_sensor_color(NULL, true))", 100, "SPIKE-RT: white costs 87700, none 91700"),
+     1, "ART raspike_color.c 76-82: not passed on"),
+    ("HSV3(pup_color_sensor_color(NULL, true))", 120_100_100, "the hub's default set stays"),
     ("pup_color_sensor_reflection(NULL)", 0x1234_0049, "the device is never looked at"),
     ("pup_color_sensor_get_device(PBIO_PORT_ID_E) == NULL", 1, "already taken"),
     ("(force = pup_force_sensor_get_device(PBIO_PORT_ID_D)) != NULL", 1, ""),
@@ -203,15 +208,16 @@ SPIKE_CALLS = [
     ("(mb = pup_motor_get_device(PBIO_PORT_ID_B)) != NULL", 1, ""),
     ("pup_motor_get_device(PBIO_PORT_ID_B) == NULL", 1, "already taken"),
     ("pup_motor_setup(mb, PUP_DIRECTION_COUNTERCLOCKWISE, true)", 0, "and reset_count"),
-    ("pup_motor_get_count(mb)", -530, "EV3_SENSOR_MOTOR_ADDR_INX(1), not negated"),
+    ("TXW(HAKO_TX_SPIKE_DIRECTION + 4)", 1, "ART raspike_motor.c 23: the direction goes to the hub"),
+    ("pup_motor_get_count(mb)", 0, "ART raspike_motor.c 42-46: a reset clears the status's count"),
     ("pup_motor_set_power(mb, 40)", 0, ""),
-    ("TXW(HAKO_TX_MOTOR_POWER + 4)", -40, "negated: counter-clockwise"),
-    ("pup_motor_get_power(mb)", 40, "pdev->power"),
+    ("TXW(HAKO_TX_MOTOR_POWER + 4)", 40, "ART raspike_motor.c 107: the power as set; the hub applies the direction"),
+    ("pup_motor_get_power(mb)", 40, "ART raspike_motor.c 80-82: pdev->power in power mode"),
     ("(ma = pup_motor_get_device(PBIO_PORT_ID_A)) != NULL", 1, ""),
     ("pup_motor_setup(ma, PUP_DIRECTION_CLOCKWISE, false)", 0, ""),
     ("pup_motor_set_power(ma, 0)", 0, "power 0 raises the stop flag"),
     ("pup_motor_get_device(PBIO_PORT_ID_A) == ma", 1, "port A's port_id 0 reads as free"),
-    ("pup_motor_get_count(ma)", 100, ""),
+    ("pup_motor_get_count(ma)", 100, "ART raspike_motor.c 54: the status's count"),
     ("(mc = pup_motor_get_device(PBIO_PORT_ID_C)) != NULL", 1, ""),
     ("pup_motor_setup(mc, PUP_DIRECTION_CLOCKWISE, false)", 0, ""),
     ("pup_motor_set_power(mc, 150)", 0, "not clamped"),
@@ -221,9 +227,12 @@ SPIKE_CALLS = [
     ("(pup_motor_restore_duty_limit(mc, 100), pup_motor_set_power(mc, -120), TXW(HAKO_TX_MOTOR_POWER + 8))", -120,
      ""),
     ("pup_motor_stop(mb)", 0, "power 0, STOP flag"),
-    ("pup_motor_get_power(mb)", 0, ""),
-    ("pup_motor_is_stalled(mb)", 0, "SPIKE-RT: not driven"),
-    ("pup_motor_get_speed(mb)", 0, "SPIKE-RT: not moving"),
+    ("pup_motor_get_power(mb)", 40, "ART raspike_motor.c 119-123: stop changes neither pdev->cmd nor power"),
+    ("(pup_motor_set_speed(mb, 100), pup_motor_get_power(mb))", -37, "ART raspike_motor.c 85: the status's power"),
+    ("pup_motor_stop(mb)", 0, ""),
+    ("pup_motor_get_power(mb)", -37, "ART: still not power mode"),
+    ("pup_motor_is_stalled(mb)", 0, "ART raspike_motor.c 141: the status's (SPIKE-RT: not driven)"),
+    ("pup_motor_get_speed(mb)", 0, "ART raspike_motor.c 60: the status's (SPIKE-RT: not moving)"),
     ("(hub_light_on_color(PBIO_COLOR_YELLOW), TXB(HAKO_TX_LED))", 4, "EV3_GPIO_LED_YELLOW, the byte written whole"),
     ("(hub_light_on_color(PBIO_COLOR_ORANGE), TXB(HAKO_TX_LED))", 0, "no LED for orange"),
     ("({ pbio_color_hsv_t c = {250, 80, 50}; hub_light_on_hsv(&c); TXB(HAKO_TX_LED); })", 8, "nearest hue: blue"),
@@ -245,7 +254,10 @@ SPIKE_SNAPSHOT = {Rx.BUTTONS: 0b11001, Rx.COLOR0_AMBIENT: 7, Rx.COLOR0_REFLECT: 
                   Rx.COLOR0_RGB: 0x0001_0203, Rx.COLOR0_RGB + 4: 300, Rx.COLOR0_RGB + 8: 0x0002_0304,
                   Rx.ULTRASONIC_MM: 427, Rx.TOUCH0: 4095, Rx.BATTERY_CURRENT: 140, Rx.BATTERY_VOLTAGE: 7900,
                   Rx.MOTOR_ANGLE: 100, Rx.MOTOR_ANGLE + 4: -530, Rx.MOTOR_ANGLE + 8: 7,
-                  Rx.SPIKE_HSV_H: 200, Rx.SPIKE_HSV_S: 80, Rx.SPIKE_HSV_V: 60}
+                  Rx.SPIKE_HSV_H: 200, Rx.SPIKE_HSV_S: 80, Rx.SPIKE_HSV_V: 60,
+                  Rx.SPIKE_SHSV: 30, Rx.SPIKE_SHSV + 4: 5, Rx.SPIKE_SHSV + 8: 1,
+                  Rx.SPIKE_COLOR: 120, Rx.SPIKE_COLOR + 4: 100, Rx.SPIKE_COLOR + 8: 100,
+                  Rx.SPIKE_MOTOR_POWER + 4: -37}
 SPIKE_IMU = {Rx.SPIKE_IMU_ACCEL_X: (1.5, -2.25, 9806.5), Rx.SPIKE_IMU_ANGVEL_X: (0.5, -90.25, 3.0)}
 PROBE_HEAD = r"""
 #include "spikeapi.h"
@@ -280,7 +292,7 @@ def results(log: str) -> list[int]:
     return [int(line.rsplit("= ", 1)[1]) for line in log.splitlines() if "] = " in line]
 
 
-def test_the_spike_api_reads_and_writes_what_the_sdks_c_does(tmp_path):
+def test_the_spike_api_reads_and_writes_what_the_sdk_and_libraspike_art_do(tmp_path):
     exe = build(tmp_path / "probe", spike_probe([c for c, _, _ in SPIKE_CALLS]))
     bench = FakePhysics(tmp_path / "run")
     for offset, value in SPIKE_SNAPSHOT.items():
@@ -298,6 +310,7 @@ def test_the_spike_api_reads_and_writes_what_the_sdks_c_does(tmp_path):
     assert a.read_i32s(Tx.MOTOR_POWER, 3) == (0, 0, -120)  # A set 0, B stopped, C as last set
     assert a.read_i32s(Tx.MOTOR_BRAKE, 3) == (1, 1, 0)  # EV3_MOTOR_INX_STOP_*: raised on a power of 0
     assert a.read_i32s(Tx.MOTOR_RESET_ANGLE, 3) == (0, 1, 0)  # B's setup reset its count
+    assert a.read_i32s(Tx.SPIKE_DIRECTION, 3) == (0, 1, 0)  # B counter-clockwise, for the hub
     assert a.read("B", Tx.LED) == 2  # EV3_GPIO_LED_GREEN
     for line in ("pup_motor_get_device(): port B already has a device",
                  "pup_ultrasonic_sensor_get_device(): port G is not one of the hub's ports A..F",
@@ -339,18 +352,23 @@ DEG_PER_S_PER_POWER = 16.6  # the default robot's wheels: power 100 is 29 rad/s
 
 
 def run_motor(bench: FakePhysics, proc: subprocess.Popen, until_us: int, blocked=lambda t_us: False) -> None:
-    """Play a motor on port A that turns at DEG_PER_S_PER_POWER x its power (none while `blocked`), with the
-    encoder reset the SDK asks for, as the physics process does."""
-    count, now = 0.0, 0
+    """Play a motor on port A, as the physics process plays the hub: it turns at DEG_PER_S_PER_POWER x its
+    power (none while `blocked`) in the direction the program set it up with, its count is reported in that
+    direction, its power as the hub reports it (spike_hub.py), and the encoder reset the SDK asks for is
+    done."""
+    raw, now = 0.0, 0
     while (wake := bench.next_wake(proc)) <= until_us:
         if bench.athrill.read_i32(Tx.MOTOR_RESET_ANGLE):
-            count = 0.0
+            raw = 0.0
             bench.athrill.write_i32(Tx.MOTOR_RESET_ANGLE, 0)
         power = max(-100, min(100, bench.athrill.read_i32(Tx.MOTOR_POWER)))
+        direction = bench.athrill.read_i32(Tx.SPIKE_DIRECTION)
+        sign = spike_hub.direction_sign(direction)
         if not blocked(now):
-            count += power * DEG_PER_S_PER_POWER * (wake - now) / 1e6
+            raw += sign * power * DEG_PER_S_PER_POWER * (wake - now) / 1e6
         now = wake
-        bench.unity.write_i32(Rx.MOTOR_ANGLE, int(count))
+        bench.unity.write_i32(Rx.MOTOR_ANGLE, int(sign * raw))
+        bench.unity.write_i32(Rx.SPIKE_MOTOR_POWER, spike_hub.power_report(power, direction))
         bench.answer(wake)
 
 
@@ -360,19 +378,24 @@ def reports(log: str) -> list[dict[str, int]]:
 
 @pytest.mark.parametrize("direction,sign", [("PUP_DIRECTION_CLOCKWISE", 1), ("PUP_DIRECTION_COUNTERCLOCKWISE", -1)])
 def test_set_speed_holds_the_speed_in_degrees_per_second(tmp_path, direction, sign):
-    """SPIKE-RT's set_speed (the SDK takes it as a power): 300 deg/s, whatever the power that takes; the count
-    and speed turn the encoder's way (the SDK's get_count), the power the program's."""
+    """SPIKE-RT's set_speed (the SDK takes it as a power): 300 deg/s, whatever the power that takes. Count and
+    speed are in the program's direction whichever it is (pbio applies the direction to the count: the hub's
+    raspike.c process_motor_cmd passes it to pup_motor_setup, motor.c 57-59); get_power, not in power mode, is
+    the hub's report (libraspike-art raspike_motor.c 79-85), which SPIKE-RT negates for a counter-clockwise
+    motor (spike-rt-hub/drivers/spike/pup/motor.c 120-122); after set_power it is the power set (80-82)."""
     exe = build(tmp_path / "app", SPEED_APP.replace("DIRECTION", direction))
     bench = FakePhysics(tmp_path / "run")
     proc = bench.start(exe)
     run_motor(bench, proc, 2_000_000)
     got = [{k: int(v) for k, v in r.items()} for r in reports(finish(proc))]
-    speeds = [r["speed"] * sign for r in got[:10]]
+    speeds = [r["speed"] for r in got[:10]]
     assert all(abs(s - 300) <= 15 for s in speeds[3:]), speeds  # settled within 0.3 s, within 5%
-    assert abs((got[9]["count"] - got[4]["count"]) * sign - 300 * 0.5) <= 3  # 0.5 s at 300 deg/s, to 1%
-    assert all(r["power"] == round(300 / DEG_PER_S_PER_POWER) for r in got[5:10])  # the program's direction
+    assert abs((got[9]["count"] - got[4]["count"]) - 300 * 0.5) <= 3  # 0.5 s at 300 deg/s, to 1%
+    # the power that holds 300 deg/s (18), give or take the regulator's last step before the status
+    assert all(abs(r["power"] - sign * round(300 / DEG_PER_S_PER_POWER)) <= 1 for r in got[5:10]), got
     held = got[10]
     assert abs(held["count"] - got[9]["count"]) <= 10 and abs(held["speed"]) <= 20  # hold: it stopped
+    assert [r["power"] for r in got[11:]] == [50] * 4 and got[14]["speed"] > 0  # set_power: as set, forward
     assert [r["stalled"] for r in got] == [0] * 15
 
 
@@ -450,6 +473,41 @@ def test_a_blocked_motor_is_stalled_after_200_ms(tmp_path, drive, first_stalled_
         assert got[-1]["power"] == 100  # at the limit: the reference waits for the motor
 
 
+STATUS_APP = r"""
+#include "spikeapi.h"
+#include "spike/pup/colorsensor.h"
+#include "spike/pup/motor.h"
+void main_task(intptr_t unused)
+{
+    pup_device_t *color = pup_color_sensor_get_device(PBIO_PORT_ID_E);
+    pup_motor_t *m = pup_motor_get_device(PBIO_PORT_ID_A);
+    pup_motor_setup(m, PUP_DIRECTION_CLOCKWISE, false);
+    for (int i = 0; i < 35; i++) {
+        syslog(LOG_NOTICE, "= %d", (int)(pup_color_sensor_reflection(color) * 1000 + pup_motor_get_count(m)));
+        dly_tsk(1000);
+    }
+    slp_tsk();
+}
+"""
+
+
+def test_readings_are_the_hubs_status_of_the_last_10_ms(tmp_path):
+    """The hub sends its status every 10 ms (the hub's raspike.cfg 11: APP_NOTIFY_CYC, 10*1000, activating the
+    task that calls notify_status, raspike.c 923), and libraspike-art's getters return the last one received
+    (raspike_internal.h: GET_AND_RET_SENSOR_COMMON, DELAYED_SENSOR_COMMON). A program polling every 1 ms, while
+    the reflection and the count change at every physics step, reads each status ten times."""
+    exe = build(tmp_path / "app", STATUS_APP)
+    bench = FakePhysics(tmp_path / "run")
+    proc = bench.start(exe)
+    while (wake := bench.next_wake(proc)) <= 40_000:
+        ms = wake // 1000
+        bench.unity.write_i32(Rx.COLOR0_REFLECT, ms)
+        bench.unity.write_i32(Rx.MOTOR_ANGLE, ms)
+        bench.answer(wake)
+    got = results(finish(proc))
+    assert got == [(ms // 10 * 10) * 1001 for ms in range(35)], got
+
+
 SAMPLE = "sample_c5_spike"
 SAMPLE_COPIES = {"raspike-art-samples": ART_SAMPLES / SAMPLE, "the SDK's workspace": SDK_SAMPLES / SAMPLE}
 
@@ -462,11 +520,11 @@ def sample_copy(tmp_path, where: str):
 
 def sample_powers(reflection: int) -> tuple[int, int]:
     """The TX powers of ports A and B that sample_c5_spike's tracer_task writes for a reflection, computed as
-    its C does (LineTracer.c, LineTracer.h) and the SDK writes them (raspike_motor.c): right motor A
-    clockwise, left motor B counter-clockwise, so negated."""
+    its C does (LineTracer.c, LineTracer.h): right motor A, left motor B, each as the program sets it
+    (libraspike-art raspike_motor.c 107 sends the power as set; the hub applies B's counter-clockwise)."""
     steering = int(numpy.float32((40 + 10) // 2 - reflection) * numpy.float32(1.5))  # (int16_t)(float32 * 1.5F)
     left, right = 30 + steering, 30 - steering
-    return right, -left
+    return right, left
 
 
 @pytest.mark.parametrize("where", sorted(SAMPLE_COPIES))
@@ -494,12 +552,11 @@ def test_sample_c5_spike_waits_for_the_force_sensor_then_traces(tmp_path, where)
     out = finish(proc, stdout=True)
     assert "Press force sensor to start" in out and "Start Line Trace!!" in out
     assert bench.athrill.read_i32s(Tx.MOTOR_RESET_ANGLE, 4) == (1, 1, 0, 0)  # pup_motor_setup(.., true)
-    # The tracer runs at the press (200 ms) and every 100 ms after, and nothing else wakes the program (its
-    # motors are not regulated): what it wrote is what it has published when it next asks to wake.
-    assert sorted(seen) == list(range(300_000, 700_001, 100_000))
-    assert seen[300_000][:2] == sample_powers(20)
-    for at, reflection in ((400_000, 12), (500_000, 25), (600_000, 38), (700_000, 0)):
-        assert seen[at][:2] == sample_powers(reflection), at
+    # The tracer runs at the press (200 ms) and every 100 ms after, and the hub's status wakes the program
+    # every 10 ms (status.c): what the tracer wrote is what the program has published at the next wake.
+    assert sorted(seen) == list(range(210_000, 700_001, 10_000))
+    for at, reflection in ((200_000, 20), (300_000, 12), (400_000, 25), (500_000, 38), (600_000, 0)):
+        assert seen[at + 10_000][:2] == sample_powers(reflection), at
     assert bench.athrill.read_i32s(Tx.MOTOR_BRAKE, 4) == (0, 0, 0, 0)  # no power was 0
 
 

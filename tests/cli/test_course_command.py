@@ -74,6 +74,8 @@ def test_an_unreadable_image_or_a_taken_folder_is_one_line(tmp_path, mat):
                    'shape = "cylinder"\nradius = 0.03\nheight = 0.2\nmass = 0.3\nfriction = 0.3\ncolor = "black"\n'
                    "x = 1.0\ny = 1.05\n",
      ["object 'bottle' at (1, 1.05) stands inside wall 'fence'"]),
+    (lambda t: t.replace("black = [50, 50, 50]", "black = 50"),
+     ["[sensor.spike]: black must be three numbers 0..1024"]),
 ])
 def test_show_refuses_a_course_no_test_could_run_on_in_one_line(tmp_path, mat, edit, words):
     out = tmp_path / "c"

@@ -1,5 +1,6 @@
-"""Colour floors: each kind of sensor's response to a colour, calibrated per course, the EV3's and SPIKE-RT's
-classification of what is measured, and a grey course reading exactly what it always read."""
+"""Colour floors: each kind of sensor's response to a colour, calibrated per course (and a SPIKE sensor's per
+robot), the EV3's classification of what is measured, and a grey course reading exactly what it always read
+to an EV3. What the hub makes of a SPIKE sensor's RGB is tests/physics/test_spike_hub.py's."""
 
 from __future__ import annotations
 
@@ -12,8 +13,9 @@ from hypothesis import strategies as st
 from PIL import Image
 
 from hakoniwa.physics import color_response as cr
-from hakoniwa.physics.color_response import Calibration, hsv_cost, spike_color
-from hakoniwa.physics.course import COURSES_DIR, load_course
+from hakoniwa.physics import spike_hub
+from hakoniwa.physics.color_response import SPIKE_DEFAULT, Calibration
+from hakoniwa.physics.course import COURSES_DIR, CourseError, load_course
 from hakoniwa.physics.noise import NoiseDraw
 from hakoniwa.physics.robots import BUILT_IN, DEFAULT_ROBOT
 from hakoniwa.wire.protocol import ColorId
@@ -34,8 +36,8 @@ def old_grey_reading(reflect: float, ev3: Calibration) -> tuple[ColorId, tuple[i
 def test_a_grey_reads_as_it_always_did(reflect):
     assert (cr.ev3_color(reflect, None, OVAL_EV3), cr.raw_rgb(reflect, None, OVAL_EV3)) == \
         old_grey_reading(reflect, OVAL_EV3)
-    f = (reflect - 50) / 50
-    assert cr.spike_reflect(reflect, OVAL_EV3, cr.SPIKE_DEFAULT) == min(max(round(10 + 30 * f), 0), 100)
+    r, g, b = cr.spike_rgb(cr.fractions(reflect, None, OVAL_EV3), cr.SPIKE_FLOOR, SPIKE_DEFAULT)
+    assert r == g == b  # a grey reads grey to a SPIKE sensor too
 
 
 def test_the_oval_is_a_grey_course_and_its_readings_are_unchanged():
@@ -72,20 +74,50 @@ def stripes(*colours) -> np.ndarray:
     return img
 
 
+# The course's [sensor.spike] as the built-in ET Robocon-style courses give it: one team's measurement
+# (docs/DESIGN-NOTES.md, "The ET Robocon-style course"), and the image colours that read it (each channel's
+# place between black and white).
+MEASURED = "\n[sensor.spike]\nwhite = [1000, 1000, 1000]\nblack = [50, 50, 50]\nblue = [70, 200, 400]\n" \
+    "red = [800, 300, 350]\n"
+BLUE_PIXEL, RED_PIXEL = (5, 40, 94), (201, 67, 81)  # round(255 * (c - 50) / 950)
+
+
 def test_each_kind_reads_a_colour_floor_in_its_own_scale(tmp_path):
-    course = colour_course(tmp_path, stripes((255, 255, 255), (0, 0, 0), (0, 70, 170), (220, 30, 30)),
-                           "\n[sensor.spike]\nreflect_white = 44\nreflect_black = 8\n")
+    course = colour_course(tmp_path, stripes((255, 255, 255), (0, 0, 0), BLUE_PIXEL, RED_PIXEL), MEASURED)
     centres = [-1.5 + (i + 0.5) * 0.75 for i in range(4)]
     ev3 = [course.reading_at(x, 0.0) for x in centres]
-    spike = [course.reading_at(x, 0.0, spike=True) for x in centres]
     assert [r.color for r in ev3] == [ColorId.WHITE, ColorId.BLACK, ColorId.BLUE, ColorId.RED]
     # The EV3 lights the floor red: blue reads as dark as black, red as light as white.
-    assert [r.reflect for r in ev3] == [23, 0, 0, round(23 * 220 / 255)]
-    # The SPIKE lights it white: the mean of the channels, on its own white 44 and black 8.
-    assert [r.reflect for r in spike] == [44, 8, round(8 + 36 * 80 / 255), round(8 + 36 * 280 / 3 / 255)]
-    assert [r.rgb for r in ev3] == [(255, 255, 255), (0, 0, 0), (0, 70, 170), (220, 30, 30)]
-    assert spike[2].hsv == (215, 100, 67) and [spike_color(r.hsv) for r in spike] == \
-        [ColorId.WHITE, ColorId.NONE, ColorId.BLUE, ColorId.RED]
+    assert [r.reflect for r in ev3] == [23, 0, round(23 * 5 / 255), round(23 * 201 / 255)]
+    assert [r.rgb for r in ev3] == [(255, 255, 255), (0, 0, 0), BLUE_PIXEL, RED_PIXEL]
+    # The SPIKE lights it white and reads 10-bit RGB. HackSPi's sensor reads the reflection ET Robocon's
+    # sample_c5_spike is tuned for (LineTracer.h: WHITE_BRIGHTNESS 40, BLACK_BRIGHTNESS 10); one that sits
+    # lower, as the Basic class's robot's, reads more (80 and 10).
+    for robot, white, black in ((SPIKE_DEFAULT, 40, 10), (Calibration(80, 10), 80, 10)):
+        spike = [course.spike_reading(x, 0.0, course.reflect_at(x, 0.0), course.colour_at(x, 0.0), robot)
+                 for x in centres]
+        assert [r.reflection for r in spike[:2]] == [white, black]
+        assert [r.reflection for r in spike] == [spike_hub.reflection(r.rgb) for r in spike]
+        # Each channel keeps the course's colour's place between its black and white (to the image's step).
+        measured = dict(course.spike.colours)
+        for reading, name in ((spike[2], "blue"), (spike[3], "red")):
+            for c in range(3):
+                place = (reading.rgb[c] - spike[1].rgb[c]) / (spike[0].rgb[c] - spike[1].rgb[c])
+                assert place == pytest.approx((measured[name][c] - 50) / 950, abs=0.01), (name, c)
+        assert [r.color for r in spike] == [(0, 0, 100), (0, 0, 0), (240, 100, 100), (0, 100, 100)]
+        assert [r.hsv == spike_hub.hsv(r.rgb) for r in spike] == [True] * 4
+
+
+@pytest.mark.parametrize("table, error", [
+    ("white = [1000, 1000]\nblack = [50, 50, 50]", r"\[sensor.spike\]: white must be three numbers 0..1024"),
+    ("white = [1000, 1000, 1000]\nblack = [50, 50, 50]\nblue = 70", r"blue must be three numbers"),
+    ("white = [1000, 1000, 2000]\nblack = [50, 50, 50]", r"white must be three numbers 0..1024"),
+    ("white = [1000, 1000, 1000]", r"\[sensor.spike\]: missing 'black'"),
+    ("white = [1000, 40, 1000]\nblack = [50, 50, 50]", r"white must read above black on every channel"),
+])
+def test_a_spike_colour_table_that_is_not_three_numbers_is_one_error(tmp_path, table, error):
+    with pytest.raises(CourseError, match=error):
+        colour_course(tmp_path, stripes((255, 255, 255)), "\n[sensor.spike]\n" + table + "\n")
 
 
 def test_grey_pixels_of_a_colour_image_read_as_a_grey_course_reads_them(tmp_path):
@@ -110,17 +142,6 @@ def test_the_ev3_names_the_measured_colour(rgb, ev3):
     assert cr.ev3_color(channels[0], colour, Calibration(23, 0)) == ev3
 
 
-def test_spike_rts_cost_and_its_order_decide_the_spike_colour():
-    """cb_get_hsv_cost, worked by hand: pure hues are themselves, a grey is white or none by its value,
-    and the hue is ignored against an unsaturated colour."""
-    assert hsv_cost((240, 100, 100), (240, 100, 100)) == 0
-    assert hsv_cost((200, 100, 100), (240, 100, 100)) == 40 * 40
-    assert hsv_cost((0, 0, 100), (0, 0, 100)) == 5 * 50 * 50  # the pale-colour penalty: (100 - 0) / 2
-    assert hsv_cost((120, 3, 80), (240, 100, 100)) == 5 * 97 * 97 + 2 * 20 * 20  # s <= 5: no hue error
-    assert spike_color((0, 0, 70)) == ColorId.WHITE and spike_color((0, 0, 20)) == ColorId.NONE
-    assert spike_color((55, 90, 90)) == ColorId.YELLOW and spike_color((215, 100, 67)) == ColorId.BLUE
-
-
 def test_noise_shifts_every_channel_alike(tmp_path):
     course = colour_course(tmp_path, stripes((0, 70, 170)))
     env = environment(course, course.time_limit_us, BUILT_IN["hackspi"])
@@ -129,5 +150,6 @@ def test_noise_shifts_every_channel_alike(tmp_path):
     s = env.read_sensors()
     shift = env.sensors.noise.reflect_offset + env.sensors.noise._reflect_flicker
     g, b, mean = (min(max(c + shift, 0.0), 100.0) for c in truth.colour)
-    assert s.reflect == cr.spike_reflect(mean, course.ev3, course.spike)
-    assert s.rgb == cr.raw_rgb(min(max(truth.reflect + shift, 0), 100), (g, b, mean), course.ev3)
+    red = min(max(truth.reflect + shift, 0), 100)
+    seen = course.spike_reading(*truth.sensor_xy, red, (g, b, mean), SPIKE_DEFAULT)
+    assert (s.rgb, s.reflect, s.spike.hsv) == (seen.rgb, seen.reflection, seen.hsv)

@@ -14,7 +14,10 @@ def test_the_etrobocon_lanes_are_mirror_images_and_pass_the_course_check():
     from hakoniwa.physics.robot import EV3_BODY, HACKSPI_BODY
 
     left, right = load_course("etrobocon-l"), load_course("etrobocon-r")
-    assert (left.reflect_white, left.reflect_black) == (23, 0) and (left.spike.white, left.spike.black) == (40, 10)
+    assert (left.reflect_white, left.reflect_black) == (23, 0) and left.spike == right.spike
+    # one team's published measurement of the real mat (docs/DESIGN-NOTES.md, "The ET Robocon-style course")
+    assert (left.spike.white, left.spike.black) == ((1000, 1000, 1000), (50, 50, 50))
+    assert dict(left.spike.colours)["blue"] == (70, 200, 400) and dict(left.spike.colours)["red"] == (800, 300, 350)
     for a, b in zip(left.checkpoints, right.checkpoints):
         assert (a.x, a.y, a.hx, a.hy) == pytest.approx((-b.x, b.y, b.hx, b.hy))
     for a, b in zip(left.zones, right.zones):

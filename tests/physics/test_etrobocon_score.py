@@ -164,7 +164,10 @@ def test_the_colour_sensor_reads_an_object_under_it(tmp_path):
     env = environment(course, 10_000_000, BUILT_IN["hackspi"])
     env.begin(None)
     s = env.read_sensors()  # the sensor, 7 cm ahead of the axle, is over the tile
-    assert (s.color, s.rgb) == (ColorId.RED, (220, 0, 0)) and s.hsv == (0, 100, 86)
+    # The red tile's channels (220, 0, 0 of 255) on HackSPi's sensor: 10-bit RGB, the hub's HSV of it
+    # (RGB >> 2 = (93, 27, 27): pbio s 70, v 36, corrected to 91 and 59) and its colour, red.
+    assert (s.color, s.rgb) == (ColorId.RED, (373, 108, 108))
+    assert (s.spike.hsv, s.spike.color) == ((0, 91, 59), (0, 100, 100))
     assert env.world.measure().colour == pytest.approx((50.0, 50.0, 50 + 50 * 220 / 255 / 3))
 
 

@@ -7,12 +7,13 @@ import struct
 
 import pytest
 
+from hakoniwa.physics import spike_hub
+from hakoniwa.physics.color_response import Calibration
 from hakoniwa.physics.course import load_course
 from hakoniwa.physics.environment import Environment
 from hakoniwa.physics.robot import EV3_BODY, HACKSPI_BODY, ULTRASONIC_MAX_MM
 from hakoniwa.physics.robots import BUILT_IN, DEFAULT_ROBOT, RobotError, parse_robot
 from hakoniwa.physics.scenario import ScenarioError, parse_scenario
-from hakoniwa.physics.sensors import hsv_of
 from hakoniwa.physics.slots import Slots
 from hakoniwa.physics.task import LapTask
 from hakoniwa.physics.world import World
@@ -100,46 +101,64 @@ def test_a_force_press_reads_as_the_sdk_reads_it():
 
 
 def test_the_spike_colour_sensor_reads_et_robocons_white_40_and_black_10():
+    """HackSPi's sensor reads the reflection ET Robocon's sample_c5_spike is tuned for (RasPike-ART
+    sample_c5_spike LineTracer.h: WHITE_BRIGHTNESS 40, BLACK_BRIGHTNESS 10), from 10-bit RGB as the hub computes
+    it (colorsensor.c 241); a robot file may give another response."""
     hackspi, default = env_for("hackspi"), env_for("default")
     course = hackspi.course
-    for env in (hackspi, default):
-        sensors = env.sensors
-        assert sensors.robot.spike == (env is hackspi)
-    spike = hackspi.sensors._spike_reflect
-    assert (spike(course.reflect_white), spike(course.reflect_black)) == (40, 10)  # the oval's 100 and 50
-    assert spike((course.reflect_white + course.reflect_black) / 2) == 25
+    assert hackspi.sensors.robot.spike and not default.sensors.robot.spike
+    for robot, white, black in ((BUILT_IN["hackspi"].reflection, 40, 10), (Calibration(80, 10), 80, 10)):
+        for reflect, want in ((course.reflect_white, white), (course.reflect_black, black)):
+            seen = course.spike_reading(0.0, 0.0, reflect, None, robot)
+            assert seen.reflection == want and seen.rgb[0] == seen.rgb[1] == seen.rgb[2] <= 1024
     # At the start the sensor sits on the line's outer edge: a grey between the two, in both kinds' scales.
-    ev3 = default.read_sensors().reflect
-    assert course.reflect_black < ev3 < course.reflect_white and 10 < hackspi.read_sensors().reflect < 40
+    ev3, s = default.read_sensors().reflect, hackspi.read_sensors()
+    assert course.reflect_black < ev3 < course.reflect_white and 10 < s.reflect < 40
+    assert s.reflect == spike_hub.reflection(s.rgb) and s.spike.hsv == spike_hub.hsv(s.rgb)
+    assert s.spike.hsv[:2] == (0, 0) and s.spike.color == spike_hub.color(s.spike.hsv)
+    assert default.read_sensors().spike is None
 
 
-def test_hsv_agrees_with_the_rgb_of_the_same_snapshot():
-    assert hsv_of((255, 255, 255)) == (0, 0, 100) and hsv_of((0, 0, 0)) == (0, 0, 0)
-    assert hsv_of((220, 0, 0)) == (0, 100, 86) and hsv_of((0, 0, 255)) == (240, 100, 100)
-    s = env_for("hackspi").read_sensors()
-    assert s.hsv == hsv_of(s.rgb) and s.hsv[:2] == (0, 0)
-    assert env_for("default").read_sensors().hsv is None
+def test_a_robot_file_gives_its_colour_sensors_response():
+    spike = 'hub = "spike"\n[[sensor]]\nport = "E"\nkind = "color"\n'
+    lower = parse_robot('hub = "spike"\nreflection = { white = 80, black = 10 }\n' + spike[14:], "r.toml")
+    assert lower.reflection == Calibration(80, 10)
+    assert parse_robot(spike, "r.toml").reflection == Calibration(40, 10)  # HackSPi's by default
+    for text, error in (('hub = "spike"\nreflection = { white = 10, black = 40 }\n', "white must be above"),
+                        ('hub = "spike"\nreflection = { white = 40 }\n', "reflection must be"),
+                        ('reflection = { white = 40, black = 10 }\n', "a SPIKE colour sensor's")):
+        with pytest.raises(RobotError, match=error):
+            parse_robot(text, "r.toml")
 
 
-def drive(env: Environment, left_power: int, right_power: int, seconds: float) -> None:
-    """Powers as a SPIKE program writes them to TX for the left (B) and right (A) motor."""
+def drive(env: Environment, left_power: int, right_power: int, seconds: float, directions=(0, 1, 0, 0)) -> None:
+    """Powers as a SPIKE program sets them for the left (B) and right (A) motor, set up as sample_c5_spike
+    sets them up (left counter-clockwise: it is mounted mirror-wise)."""
     powers = [0] * 4
     powers[1], powers[0] = left_power, right_power
-    env.drive(powers)
+    env.drive(powers, directions)
     env.advance_to(env.now_us + round(seconds * 1e6))
 
 
-def test_the_mirrored_left_motor_drives_forward_on_negative_power():
+def test_the_mirrored_left_motor_set_up_counter_clockwise_drives_and_counts_forward():
+    """The hub applies the setup direction to duty and count (pbio: angle = (raw - zero) * direction; the hub's
+    raspike.c process_motor_cmd passes the direction to pup_motor_setup, motor.c 57-59): a program that sets
+    its mirrored left motor up counter-clockwise drives it with positive power and counts up going forward."""
     env = env_for("hackspi")
     x0, y0, _ = env.world.pose()
-    drive(env, -50, 50, 1.0)  # what the SDK writes for pup_motor_set_power(left, 50) set up counter-clockwise
+    drive(env, 50, 50, 1.0)
     x1, y1, yaw = env.world.pose()
     assert x1 - x0 > 0.2 and abs(y1 - y0) < 0.01 and abs(yaw) < math.radians(2)
-    angles = env.read_sensors().motor_angles_deg
-    assert angles[1] < -300 and angles[0] > 300  # the mirrored encoder counts down, as the real one does
+    s = env.read_sensors()
+    assert s.motor_angles_deg[1] > 300 and s.motor_angles_deg[0] > 300
+    assert abs(s.motor_angles_deg[1] - s.motor_angles_deg[0]) < 10  # the mean of both is the distance
+    # motor.c 116-124: the hub reports the duty negated for the counter-clockwise motor
+    assert s.spike.powers == (50, -50, 0, 0)
     env.reset_motor_angle(1)
     assert env.read_sensors().motor_angles_deg[1] == 0
-    drive(env, -50, 50, 0.2)
+    drive(env, 50, 50, 0.2)
+    assert env.read_sensors().motor_angles_deg[1] > 0
+    drive(env, -50, 50, 0.2, directions=(0, 0, 0, 0))  # set up clockwise: its raw encoder, as the SDK reads it
     assert env.read_sensors().motor_angles_deg[1] < 0
 
 
@@ -150,7 +169,7 @@ def test_the_hub_imu_reads_gravity_at_rest_and_the_turn_counter_clockwise():
     assert all(abs(w) < 0.5 for w in imu.angular_velocity_dps)
     ax, ay, az = imu.acceleration_mm_s2
     assert abs(ax) < 100 and abs(ay) < 100 and abs(az - G_MM_S2) < 50  # on its wheels and caster, level to 0.6 deg
-    drive(env, 50, 50, 0.5)  # the mirrored left wheel backwards, the right forwards: a left turn
+    drive(env, -50, 50, 0.5)  # the mirrored left wheel backwards, the right forwards: a left turn
     s = env.read_sensors()
     assert s.imu.angular_velocity_dps[2] > 30 and s.gyro_rate_dps < -30  # the EV3 gyro counts clockwise
     assert math.isclose(s.imu.angular_velocity_dps[2], -s.gyro_rate_dps, abs_tol=1)
@@ -174,9 +193,11 @@ def test_only_a_spike_robot_gets_the_spike_slots_written(tmp_path):
         body = (run_dir / UNITY_FILE).read_bytes()[32:]
         accel_z = struct.unpack_from("<f", body, 280)[0]
         if name == "default":
-            assert body[272:308] == bytes(36)
+            assert body[272:348] == bytes(76)
         else:
-            assert abs(accel_z - G_MM_S2) < 50 and struct.unpack_from("<3i", body, 296) == env.read_sensors().hsv
+            hub = env.read_sensors().spike
+            assert abs(accel_z - G_MM_S2) < 50
+            assert struct.unpack_from("<13i", body, 296) == (*hub.hsv, *hub.ambient_hsv, *hub.color, *hub.powers)
         slots.unity.close()
         slots.athrill.close()
 

@@ -7,6 +7,7 @@
 #ifndef HAKO_DEVICES_H
 #define HAKO_DEVICES_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 typedef struct hako_device {
@@ -15,6 +16,9 @@ typedef struct hako_device {
     /* The next instant after `tick` it must be served at, waking the kernel if no task would; HAKO_FOREVER
      * when it needs none. NULL: never. */
     int64_t (*next_due)(int64_t tick);
+    /* Its next_due wakes the kernel only while a task or handler will run again: a device that only keeps
+     * what a program may read up to date, which does not keep a program that has ended alive. */
+    bool passive;
 } hako_device;
 
 #define HAKO_DEVICE(name)                                                                                              \

@@ -629,12 +629,15 @@ static int64_t next_event(void)
     for (uint_t i = 0; i < hako_cyclic_count; i++)
         if (cyclics[i].active && cyclics[i].due < next)
             next = cyclics[i].due;
+    int64_t passive = HAKO_NEVER_WAKES;
     for (const hako_device *const *d = devices_begin(); d != devices_end(); d++) {
         int64_t due = (*d)->next_due ? (*d)->next_due(now) : HAKO_FOREVER;
-        if (due < next)
+        if ((*d)->passive && due < passive)
+            passive = due;
+        else if (!(*d)->passive && due < next)
             next = due;
     }
-    return next;
+    return next == HAKO_NEVER_WAKES || next < passive ? next : passive;
 }
 
 static struct task *next_ready(void)

@@ -1,25 +1,17 @@
 /*
- * SPIKE-RT's colour sensor, as ET Robocon's SDK reads it (raspike_color.c): the EV3 colour slots of the first
- * sensor (RX COLOR0_*: reflection and ambient as whole words, r, g, b into 16 bits) and the SDK's HSV slots
- * (RX SPIKE_HSV_*), the `surface` flag ignored (the bench has one reading, of the lit floor). The device is
- * never looked at, so a NULL one reads as well as any.
- *
- * Where the SDK is incomplete, SPIKE-RT's (drivers/spike/pup/colorsensor.c, after Pybricks' pb_color_map.c):
- * `color` is the detectable colour nearest to the HSV reading by Pybricks' cost, and `detectable_colors`
- * chooses them. The lights change nothing the bench measures: each light call is a line in the log.
+ * SPIKE-RT's colour sensor as a HackSPi program reads it through RasPike-ART (libraspike-art's
+ * raspike_color.c): each call returns what the hub's last status carries (status.c), which is what SPIKE-RT's
+ * colorsensor.c answers on the hub, computed by the physics process as the hub (hakoniwa/physics/spike_hub.py):
+ * the 10-bit RGB and its reflection in ET Robocon's SDK slots (RX COLOR0_RGB, COLOR0_REFLECT, COLOR0_AMBIENT),
+ * hsv(surface = true) in the SDK's HSV slots (RX SPIKE_HSV), hsv(surface = false) and the colour in ours (RX
+ * SPIKE_SHSV, SPIKE_COLOR). `color` ignores `surface`, as libraspike-art does (it always asks the hub for
+ * RP_CMD_ID_COL_COL, surface true). The device is never looked at, so a NULL one reads as well as any. The
+ * lights change nothing the bench measures: each light call is a line in the log.
  */
 #include <stddef.h>
 
 #include "spike.h"
 #include "spike/pup/colorsensor.h"
-
-#define MAX_DETECTABLE 30 /* SPIKE-RT's CB_COLOR_MAP_SIZE */
-
-static pup_color_hsv_t detectable[MAX_DETECTABLE] = {
-    {PBIO_COLOR_HUE_RED, 100, 100},  {PBIO_COLOR_HUE_YELLOW, 100, 100}, {PBIO_COLOR_HUE_GREEN, 100, 100},
-    {PBIO_COLOR_HUE_BLUE, 100, 100}, {0, 0, 100} /* white */,           {0, 0, 0} /* none */,
-};
-static int32_t detectable_count = 6;
 
 pup_device_t *pup_color_sensor_get_device(pbio_port_id_t port) { return spike_take_port(port, DEVICE_COLOR, __func__); }
 
@@ -27,69 +19,35 @@ pup_color_rgb_t pup_color_sensor_rgb(pup_device_t *pdev)
 {
     hako_spend_call(); /* a device read takes time (sim_time.h) */
     (void)pdev;
-    return (pup_color_rgb_t){(uint16_t)spike_read_u32(HAKO_RX_COLOR0_RGB),
-                             (uint16_t)spike_read_u32(HAKO_RX_COLOR0_RGB + 4),
-                             (uint16_t)spike_read_u32(HAKO_RX_COLOR0_RGB + 8)};
-}
-
-static pup_color_hsv_t read_hsv(void)
-{
-    return (pup_color_hsv_t){(uint16_t)spike_read_u32(HAKO_RX_SPIKE_HSV_H),
-                             (uint8_t)spike_read_u32(HAKO_RX_SPIKE_HSV_S),
-                             (uint8_t)spike_read_u32(HAKO_RX_SPIKE_HSV_V)};
+    return spike_status()->rgb;
 }
 
 pup_color_hsv_t pup_color_sensor_hsv(pup_device_t *pdev, bool surface)
 {
-    (void)pdev, (void)surface;
+    (void)pdev;
     hako_spend_call(); /* a device read takes time (sim_time.h) */
-    return read_hsv();
-}
-
-static int32_t distance(int32_t a, int32_t b) { return a > b ? a - b : b - a; }
-
-/* Pybricks' cost of reading `x` as colour `c`: hue (ignored against a grey), saturation (with a penalty for a
- * pale colour) and value errors, squared and weighted 1, 5 and 2. */
-static int32_t cost(const pup_color_hsv_t *x, const pup_color_hsv_t *c)
-{
-    int32_t hue = 0;
-    if (c->s > 5 && x->s > 5) {
-        hue = distance(c->h, x->h);
-        if (hue > 180)
-            hue = 360 - hue;
-    }
-    int32_t saturation = distance(x->s, c->s) + (100 - c->s) / 2;
-    int32_t value = distance(x->v, c->v);
-    return hue * hue + 5 * saturation * saturation + 2 * value * value;
+    return surface ? spike_status()->hsv : spike_status()->ambient_hsv;
 }
 
 pup_color_hsv_t pup_color_sensor_color(pup_device_t *pdev, bool surface)
 {
     (void)pdev, (void)surface;
     hako_spend_call(); /* a device read takes time (sim_time.h) */
-    pup_color_hsv_t hsv = read_hsv();
-    pup_color_hsv_t best = detectable[0];
-    int32_t best_cost = INT32_MAX;
-    for (int32_t i = 0; i < detectable_count; i++) {
-        int32_t c = cost(&hsv, &detectable[i]);
-        if (c < best_cost)
-            best_cost = c, best = detectable[i];
-    }
-    return best;
+    return spike_status()->color;
 }
 
 int32_t pup_color_sensor_reflection(pup_device_t *pdev)
 {
     hako_spend_call(); /* a device read takes time (sim_time.h) */
     (void)pdev;
-    return (int32_t)spike_read_u32(HAKO_RX_COLOR0_REFLECT);
+    return spike_status()->reflection;
 }
 
 int32_t pup_color_sensor_ambient(pup_device_t *pdev)
 {
     hako_spend_call(); /* a device read takes time (sim_time.h) */
     (void)pdev;
-    return (int32_t)spike_read_u32(HAKO_RX_COLOR0_AMBIENT);
+    return spike_status()->ambient;
 }
 
 pbio_error_t pup_color_sensor_light_set(pup_device_t *pdev, int32_t bv1, int32_t bv2, int32_t bv3)
@@ -104,14 +62,11 @@ pbio_error_t pup_color_sensor_light_on(pup_device_t *pdev) { return pup_color_se
 
 pbio_error_t pup_color_sensor_light_off(pup_device_t *pdev) { return pup_color_sensor_light_set(pdev, 0, 0, 0); }
 
-/* SPIKE-RT's: 1..30 colours replace the set (NULL returned); any other size changes nothing and returns the
- * set in use. */
+/* libraspike-art's (raspike_color.c 73-84): not passed on to the hub (its code is #if 0), NULL returned;
+ * the hub keeps SPIKE-RT's default detectable colours. */
 pup_color_hsv_t *pup_color_sensor_detectable_colors(int32_t size, pup_color_hsv_t *colors)
 {
-    if (size < 1 || size > MAX_DETECTABLE)
-        return detectable;
-    for (int32_t i = 0; i < size; i++)
-        detectable[i] = colors[i];
-    detectable_count = size;
+    (void)size, (void)colors;
+    hako_log("colour sensor: detectable_colors is not passed on to the hub (libraspike-art); the default set stays");
     return NULL;
 }

@@ -1,19 +1,25 @@
 /*
- * SPIKE-RT's motors on the EV3 motor slots, as ET Robocon's SDK writes them (raspike_motor.c): port index i
- * (A = 0) has its power at TX MOTOR_POWER + 4 i, its brake flag at TX MOTOR_BRAKE + 4 i, its encoder reset at
- * TX MOTOR_RESET_ANGLE + 4 i and its count at RX MOTOR_ANGLE + 4 i (the bench has encoders on A..D only; the
- * SDK's E and F land on the next slots, and so do ours). The power is negated for a motor set up
- * counter-clockwise; the count is the encoder's own, not negated.
+ * SPIKE-RT's motors as a HackSPi program sees them through RasPike-ART (libraspike-art's raspike_motor.c and
+ * the hub's raspike.c), on the EV3 motor slots: port index i (A = 0) has its power at TX MOTOR_POWER + 4 i,
+ * its brake flag at TX MOTOR_BRAKE + 4 i, its encoder reset at TX MOTOR_RESET_ANGLE + 4 i and its count at RX
+ * MOTOR_ANGLE + 4 i (the bench has encoders on A..D only; the SDK's E and F land on the next slots, and so do
+ * ours). pup_motor_setup hands the direction to the hub (TX SPIKE_DIRECTION + 4 i), and the physics process,
+ * as the hub's pbio, applies it to the power written and to the count it reports: the power goes out in the
+ * program's direction, the count comes back in it (hakoniwa/physics/spike_hub.py).
  *
- * Where the SDK is incomplete, SPIKE-RT's meaning (Pybricks' control), on the bench's snapshots:
- * - the counts are sampled when the program gets a motor and at each snapshot after; get_speed is the count's change,
- *   in degrees per second, since the newest sample at least SPEED_WINDOW_US (Pybricks' differentiator
- *   window) older, or the oldest one kept: exactly that window for a program that wakes at least as often;
+ * What a program reads is the hub's status (status.c): count, speed, power and stall as of the last 10 ms.
+ * get_power is libraspike-art's: the power last set while the last command was set_power (stop, brake and
+ * hold do not change that), otherwise the hub's report (RX SPIKE_MOTOR_POWER + 4 i).
+ *
+ * What the hub's pbio does, on the bench's snapshots:
+ * - the counts are sampled when the program gets a motor and at each snapshot after; the speed is the count's
+ *   change, in degrees per second, since the newest sample at least SPEED_WINDOW_US (Pybricks' differentiator
+ *   window) older, or the oldest one kept;
  * - set_speed and hold are regulated, and while a motor is the kernel wakes every CONTROL_PERIOD_US
  *   (Pybricks' control loop): the angle follows a reference that moves at the speed asked (hold: stands
  *   still), power = POSITION_GAIN per degree behind it, within the duty limit; while the power is at the
  *   limit the reference waits for the motor, as Pybricks' trajectory does when it stalls;
- * - is_stalled: driven (a power set, or a regulated motor at its limit) for STALL_TIME_US and slower than
+ * - stalled: driven (a power set, or a regulated motor at its limit) for STALL_TIME_US and slower than
  *   STALL_SPEED_DPS over them (Pybricks' stall tolerances), from the newest sample at least that old;
  * - set_duty_limit caps the power written (a percentage; SPIKE-RT returns a voltage, an opaque value that
  *   restore_duty_limit takes back, as here).
@@ -35,6 +41,7 @@
 
 typedef struct {
     bool taken;
+    bool power_mode; /* libraspike-art's pdev->cmd == RP_CMD_ID_MOT_POW: the last of set_power and set_speed */
     bool regulated; /* set_speed or hold */
     int32_t speed; /* deg/s in the program's direction, while regulated */
     double ref_angle; /* the reference, in the program's direction, at ref_time */
@@ -62,17 +69,18 @@ static pup_device_t *device(pup_motor_t *motor, const char *caller)
 }
 
 static motor_state *state(const pup_device_t *pdev) { return &states[pdev->port_id]; }
-static int sign(const pup_device_t *pdev) { return pdev->direction == PUP_DIRECTION_COUNTERCLOCKWISE ? -1 : 1; }
-static int32_t raw_count(int index) { return (int32_t)spike_read_u32(HAKO_RX_MOTOR_ANGLE + 4 * index); }
-static double angle(const pup_device_t *pdev) { return (double)sign(pdev) * raw_count(pdev->port_id); }
+/* The count as the hub reports it at this snapshot: in the program's direction. */
+static int32_t count_now(int index) { return (int32_t)spike_read_u32(HAKO_RX_MOTOR_ANGLE + 4 * index); }
+static double angle(const pup_device_t *pdev) { return (double)count_now(pdev->port_id); }
 
 static int limited(const motor_state *s, int power)
 {
     return power > s->duty_limit ? s->duty_limit : power < -s->duty_limit ? -s->duty_limit : power;
 }
 
-/* The SDK's power write: negated for a counter-clockwise motor, and the brake flag raised on a 0 (never
- * lowered again). A duty limit below 100 caps it; without one the power goes out as set, as the SDK's. */
+/* The power write, in the program's direction (the hub applies the direction), and the brake flag raised on
+ * a 0 (never lowered again), as the SDK's. A duty limit below 100 caps it; without one the power goes out as
+ * set. */
 static void write_power(pup_device_t *pdev, int power)
 {
     motor_state *s = state(pdev);
@@ -81,9 +89,8 @@ static void write_power(pup_device_t *pdev, int power)
     s->applied = power;
     if (!s->regulated)
         s->driven_since = power == 0 ? -1 : s->driven_since >= 0 ? s->driven_since : hako_tick();
-    int out = sign(pdev) * power;
-    spike_write_u32(HAKO_TX_MOTOR_POWER + 4 * pdev->port_id, (uint32_t)out);
-    if (out == 0)
+    spike_write_u32(HAKO_TX_MOTOR_POWER + 4 * pdev->port_id, (uint32_t)power);
+    if (power == 0)
         spike_write_u32(HAKO_TX_MOTOR_BRAKE + 4 * pdev->port_id, 1);
 }
 
@@ -102,18 +109,22 @@ pbio_error_t pup_motor_setup(pup_motor_t *motor, pup_direction_t positive_direct
 {
     pup_device_t *pdev = device(motor, __func__);
     pdev->direction = (unsigned char)positive_direction;
+    if (pdev->port_id < HAKO_MOTOR_PORTS) /* the hub's motors with an encoder on the bench */
+        spike_write_u32(HAKO_TX_SPIKE_DIRECTION + 4 * pdev->port_id, positive_direction);
     return reset_count ? pup_motor_reset_count(motor) : PBIO_SUCCESS;
 }
 
 /* The SDK's: power 0 (which stops a regulated motor too) and the reset flag; the physics process zeroes the
- * encoder and clears the flag. The samples are moved along, so that the speed does not see the jump. */
+ * encoder and clears the flag. The samples are moved along, so that the speed does not see the jump, and the
+ * status's count is 0 until the next status, as libraspike-art clears it (raspike_motor.c 42-46). */
 pbio_error_t pup_motor_reset_count(pup_motor_t *motor)
 {
     pup_device_t *pdev = device(motor, __func__);
     int index = pdev->port_id;
-    int32_t before = raw_count(index);
+    int32_t before = count_now(index);
     for (int k = 0; k < HISTORY; k++)
         counts[k][index] -= before;
+    spike_status_count_reset(index);
     state(pdev)->regulated = false;
     state(pdev)->applied = 0;
     state(pdev)->driven_since = -1;
@@ -125,7 +136,7 @@ pbio_error_t pup_motor_reset_count(pup_motor_t *motor)
 int32_t pup_motor_get_count(pup_motor_t *motor)
 {
     hako_spend_call(); /* a device read takes time (sim_time.h) */
-    return raw_count(device(motor, __func__)->port_id);
+    return spike_status()->motors[device(motor, __func__)->port_id].count;
 }
 
 /* The count's change per second since the newest sample at least `window_us` before the newest, or the
@@ -145,20 +156,21 @@ static int32_t speed_over(int index, int64_t window_us, int64_t *span_us)
 int32_t pup_motor_get_speed(pup_motor_t *motor)
 {
     hako_spend_call(); /* a device read takes time (sim_time.h) */
-    int64_t span;
-    return speed_over(device(motor, __func__)->port_id, SPEED_WINDOW_US, &span);
+    return spike_status()->motors[device(motor, __func__)->port_id].speed;
 }
 
 int32_t pup_motor_get_power(pup_motor_t *motor)
 {
     hako_spend_call(); /* a device read takes time (sim_time.h) */
-    return device(motor, __func__)->power;
+    pup_device_t *pdev = device(motor, __func__);
+    return state(pdev)->power_mode ? pdev->power : spike_status()->motors[pdev->port_id].power;
 }
 
 pbio_error_t pup_motor_set_power(pup_motor_t *motor, int power)
 {
     pup_device_t *pdev = device(motor, __func__);
     state(pdev)->regulated = false;
+    state(pdev)->power_mode = true;
     pdev->power = power;
     write_power(pdev, power);
     return PBIO_SUCCESS;
@@ -182,18 +194,19 @@ static void regulate(pup_device_t *pdev, int32_t speed, bool from_here)
 pbio_error_t pup_motor_set_speed(pup_motor_t *motor, int speed)
 {
     pup_device_t *pdev = device(motor, __func__);
+    state(pdev)->power_mode = false;
     if (!state(pdev)->regulated || state(pdev)->speed != speed)
         regulate(pdev, speed, false);
     return PBIO_SUCCESS;
 }
 
 /* The SDK's stop: power 0 and the brake flag. The bench's motors are speed servos, so a power of 0 holds the
- * wheel still, as SPIKE-RT's brake does; SPIKE-RT's stop lets it coast. */
+ * wheel still, as SPIKE-RT's brake does; SPIKE-RT's stop lets it coast. The power set is kept for get_power,
+ * as libraspike-art keeps it (its stop sends a command and changes neither pdev->cmd nor pdev->power). */
 pbio_error_t pup_motor_stop(pup_motor_t *motor)
 {
     pup_device_t *pdev = device(motor, __func__);
     state(pdev)->regulated = false;
-    pdev->power = 0;
     write_power(pdev, 0);
     return PBIO_SUCCESS;
 }
@@ -209,12 +222,27 @@ pbio_error_t pup_motor_hold(pup_motor_t *motor)
 bool pup_motor_is_stalled(pup_motor_t *motor)
 {
     hako_spend_call(); /* a device read takes time (sim_time.h) */
-    const motor_state *s = state(device(motor, __func__));
-    if (s->driven_since < 0 || hako_tick() - s->driven_since < STALL_TIME_US)
+    return spike_status()->motors[device(motor, __func__)->port_id].stalled;
+}
+
+/* pbio's stall detection at this snapshot. */
+static bool stalled(int index, int64_t now)
+{
+    const motor_state *s = &states[index];
+    if (s->driven_since < 0 || now - s->driven_since < STALL_TIME_US)
         return false;
     int64_t span;
-    int32_t speed = speed_over((int)(s - states), STALL_TIME_US, &span);
+    int32_t speed = speed_over(index, STALL_TIME_US, &span);
     return span >= STALL_TIME_US && speed < STALL_SPEED_DPS && speed > -STALL_SPEED_DPS;
+}
+
+void spike_motor_status(int index, int64_t now, spike_motor_reading *out)
+{
+    int64_t span;
+    out->count = count_now(index);
+    out->speed = speed_over(index, SPEED_WINDOW_US, &span);
+    out->power = (int32_t)spike_read_u32(HAKO_RX_SPIKE_MOTOR_POWER + 4 * index);
+    out->stalled = states[index].taken && stalled(index, now);
 }
 
 int32_t pup_motor_set_duty_limit(pup_motor_t *motor, int duty_limit)
@@ -265,15 +293,13 @@ static void sample(int64_t now)
     }
     sampled_at[newest] = now;
     for (int i = 0; i < SPIKE_PORTS; i++)
-        counts[newest][i] = raw_count(i);
+        counts[newest][i] = count_now(i);
 }
 
-/* At each snapshot, before any task runs at that instant (the kernel's device hook). */
-static void serve_motors(void)
+void spike_motors_serve(int64_t now)
 {
     if (!any_motor)
         return;
-    int64_t now = hako_tick();
     sample(now);
     for (int i = 0; i < SPIKE_PORTS; i++) {
         motor_state *s = &states[i];
@@ -285,7 +311,8 @@ static void serve_motors(void)
     }
 }
 
-/* When the kernel must wake next for the motors: every control period while one is regulated. */
+/* When the kernel must wake next for the motors: every control period while one is regulated (status.c
+ * serves them, before it takes a status). */
 static int64_t motors_next_due(int64_t now_us)
 {
     for (int i = 0; i < SPIKE_PORTS; i++)
@@ -294,4 +321,4 @@ static int64_t motors_next_due(int64_t now_us)
     return HAKO_NEVER_WAKES;
 }
 
-HAKO_DEVICE(motors_device) = {.serve = serve_motors, .next_due = motors_next_due};
+HAKO_DEVICE(motors_device) = {.next_due = motors_next_due};

@@ -1,8 +1,8 @@
 /*
  * What the SPIKE-RT runtime's parts share: ET Robocon's device table (raspike_device.c), guest memory access
- * by the layout header's offsets, and the motors' service at each snapshot. Every slot is the one ET Robocon's
- * SDK for Athrill reads or writes (its ev3_vdev.h addresses), so a program does here what it does in the real
- * emulator running the SDK's image.
+ * by the layout header's offsets, the hub's status (status.c) and the motors' service at each snapshot. The
+ * slots are those ET Robocon's SDK for Athrill reads or writes (its ev3_vdev.h addresses), and ours for what
+ * the hub answers beyond them (RX SPIKE_SHSV, SPIKE_COLOR, SPIKE_MOTOR_POWER; TX SPIKE_DIRECTION).
  */
 #ifndef HAKO_SPIKE_H
 #define HAKO_SPIKE_H
@@ -11,6 +11,7 @@
 
 #include "../../src/runtime.h"
 #include "../../src/scheduler.h"
+#include "spike/pup/colorsensor.h"
 #include "spike/pup_device.h"
 
 #define SPIKE_PORTS 6 /* A..F: RP_PORT_NUMBER */
@@ -39,7 +40,28 @@ static inline void spike_write_u32(uint32_t tx_offset, uint32_t value)
     *(volatile uint32_t *)spike_tx(tx_offset) = value;
 }
 
-/* motor.c: the motors' powers to zero (the hub shutting down). */
+/* What one motor port reads in the hub's status (raspike.c update_port_device_motor). */
+typedef struct {
+    int32_t count, speed, power;
+    bool stalled;
+} spike_motor_reading;
+
+/* The hub's status as the program reads it, as of the last STATUS_PERIOD_US instant (status.c). */
+typedef struct {
+    spike_motor_reading motors[HAKO_MOTOR_PORTS];
+    pup_color_rgb_t rgb;
+    int32_t reflection, ambient;
+    pup_color_hsv_t hsv, ambient_hsv, color;
+} spike_hub_status;
+
+/* status.c: the status last delivered; a count reset shows in it at once, as libraspike-art clears it. */
+const spike_hub_status *spike_status(void);
+void spike_status_count_reset(int index);
+
+/* motor.c: the motors' powers to zero (the hub shutting down); pbio's sampling and regulation at each
+ * snapshot; a motor port's reading for the status. */
 void spike_motors_off(void);
+void spike_motors_serve(int64_t now);
+void spike_motor_status(int index, int64_t now, spike_motor_reading *out);
 
 #endif /* HAKO_SPIKE_H */
