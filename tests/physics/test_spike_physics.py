@@ -209,12 +209,11 @@ def test_hako_trial_refuses_a_port_letter_a_hub_lacks_in_one_line(tmp_path):
 
 
 @pytest.mark.parametrize("floor, basic, hackspi", [((255, 255, 255), 80, 40), ((0, 0, 0), 10, 10)])
-def test_the_basic_robot_reads_white_80_and_black_10_whatever_the_courses_spike_figures(tmp_path, floor, basic,
-                                                                                        hackspi):
-    """The Basic class's robot carries its own calibration (SPIKE-RT sdk/workspace/sample_c5,
-    LineTracer/LineTracer.h: WHITE_BRIGHTNESS 80, BLACK_BRIGHTNESS 10); HackSPi reads the course's [sensor.spike]
-    (here RasPike-ART's 40 and 10) on the same floor."""
-    course = colour_course(tmp_path, stripes(floor), "\n[sensor.spike]\nreflect_white = 40\nreflect_black = 10\n")
+def test_the_basic_robot_reads_white_80_and_black_10_where_hackspi_reads_40_and_10(tmp_path, floor, basic, hackspi):
+    """The Basic class's robot carries its own sensor response (SPIKE-RT sdk/workspace/sample_c5,
+    LineTracer/LineTracer.h: WHITE_BRIGHTNESS 80, BLACK_BRIGHTNESS 10); HackSPi's is RasPike-ART's 40 and 10
+    (sample_c5_spike, LineTracer/LineTracer.h), on the same floor."""
+    course = colour_course(tmp_path, stripes(floor), "")
     robots = BUILT_IN["basic"], BUILT_IN["hackspi"]
     assert [environment(course, course.time_limit_us, r).read_sensors().reflect for r in robots] == [basic, hackspi]
     assert (BUILT_IN["basic"].wiring, BUILT_IN["basic"].sensors) == (BUILT_IN["hackspi"].wiring,
