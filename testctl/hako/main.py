@@ -31,6 +31,7 @@ from testctl import paper
 from testctl.bench_options import BenchOptions, bench_options, pop_bench
 from testctl.cluster_address import ClusterAddress, cluster_address
 from testctl.hako.course import course
+from testctl.hako.patch import patch
 from testctl.options import (
     DEFAULT_DRAWS,
     MAX_DRAWS,
@@ -69,6 +70,7 @@ def main() -> None:
 
 
 main.add_command(course)
+main.add_command(patch)
 
 
 @main.command(context_settings=HELP)
