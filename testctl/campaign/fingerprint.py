@@ -1,6 +1,7 @@
 """What a campaign's results depend on besides its options: the files of its program (with every file a
-parameter's kind reads or rewrites: a define's or a source match's header, a data file's template) and of its
-course (the course folder holds the robot's wiring too), hashed into the journal's header.
+parameter's kind reads or rewrites: a define's or a source match's header, a data file's template, and every
+file a test's copy of its workspace holds: the app folder's command files and the workspace's own files) and of
+its course (the course folder holds the robot's wiring too), hashed into the journal's header.
 
 A resume that runs another program gives sets measured with two programs under one name (the issue's case:
 sets 1-2 lapped at 37 s with the old app.c, sets 3-5 at 23 s with the new one), so `--resume` compares the
@@ -38,6 +39,7 @@ def folder_files(path: Path) -> list[Path]:
 def fingerprint(bench: BenchOptions, fields: Iterable[str]) -> dict[str, dict[str, str]]:
     """The hashes of what each of `fields` names: the program's files for `app`, the course folder for
     `course`, and the file or folder any other option names."""
+    from athrill_sim.program import card_files
     from athrill_sim.programs import resolve_program
     from hakoniwa.physics.course import course_file
 
@@ -45,8 +47,10 @@ def fingerprint(bench: BenchOptions, fields: Iterable[str]) -> dict[str, dict[st
     for field in fields:
         value = getattr(bench, field)
         if field == "app":
-            files = list(resolve_program(value, athrill2=bench.athrill2, emulator=bench.emulator, sync=bench.sync,
-                                         bindings=bench.bindings).files)
+            program = resolve_program(value, athrill2=bench.athrill2, emulator=bench.emulator, sync=bench.sync,
+                                      bindings=bench.bindings)
+            folder = program.working_folder
+            files = [*program.files, *card_files(program.sdcard), *(folder.files() if folder is not None else ())]
         elif field == "course":
             files = folder_files(course_file(value).parent)
         elif isinstance(value, str) and Path(value).exists():

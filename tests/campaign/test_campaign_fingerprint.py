@@ -139,3 +139,27 @@ def test_the_program_files_are_exactly_the_modules_its_imports_reach(tmp_path_fa
         assert set(program_sources(main)) == {p.resolve() for p in expected}
     finally:
         sys.path.remove(str(root))
+
+
+def test_every_file_a_tests_workspace_copy_holds_is_hashed(tmp_path):
+    """A native program's tests each start from a copy of its workspace (athrill_sim/working_folder.py): the
+    command file no parameter names, a file in the workspace beside the app folder and the SD card's are what
+    the program reads at run time, so an edit of any of them between a kill and `--resume` is named."""
+    need_cc()
+    app = tmp_path / "workspace" / "tracer"
+    (app / "datafiles").mkdir(parents=True)
+    (app / "sdcard").mkdir()
+    (app / "app.c").write_text(IDLE_C)
+    (app / "app.cfg").write_text('#include "app.h"\nCRE_TSK(MAIN_TASK, { TA_ACT, 0, main_task, TMIN_APP_TPRI + 1, '
+                                 '4096, NULL });\n')
+    (app / "app.h").write_text('#include "ev3api.h"\nvoid main_task(intptr_t exinf);\n')
+    edited = [app / "datafiles" / "commands.txt", app.parent / "tracer.ini", app / "sdcard" / "course.txt"]
+    for f in edited:
+        f.write_text("1\n")
+    bench = BenchOptions(app=str(app))
+    before = fingerprint(bench, ("app",))
+    for f in edited:
+        f.write_text("2\n")
+        name = f.relative_to(app.parent).as_posix()
+        assert changes(before, fingerprint(bench, ("app",)), bench) == [f"--app {app}: {name} changed"]
+        f.write_text("1\n")
