@@ -38,6 +38,26 @@ class CourseError(HakoError, ValueError):
     """A course folder or its course.toml is unusable; the message names the problem."""
 
 
+_BOX = frozenset({"name", "x", "y", "hx", "hy"})
+# Every key a course.toml may hold, by table ("" is the file's top level; an array of tables, [[wall]], is
+# checked table by table): a key the course learns is added here, once, beside the code that reads it, and
+# any other is refused in one line naming it and the file, as a scenario's are. [noise] is NoiseLevels', and
+# [[zone]], [[object]] and [score] are course_items.py's.
+KEYS: dict[str, frozenset[str]] = {
+    "": frozenset({"name", "floor_image", "meters_per_pixel", "origin", "time_limit_s", "wall_height", "start",
+                   "wall", "checkpoint", "area", "robot", "noise", "etroboc", "sensor", "reflect_white",
+                   "reflect_black", "zone", "object", "score"}),
+    "start": frozenset({"x", "y", "yaw_deg"}),
+    "wall": _BOX,
+    "checkpoint": _BOX | {"heading_deg"},
+    "area": _BOX | {"color"},
+    "robot": frozenset({"left_motor", "right_motor"}),
+    "etroboc": frozenset({"card_number", "block_number", "block_positions"}),
+    "sensor.ev3": frozenset({"reflect_white", "reflect_black"}),
+    "sensor.spike": frozenset({"reflect_white", "reflect_black"}),
+}
+
+
 @dataclass(frozen=True)
 class Box:
     """An axis-aligned box on the floor: centre (x, y) and half sizes, in metres. A checkpoint may say which way
@@ -252,9 +272,6 @@ def _course_info(table: object, where: str) -> CourseInfo:
     where = f"{where} [etroboc]"
     if not isinstance(table, dict):
         raise CourseError(f"{where}: must be a table")
-    unknown = sorted(set(table) - {"card_number", "block_number", "block_positions"})
-    if unknown:
-        raise CourseError(f"{where}: unknown key {unknown[0]!r}")
     numbers = {}
     for key in ("card_number", "block_number"):
         value = table.get(key, 0)
@@ -312,6 +329,7 @@ def load_course(name_or_path: str | Path) -> Course:
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as e:
         raise CourseError(f"{path}: not valid TOML: {e}") from None
     where = path.name
+    _check_keys(spec, path)
     image_path = path.parent / str(spec.get("floor_image", ""))
     if not image_path.is_file():
         raise CourseError(f"{where}: floor_image {spec.get('floor_image')!r} not found")
@@ -364,15 +382,37 @@ def load_course(name_or_path: str | Path) -> Course:
     return course
 
 
+def _known(table: dict, kind: str, where: str) -> None:
+    unknown = sorted(set(table) - KEYS[kind])
+    if unknown:
+        raise CourseError(f"{where}: unknown key {unknown[0]!r} (known: {', '.join(sorted(KEYS[kind]))})")
+
+
+def _check_keys(spec: dict, path: Path) -> None:
+    """No key the schema lacks (KEYS), in any table the file holds: a misspelt key would change nothing."""
+    _known(spec, "", str(path))
+    for kind in [k for k in KEYS if k]:
+        table: object = spec
+        for part in kind.split("."):
+            table = table.get(part) if isinstance(table, dict) else None
+        if isinstance(table, dict):
+            _known(table, kind, f"{path} [{kind}]")
+        elif isinstance(table, list):
+            for i, entry in enumerate(table):
+                if isinstance(entry, dict):
+                    _known(entry, kind, f"{path} [[{kind}]] {i}")
+
+
 def _calibrations(spec: dict, where: str) -> tuple[Calibration, Calibration]:
     """The EV3's and the SPIKE's readings on white and black: `[sensor.ev3]` (or the top-level reflect_white and
     reflect_black, the form the oval's file has always had) and `[sensor.spike]` (default: ET Robocon's 40 / 10)."""
     sensor = spec.get("sensor", {})
     if not isinstance(sensor, dict):
         raise CourseError(f"{where}: [sensor] must be a table ([sensor.ev3], [sensor.spike])")
-    unknown = sorted(set(sensor) - {"ev3", "spike"})
+    kinds = sorted(k.removeprefix("sensor.") for k in KEYS if k.startswith("sensor."))
+    unknown = sorted(set(sensor) - set(kinds))
     if unknown:
-        raise CourseError(f"{where}: [sensor.{unknown[0]}]: no such sensor kind (known: ev3, spike)")
+        raise CourseError(f"{where}: [sensor.{unknown[0]}]: no such sensor kind (known: {', '.join(kinds)})")
     top = {"reflect_white", "reflect_black"} & set(spec)
     if top and "ev3" in sensor:
         raise CourseError(f"{where}: the EV3's reflect is given twice: [sensor.ev3] and the top-level "
@@ -386,9 +426,7 @@ def _calibrations(spec: dict, where: str) -> tuple[Calibration, Calibration]:
         if not isinstance(table, dict):
             raise CourseError(f"{at}: must be a table")
         if table is not spec:
-            extra = sorted(set(table) - {"reflect_white", "reflect_black"})
-            if extra:
-                raise CourseError(f"{at}: unknown key {extra[0]!r} (known: reflect_black, reflect_white)")
+            _known(table, f"sensor.{kind}", at)
         white, black = _number(table, "reflect_white", at), _number(table, "reflect_black", at)
         if white <= black:
             raise CourseError(f"{at}: reflect_white must be above reflect_black")
