@@ -18,6 +18,7 @@ import math
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -31,7 +32,13 @@ from hakoniwa.wire.etrobocon_rules import CLASSES
 from hakoniwa.wire.protocol import COURSE_BLOCK_POSITIONS, MOTOR_PORTS, ColorId
 from hakoniwa.wire.timebase import US_PER_S
 
+if TYPE_CHECKING:
+    from PIL.Image import Image as PILImage
+
 COURSES_DIR = Path(__file__).parent / "courses"
+# The largest floor image the bench takes: a 5.46 x 3.64 m mat at 0.55 mm a pixel, finer than the colour sensor's
+# spot. Loading a course holds about 30 bytes a pixel (its reflect, and for a colour image its channels).
+MAX_FLOOR_PIXELS = 40_000_000
 
 
 class CourseError(HakoError, ValueError):
@@ -192,19 +199,21 @@ class Course:
         return ColorReading(color_response.spike_reflect(mean, self.ev3, self.spike), color, rgb,
                             color_response.hsv_of(rgb))
 
-    def picture(self) -> np.ndarray:
+    def picture(self, max_pixels: int | None = None) -> np.ndarray:
         """The floor as a person sees it (RGB, 0..255, row 0 at the image's top): each channel's place between
-        black and white, and the colour areas painted in."""
+        black and white, and the colour areas painted in; every n-th pixel each way where the floor has more
+        than `max_pixels` (a figure shows no more, and a big mat's whole picture would take gigabytes)."""
         span = self.reflect_white - self.reflect_black
+        step = math.ceil(math.sqrt(self.floor.size / max_pixels)) if max_pixels else 1
 
         def byte(channel: np.ndarray) -> np.ndarray:
-            return (np.clip((channel - self.reflect_black) / span, 0, 1) * 255).astype(np.uint8)
+            return (np.clip((channel[::step, ::step] - self.reflect_black) / span, 0, 1) * 255).astype(np.uint8)
 
         red = byte(self.floor)
         c = self.colour
         rgb = np.stack([red, red, red] if c is None else [red, byte(c[:, :, 0]), byte(c[:, :, 1])], axis=2)
         h = red.shape[0]
-        mpp, (x0, y0) = self.meters_per_pixel, self.origin
+        mpp, (x0, y0) = self.meters_per_pixel * step, self.origin
         for area in self.color_areas:
             b = area.box
             c0, c1 = round((b.x - b.hx - x0) / mpp), round((b.x + b.hx - x0) / mpp)
@@ -439,24 +448,51 @@ def _calibrations(spec: dict, where: str) -> tuple[Calibration, Calibration]:
 def _floor_channels(image_path: Path) -> tuple[np.ndarray, np.ndarray | None]:
     """The image's red channel (0..1, float32) and, for a colour image, its green, blue and mean channels
     (None for a grey one, where every channel is the red)."""
+    try:
+        with open_floor_image(image_path, image_path.name) as img:
+            rgb = np.asarray(img.convert("RGB"))
+    except OSError as e:
+        raise CourseError(f"{image_path.name}: not a readable image: {e}") from None
+    # In place, channel by channel: a whole-image temporary is as big as the result (loading a 40 Mpx colour
+    # mat took 2.0 GB at its peak, now 0.9), and the values are the same float32 operations in the same order.
+    red = rgb[:, :, 0].astype(np.float32)
+    red /= 255.0
+    if np.array_equal(rgb[:, :, 0], rgb[:, :, 1]) and np.array_equal(rgb[:, :, 1], rgb[:, :, 2]):
+        return red, None
+    colour = np.empty(rgb.shape, np.float32)
+    colour[:, :, 0], colour[:, :, 1], colour[:, :, 2] = rgb[:, :, 1], rgb[:, :, 2], rgb[:, :, 0]
+    colour[:, :, 2] += colour[:, :, 0]
+    colour[:, :, 2] += colour[:, :, 1]
+    colour[:, :, 2] /= 3
+    colour /= 255.0
+    return red, colour
+
+
+def open_floor_image(path: Path, what: str) -> PILImage:
+    """The image at `path`, opened (its pixels not yet decoded) when it is within MAX_FLOOR_PIXELS. The bound is
+    the bench's, said in one line: PIL's own is a warning on every command above 89 Mpx and a traceback (its
+    DecompressionBombError) above 179 Mpx, after which decoding would take gigabytes."""
     from PIL import Image, UnidentifiedImageError
 
+    Image.MAX_IMAGE_PIXELS = None  # PIL's check, which warns or fails where this one says why in one line
     try:
-        with Image.open(image_path) as img:
-            rgb = np.asarray(img.convert("RGB"))
+        img = Image.open(path)
     except (UnidentifiedImageError, OSError) as e:
-        raise CourseError(f"{image_path.name}: not a readable image: {e}") from None
-    red = rgb[:, :, 0].astype(np.float32) / 255.0
-    if (rgb[:, :, 0] == rgb[:, :, 1]).all() and (rgb[:, :, 1] == rgb[:, :, 2]).all():
-        return red, None
-    channels = rgb.astype(np.float32)
-    mean = channels.sum(axis=2) / 3
-    return red, np.stack([channels[:, :, 1], channels[:, :, 2], mean], axis=2) / 255.0
+        raise CourseError(f"{what}: not a readable image: {e}") from None
+    width, height = img.size
+    if width * height > MAX_FLOOR_PIXELS:
+        img.close()
+        raise CourseError(f"{what}: {width} x {height} px ({width * height / 1e6:.0f} Mpx) is over the bench's limit "
+                          f"of {MAX_FLOOR_PIXELS / 1e6:.0f} Mpx for a floor image: scale it down (1 mm a pixel is "
+                          "finer than the colour sensor's spot)")
+    return img
 
 
 def _scaled(channels: np.ndarray, ev3: Calibration) -> np.ndarray:
-    """Channels 0..1 as the EV3's reflect between the course's black and white."""
-    return (ev3.black + (ev3.white - ev3.black) * channels).astype(np.float32)
+    """Channels 0..1 (float32) as the EV3's reflect between the course's black and white, in place."""
+    channels *= ev3.white - ev3.black
+    channels += ev3.black
+    return channels
 
 
 def _check_items(course: Course, where: str) -> None:
