@@ -97,6 +97,8 @@ def apply_patch(run_dir: Path, check: bool = False) -> list[str]:
     for rel, hunks in _diffs(file_text(run_dir / BEST_PATCH)).items():
         path = root / rel
         old = file_text(path) if path.is_file() else None
+        if old is None and hunks and hunks[0].old_start != 0:
+            raise PatchError(f"{path}: no such file, which best.patch changes (was the program moved?)")
         try:
             changed[path] = _applied(old, hunks)
         except PatchError as e:

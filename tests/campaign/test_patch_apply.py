@@ -73,6 +73,13 @@ def test_it_applies_from_anywhere_says_when_already_applied_and_refuses_an_edite
     assert (app / "gains.h").read_text() == OLD.replace("1.0f", "0.9f")
 
 
+def test_a_program_moved_since_the_campaign_is_one_line(tmp_path):
+    app = tmp_path / "app"
+    app.mkdir()
+    run = campaign_dir(tmp_path, app, {"gains.h": (OLD, NEW)})
+    one_line_error(hako("patch", "apply", str(run)), f"{app / 'gains.h'}: no such file", "moved")
+
+
 def test_a_run_directory_without_a_patch_is_one_line(tmp_path):
     r = hako("patch", "apply", str(tmp_path))
     one_line_error(r, "best.json")
