@@ -61,6 +61,8 @@ INSTALL_CXX = "install one (apt-get install g++) or set CXX"
 _ERROR = re.compile(r"\berror: |undefined reference to |multiple definition of ")
 _LINKER_LOCATION = re.compile(r"^.*?:\(\.\w+[^)]*\): ")
 _UNDEFINED = re.compile(r"undefined reference to [`'\u2018]([A-Za-z_]\w*)['\u2019]")
+_UNDECLARED = re.compile(r"(?:unknown type name |implicit declaration of function )[`'\u2018](?P<c>[A-Za-z_]\w*)"
+                         r"['\u2019]|[`'\u2018](?P<cxx>[A-Za-z_]\w*)['\u2019] was not declared")
 
 
 def find_compiler() -> Path:
@@ -269,6 +271,11 @@ def first_error(output: str, entries: Collection[str] = (), cxx: bool = False, s
     line = (errors or lines or ["the compiler failed"])[0]
     if "undefined reference to " in line or "multiple definition of " in line:
         line = _LINKER_LOCATION.sub("", line)
+    undeclared = _UNDECLARED.search(line)
+    name = undeclared["c"] or undeclared["cxx"] if undeclared else None
+    if name and (header := spike.declared_in(name)):
+        line += (f" ({name} is declared in {header}, which the program does not include: RasPike-ART's "
+                 "spikeapi.h declares no device)")
     missing = undefined_name(line)
     if missing and missing in entries:
         line = no_entry_point(missing, cxx)
