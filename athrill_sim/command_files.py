@@ -120,10 +120,12 @@ def row_cell(text: str, name: str, *, column: int, key: str | None = None, line:
 def ini_cell(text: str, name: str, *, key: str, section: str | None = None) -> Cell:
     """The number the value of `key` in `[section]` starts with (before any section when `section` is None)."""
     current: str | None = None
+    sections: list[str] = []
     for number, (at, line) in enumerate(lines(text), 1):
         stripped = line.strip()
         if stripped.startswith("[") and stripped.endswith("]"):
             current = stripped[1:-1].strip()
+            sections.append(current)
             continue
         if not stripped or stripped[0] in ";#" or current != section:
             continue
@@ -136,6 +138,9 @@ def ini_cell(text: str, name: str, *, key: str, section: str | None = None) -> C
         end = _INI_VALUE_END.search(line, start)
         where = f"{name} line {number} ({'[' + section + '] ' if section else ''}{key})"
         return _number(text, at + start, at + (end.start() if end else len(line)), where)
+    if section is not None and section not in sections:
+        have = ", ".join(f"[{s}]" for s in dict.fromkeys(sections)) or "none"
+        raise CellError(f"{name}: no section [{section}] (its sections: {have})")
     place = f"in section [{section}]" if section is not None else "before the first section"
     raise CellError(f"{name}: no key {key} {place}")
 

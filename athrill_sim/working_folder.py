@@ -55,9 +55,12 @@ class WorkingFolder:
         return workspace
 
     def size(self) -> int:
-        files = [*self.root_files, *(_tree_files(self.app) if self.app else ()),
-                 *(_tree_files(self.sdcard) if self.sdcard else ())]
-        return sum(f.stat().st_size for f in files)
+        return sum(f.stat().st_size for f in self.files())
+
+    def files(self) -> list[Path]:
+        """Every file a copy holds (a campaign's journal hashes them: what each test starts from)."""
+        return [*self.root_files, *(_tree_files(self.app) if self.app else ()),
+                *(_tree_files(self.sdcard) if self.sdcard else ())]
 
     def make(self, folder: Path) -> Path:
         """A fresh copy in `folder`."""

@@ -237,6 +237,8 @@ def replay(log: Path, size: int | None, drop_last: int, until: int | None, fmt: 
     if fmt == "png" and out is None:
         raise click.UsageError("--format png needs --out FILE")
     loaded = read_log(log, size, strict)
+    if loaded.in_log == 0:
+        click.echo(f"note: {log} holds no records: the maze shown is all unknown", err=True)
     records = select(loaded.records, until=until, drop_last=drop_last)
     if fmt == "png" or animate is not None:
         draw_replay(log, loaded, records, drop_last, truth_path if truth else None, truth, size,

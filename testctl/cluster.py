@@ -45,6 +45,7 @@ from testctl.executor import Executor, TestSpec
 PLUGIN_NAME = "hakoniwa-bench"
 RETRIES = 2  # a campaign's test whose bench died is run again this many times before it gives up
 CONNECT_TIMEOUT_S = 10
+ANSWER_TIMEOUT_S = 10  # after the connection: a scheduler answers Dask's handshake at once
 NO_WORKERS_TIMEOUT_S = 60.0  # a cluster without a worker this long is not coming back by itself
 LOOK_EVERY_S = 1.0  # how often a wait for results asks the scheduler about the workers
 
@@ -123,6 +124,35 @@ def tls_security(address: str, files: TlsFiles) -> Security:
     return security
 
 
+class NoAnswer(ClusterError):
+    """The scheduler's address took the connection and never answered Dask's handshake."""
+
+
+def _handshake(address: str, security: Security | None) -> None:
+    """Dask's handshake with the scheduler, within a bound on the wall clock. Dask bounds the TCP connection,
+    not the handshake after it (distributed's `comm.core.connect` reads the answer without a timeout), so a
+    listener that accepts and says nothing (a stopped process, a web server waiting for a request) held
+    `Client()` for ever."""
+    import asyncio
+
+    from distributed.comm import connect
+
+    args = security.get_connection_args("client") if security is not None else {}
+
+    async def handshake() -> None:
+        comm = await connect(address, timeout=CONNECT_TIMEOUT_S, **args)
+        await comm.close()
+
+    async def bounded() -> None:
+        try:
+            await asyncio.wait_for(handshake(), CONNECT_TIMEOUT_S + ANSWER_TIMEOUT_S)
+        except TimeoutError:
+            raise NoAnswer(f"{address} took the connection but did not answer as a Dask scheduler within "
+                           f"{CONNECT_TIMEOUT_S + ANSWER_TIMEOUT_S} s") from None
+
+    asyncio.run(bounded())
+
+
 def run_on_worker(spec: TestSpec) -> tuple[TestResult, str]:
     """The task each test is: run it on this worker's bench."""
     host = cast(BenchHost, get_worker().plugins[PLUGIN_NAME])  # the plugin this module registers
@@ -143,7 +173,10 @@ class DaskExecutor(Executor):
         if scheduler is not None:
             security = tls_security(scheduler.address, scheduler.tls) if scheduler.tls is not None else None
             try:
+                _handshake(scheduler.address, security)
                 self.client = Client(scheduler.address, timeout=CONNECT_TIMEOUT_S, security=security)
+            except NoAnswer:
+                raise
             except (OSError, TimeoutError) as e:
                 reason = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
                 raise ClusterError(f"cannot reach the Dask scheduler at {scheduler.address}: {reason}") from None

@@ -17,7 +17,7 @@ from typing import Any
 import click
 
 from hakoniwa.conventions import NOISE_SCALE, option_group
-from hakoniwa.wire.rundir import RunDirBusy, RunDirLock
+from hakoniwa.wire.rundir import LOCK_FILE, RunDirBusy, RunDirLock
 from testctl.campaign.config import CampaignConfig
 from testctl.campaign.journal import JOURNAL_FILE, JournalError, read_journal
 from testctl.paper import GAIN_RANGE, MOTOR_POWER
@@ -108,6 +108,15 @@ class CampaignPlan:
     bench: dict[str, Any]  # the bench the journal records (course, app, time limit), empty for a new one
     lock: RunDirLock  # held from the plan to the end of the campaign: one live campaign per folder
     validate: int | None = None  # the journal's --validate (None: a new campaign, or a journal without it)
+    created: bool = False  # the plan made the folder: a campaign refused before it starts leaves none behind
+
+    def abandon(self) -> None:
+        """The campaign was refused before it started: let the folder go as it was, and remove it if the plan
+        made it (an empty --out left behind looks like a campaign that ran there)."""
+        (self.out_dir / LOCK_FILE).unlink(missing_ok=True)
+        self.lock.release()
+        if self.created and not any(self.out_dir.iterdir()):
+            self.out_dir.rmdir()
 
 
 def plan(trials: int | None, init_points: int | None, repeats: int | None, seed: int | None,
@@ -150,13 +159,14 @@ def plan(trials: int | None, init_points: int | None, repeats: int | None, seed:
     except (SpaceError, JournalError, ValueError) as e:
         raise click.ClickException(str(e)) from None
     out_dir = out or Path("runs") / f"campaign-{dt.datetime.now():%Y%m%d-%H%M%S}"
+    created = not out_dir.exists()
     make_out_dir(out_dir)
     lock = lock_folder(out_dir)
     if (out_dir / JOURNAL_FILE).exists():
         lock.release()
         raise click.ClickException(f"{out_dir} already holds a campaign; use --resume {out_dir} to continue it "
                                    "or choose another --out")
-    return CampaignPlan(config, out_dir, False, {}, lock)
+    return CampaignPlan(config, out_dir, False, {}, lock, created=created)
 
 
 def lock_folder(out_dir: Path) -> RunDirLock:

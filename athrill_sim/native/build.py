@@ -15,6 +15,10 @@ computes what its source says, operation by operation: `-ffp-contract=off` (no f
 fast-math. `-fno-strict-aliasing`, because embedded code type-puns freely; integer-to-pointer casts are not
 warned about, because EV3RT programs use guest addresses. C++ is gcc 12's default dialect, `-std=gnu++17`,
 which the v850 toolchain compiles EV3RT's C++ programs with; a `-std=` in the program's `COPTS` wins.
+The POSIX layer's definitions (`posix_*.c`: `clock`, `time`, `sleep`, `open`, `system`, ...) are made weak
+with `objcopy --weaken`, so that a program's own global of the same name (ET Robocon's tutorial has
+`Clock clock;` beside main_task) wins, as it wins over the C library's on the robot; every other caller, the
+C library and libstdc++ included, still reaches the runtime's (docs/DESIGN-NOTES.md, "A program's own names").
 ET Robocon's programs define `void *__dso_handle = 0;` (EV3RT links without the C runtime's start files,
 which define it); natively that name is the C runtime's, so the program's is renamed by a macro.
 """
@@ -39,6 +43,7 @@ from athrill_sim.native.workspace import CXX_SUFFIX, AppSources, find_app
 RUNTIME = Path(__file__).with_name("runtime")
 RUNTIME_INCLUDE = RUNTIME / "include"
 RUNTIME_SRC = RUNTIME / "src"
+POSIX_LAYER = "posix_*.c"  # the C library's functions on simulated time: weak, so a program's own names win
 GENERATORS = (Path(__file__), Path(appcfg.__file__), Path(headers.__file__), Path(workspace.__file__),
               Path(makefile.__file__), Path(spike.__file__))
 STRICT_FLAGS = ("-O2", "-ffp-contract=off", "-fno-fast-math", "-fno-strict-aliasing", "-Wall",
@@ -56,6 +61,8 @@ INSTALL_CXX = "install one (apt-get install g++) or set CXX"
 _ERROR = re.compile(r"\berror: |undefined reference to |multiple definition of ")
 _LINKER_LOCATION = re.compile(r"^.*?:\(\.\w+[^)]*\): ")
 _UNDEFINED = re.compile(r"undefined reference to [`'\u2018]([A-Za-z_]\w*)['\u2019]")
+_UNDECLARED = re.compile(r"(?:unknown type name |implicit declaration of function )[`'\u2018](?P<c>[A-Za-z_]\w*)"
+                         r"['\u2019]|[`'\u2018](?P<cxx>[A-Za-z_]\w*)['\u2019] was not declared")
 
 
 def find_compiler() -> Path:
@@ -179,6 +186,9 @@ def _build(app: AppSources, compilers: Compilers, generated: dict[str, str], bui
                *(spike.sources() if app.spike else ()), *(spike.hub_cxx_sources() if app.hub and app.cxx else ())]
     objects = _compile_all(app, compilers, includes, [*sources, *app.library_sources], build_dir)
     failure = f"{app.sources[0].name} does not build"
+    for source, obj in zip(sources, objects):
+        if source.parent == RUNTIME_SRC and source.match(POSIX_LAYER):
+            _run(["objcopy", "--weaken", str(obj)], app.root, build_dir, failure)
     archive = []
     if app.library_sources:  # an archive, as EV3RT links its libraries: what the program does not use stays out
         archive = [build_dir / OBJECTS / "libraries.a"]
@@ -269,6 +279,11 @@ def first_error(output: str, entries: Collection[str] = (), cxx: bool = False, s
     line = (errors or lines or ["the compiler failed"])[0]
     if "undefined reference to " in line or "multiple definition of " in line:
         line = _LINKER_LOCATION.sub("", line)
+    undeclared = _UNDECLARED.search(line)
+    name = undeclared["c"] or undeclared["cxx"] if undeclared else None
+    if name and (header := spike.declared_in(name)):
+        line += (f" ({name} is declared in {header}, which the program does not include: RasPike-ART's "
+                 "spikeapi.h declares no device)")
     missing = undefined_name(line)
     if missing and missing in entries:
         line = no_entry_point(missing, cxx)

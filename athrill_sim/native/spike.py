@@ -64,3 +64,16 @@ def sources() -> list[Path]:
 def hub_cxx_sources() -> list[Path]:
     """SPIKE-RT's libcpp sources, which the hub's kernel library builds for a C++ program."""
     return sorted(HUB_CXX_SOURCE_DIR.glob("*.cpp"))
+
+
+def declared_in(name: str) -> str | None:
+    """The SPIKE-RT header that declares `name` (`spike/pup/motor.h` for `pup_motor_t`), as a program includes
+    it: RasPike-ART's `spikeapi.h` declares no device, so a program that includes only it and uses a motor
+    fails to compile, on the robot as here, and the error names the header it lacks."""
+    declaring = re.compile(rf"typedef\b[^;]*\b{name}\s*;|\}}\s*{name}\s*;|#define\s+{name}\b|^\s*{name}\s*[=,]"
+                           rf"|^[\w\s*]*\b{name}\s*\(", re.M)
+    root = INCLUDE_DIRS[0]
+    for header in sorted(root.rglob("*.h")):
+        if header.name != "spikeapi.h" and declaring.search(header.read_text(errors="replace")):
+            return header.relative_to(root).as_posix()
+    return None

@@ -19,6 +19,7 @@ import math
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -41,11 +42,38 @@ from hakoniwa.wire.etrobocon_rules import CLASSES
 from hakoniwa.wire.protocol import COURSE_BLOCK_POSITIONS, MOTOR_PORTS, ColorId
 from hakoniwa.wire.timebase import US_PER_S
 
+if TYPE_CHECKING:
+    from PIL.Image import Image as PILImage
+
 COURSES_DIR = Path(__file__).parent / "courses"
+# The largest floor image the bench takes: a 5.46 x 3.64 m mat at 0.55 mm a pixel, finer than the colour sensor's
+# spot. Loading a course holds about 30 bytes a pixel (its reflect, and for a colour image its channels).
+MAX_FLOOR_PIXELS = 40_000_000
 
 
 class CourseError(HakoError, ValueError):
     """A course folder or its course.toml is unusable; the message names the problem."""
+
+
+_BOX = frozenset({"name", "x", "y", "hx", "hy"})
+# Every key a course.toml may hold, by table ("" is the file's top level; an array of tables, [[wall]], is
+# checked table by table): a key the course learns is added here, once, beside the code that reads it, and
+# any other is refused in one line naming it and the file, as a scenario's are. [noise] is NoiseLevels', and
+# [[zone]], [[object]] and [score] are course_items.py's; [course_out] is _course_out's.
+KEYS: dict[str, frozenset[str]] = {
+    "": frozenset({"name", "floor_image", "meters_per_pixel", "origin", "time_limit_s", "wall_height", "start",
+                   "wall", "checkpoint", "area", "robot", "noise", "etroboc", "sensor", "reflect_white",
+                   "reflect_black", "zone", "object", "score", "course_out"}),
+    "start": frozenset({"x", "y", "yaw_deg"}),
+    "wall": _BOX,
+    "checkpoint": _BOX | {"heading_deg"},
+    "area": _BOX | {"color"},
+    "robot": frozenset({"left_motor", "right_motor"}),
+    "etroboc": frozenset({"card_number", "block_number", "block_positions"}),
+    "sensor.ev3": frozenset({"reflect_white", "reflect_black"}),
+    # white and black, and the colours the floor image was painted to read (scripts/make_etrobocon_course.py)
+    "sensor.spike": frozenset({"white", "black", "blue", "red", "green", "yellow", "grey", "brown"}),
+}
 
 
 @dataclass(frozen=True)
@@ -215,19 +243,21 @@ class Course:
                                  COLOR_RGB[area.color][2] / 255))
         return color_response.spike_reading(place, self.spike, robot)
 
-    def picture(self) -> np.ndarray:
+    def picture(self, max_pixels: int | None = None) -> np.ndarray:
         """The floor as a person sees it (RGB, 0..255, row 0 at the image's top): each channel's place between
-        black and white, and the colour areas painted in."""
+        black and white, and the colour areas painted in; every n-th pixel each way where the floor has more
+        than `max_pixels` (a figure shows no more, and a big mat's whole picture would take gigabytes)."""
         span = self.reflect_white - self.reflect_black
+        step = math.ceil(math.sqrt(self.floor.size / max_pixels)) if max_pixels else 1
 
         def byte(channel: np.ndarray) -> np.ndarray:
-            return (np.clip((channel - self.reflect_black) / span, 0, 1) * 255).astype(np.uint8)
+            return (np.clip((channel[::step, ::step] - self.reflect_black) / span, 0, 1) * 255).astype(np.uint8)
 
         red = byte(self.floor)
         c = self.colour
         rgb = np.stack([red, red, red] if c is None else [red, byte(c[:, :, 0]), byte(c[:, :, 1])], axis=2)
         h = red.shape[0]
-        mpp, (x0, y0) = self.meters_per_pixel, self.origin
+        mpp, (x0, y0) = self.meters_per_pixel * step, self.origin
         for area in self.color_areas:
             b = area.box
             c0, c1 = round((b.x - b.hx - x0) / mpp), round((b.x + b.hx - x0) / mpp)
@@ -295,9 +325,6 @@ def _course_info(table: object, where: str) -> CourseInfo:
     where = f"{where} [etroboc]"
     if not isinstance(table, dict):
         raise CourseError(f"{where}: must be a table")
-    unknown = sorted(set(table) - {"card_number", "block_number", "block_positions"})
-    if unknown:
-        raise CourseError(f"{where}: unknown key {unknown[0]!r}")
     numbers = {}
     for key in ("card_number", "block_number"):
         value = table.get(key, 0)
@@ -386,6 +413,7 @@ def load_course(name_or_path: str | Path) -> Course:
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as e:
         raise CourseError(f"{path}: not valid TOML: {e}") from None
     where = path.name
+    _check_keys(spec, path)
     image_path = path.parent / str(spec.get("floor_image", ""))
     if not image_path.is_file():
         raise CourseError(f"{where}: floor_image {spec.get('floor_image')!r} not found")
@@ -439,6 +467,27 @@ def load_course(name_or_path: str | Path) -> Course:
     return course
 
 
+def _known(table: dict, kind: str, where: str) -> None:
+    unknown = sorted(set(table) - KEYS[kind])
+    if unknown:
+        raise CourseError(f"{where}: unknown key {unknown[0]!r} (known: {', '.join(sorted(KEYS[kind]))})")
+
+
+def _check_keys(spec: dict, path: Path) -> None:
+    """No key the schema lacks (KEYS), in any table the file holds: a misspelt key would change nothing."""
+    _known(spec, "", str(path))
+    for kind in [k for k in KEYS if k]:
+        table: object = spec
+        for part in kind.split("."):
+            table = table.get(part) if isinstance(table, dict) else None
+        if isinstance(table, dict):
+            _known(table, kind, f"{path} [{kind}]")
+        elif isinstance(table, list):
+            for i, entry in enumerate(table):
+                if isinstance(entry, dict):
+                    _known(entry, kind, f"{path} [[{kind}]] {i}")
+
+
 def _calibrations(spec: dict, where: str) -> tuple[Calibration, SpikeFloor]:
     """The EV3's reflect on white and black (`[sensor.ev3]`, or the top-level reflect_white and reflect_black,
     the form the oval's file has always had), and what a SPIKE sensor reads on the course's white, black and
@@ -446,9 +495,10 @@ def _calibrations(spec: dict, where: str) -> tuple[Calibration, SpikeFloor]:
     sensor = spec.get("sensor", {})
     if not isinstance(sensor, dict):
         raise CourseError(f"{where}: [sensor] must be a table ([sensor.ev3], [sensor.spike])")
-    unknown = sorted(set(sensor) - {"ev3", "spike"})
+    kinds = sorted(k.removeprefix("sensor.") for k in KEYS if k.startswith("sensor."))
+    unknown = sorted(set(sensor) - set(kinds))
     if unknown:
-        raise CourseError(f"{where}: [sensor.{unknown[0]}]: no such sensor kind (known: ev3, spike)")
+        raise CourseError(f"{where}: [sensor.{unknown[0]}]: no such sensor kind (known: {', '.join(kinds)})")
     top = {"reflect_white", "reflect_black"} & set(spec)
     if top and "ev3" in sensor:
         raise CourseError(f"{where}: the EV3's reflect is given twice: [sensor.ev3] and the top-level "
@@ -458,9 +508,7 @@ def _calibrations(spec: dict, where: str) -> tuple[Calibration, SpikeFloor]:
     if not isinstance(table, dict):
         raise CourseError(f"{at}: must be a table")
     if table is not spec:
-        extra = sorted(set(table) - {"reflect_white", "reflect_black"})
-        if extra:
-            raise CourseError(f"{at}: unknown key {extra[0]!r} (known: reflect_black, reflect_white)")
+        _known(table, "sensor.ev3", at)
     white, black = _number(table, "reflect_white", at), _number(table, "reflect_black", at)
     if white <= black:
         raise CourseError(f"{at}: reflect_white must be above reflect_black")
@@ -475,6 +523,7 @@ def _spike_floor(table: object, at: str) -> SpikeFloor:
         return SPIKE_FLOOR
     if not isinstance(table, dict):
         raise CourseError(f"{at}: must be a table")
+    _known(table, "sensor.spike", at)
     channels = {}
     for name, value in table.items():
         if not (isinstance(value, list) and len(value) == 3 and all(
@@ -494,24 +543,51 @@ def _spike_floor(table: object, at: str) -> SpikeFloor:
 def _floor_channels(image_path: Path) -> tuple[np.ndarray, np.ndarray | None]:
     """The image's red channel (0..1, float32) and, for a colour image, its green, blue and mean channels
     (None for a grey one, where every channel is the red)."""
+    try:
+        with open_floor_image(image_path, image_path.name) as img:
+            rgb = np.asarray(img.convert("RGB"))
+    except OSError as e:
+        raise CourseError(f"{image_path.name}: not a readable image: {e}") from None
+    # In place, channel by channel: a whole-image temporary is as big as the result (loading a 40 Mpx colour
+    # mat took 2.0 GB at its peak, now 0.9), and the values are the same float32 operations in the same order.
+    red = rgb[:, :, 0].astype(np.float32)
+    red /= 255.0
+    if np.array_equal(rgb[:, :, 0], rgb[:, :, 1]) and np.array_equal(rgb[:, :, 1], rgb[:, :, 2]):
+        return red, None
+    colour = np.empty(rgb.shape, np.float32)
+    colour[:, :, 0], colour[:, :, 1], colour[:, :, 2] = rgb[:, :, 1], rgb[:, :, 2], rgb[:, :, 0]
+    colour[:, :, 2] += colour[:, :, 0]
+    colour[:, :, 2] += colour[:, :, 1]
+    colour[:, :, 2] /= 3
+    colour /= 255.0
+    return red, colour
+
+
+def open_floor_image(path: Path, what: str) -> PILImage:
+    """The image at `path`, opened (its pixels not yet decoded) when it is within MAX_FLOOR_PIXELS. The bound is
+    the bench's, said in one line: PIL's own is a warning on every command above 89 Mpx and a traceback (its
+    DecompressionBombError) above 179 Mpx, after which decoding would take gigabytes."""
     from PIL import Image, UnidentifiedImageError
 
+    Image.MAX_IMAGE_PIXELS = None  # PIL's check, which warns or fails where this one says why in one line
     try:
-        with Image.open(image_path) as img:
-            rgb = np.asarray(img.convert("RGB"))
+        img = Image.open(path)
     except (UnidentifiedImageError, OSError) as e:
-        raise CourseError(f"{image_path.name}: not a readable image: {e}") from None
-    red = rgb[:, :, 0].astype(np.float32) / 255.0
-    if (rgb[:, :, 0] == rgb[:, :, 1]).all() and (rgb[:, :, 1] == rgb[:, :, 2]).all():
-        return red, None
-    channels = rgb.astype(np.float32)
-    mean = channels.sum(axis=2) / 3
-    return red, np.stack([channels[:, :, 1], channels[:, :, 2], mean], axis=2) / 255.0
+        raise CourseError(f"{what}: not a readable image: {e}") from None
+    width, height = img.size
+    if width * height > MAX_FLOOR_PIXELS:
+        img.close()
+        raise CourseError(f"{what}: {width} x {height} px ({width * height / 1e6:.0f} Mpx) is over the bench's limit "
+                          f"of {MAX_FLOOR_PIXELS / 1e6:.0f} Mpx for a floor image: scale it down (1 mm a pixel is "
+                          "finer than the colour sensor's spot)")
+    return img
 
 
 def _scaled(channels: np.ndarray, ev3: Calibration) -> np.ndarray:
-    """Channels 0..1 as the EV3's reflect between the course's black and white."""
-    return (ev3.black + (ev3.white - ev3.black) * channels).astype(np.float32)
+    """Channels 0..1 (float32) as the EV3's reflect between the course's black and white, in place."""
+    channels *= ev3.white - ev3.black
+    channels += ev3.black
+    return channels
 
 
 def _check_items(course: Course, where: str) -> None:

@@ -10,6 +10,8 @@ from typing import Any
 
 from hakoniwa.physics.course import Course
 
+FIGURE_PIXELS = 4_000_000  # of the floor drawn under a figure: more than its own pixels, whatever the mat's size
+
 
 def read_trajectory(path: Path) -> list[tuple[float, float]]:
     """The path's points; where two share a time the robot was carried (a scenario's place), and a point of
@@ -56,7 +58,7 @@ def _course_figure(course: Course) -> tuple[Any, Any]:
     xmin, xmax, ymin, ymax = course.extent
     fig = Figure(figsize=(5 + 6 * (xmax - xmin) / max(ymax - ymin, 1e-9) / 1.6, 5))
     ax = fig.subplots()
-    ax.imshow(course.picture(), extent=course.extent, origin="upper")
+    ax.imshow(course.picture(FIGURE_PIXELS), extent=course.extent, origin="upper")
     for i, w in enumerate(course.walls):
         ax.add_patch(Rectangle((w.x - w.hx, w.y - w.hy), 2 * w.hx, 2 * w.hy, color="slategray",
                                label="wall" if i == 0 else None))

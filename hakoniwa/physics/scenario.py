@@ -25,7 +25,7 @@ from hakoniwa.physics.robots import Robot, hub_name
 from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.protocol import NEVER_WAKES
 from hakoniwa.wire.rundir import SERIAL_PORTS
-from hakoniwa.wire.timebase import US_PER_S
+from hakoniwa.wire.timebase import PHYSICS_STEP_US, US_PER_S, Scheduler
 
 EV3_BUTTONS = ("LEFT", "RIGHT", "UP", "DOWN", "ENTER", "BACK")  # button_t order: the bit in RX BUTTONS
 # A SPIKE hub's buttons, each as the EV3 button whose bit ET Robocon's SPIKE SDK reads it from (raspike_hub.c:
@@ -103,7 +103,7 @@ class Hand:
 class Scenario:
     presses: tuple[Press, ...] = ()
     serial: tuple[SerialInput, ...] = ()
-    places: tuple[Place, ...] = ()  # in the order they happen (a stable sort of the file's order by time)
+    places: tuple[Place, ...] = ()  # in the order they happen; at most one a physics step
     hands: tuple[Hand, ...] = ()
 
     def sensor_presses(self, now_us: int) -> list[Press]:
@@ -275,7 +275,19 @@ def parse_scenario(text: str, where: str = "scenario") -> Scenario:
         raise ScenarioError(f"{where}: unknown table {unknown[0]!r} (known: {', '.join(TABLES)})")
     presses, serial = _entries(spec, "press", _press, where), _entries(spec, "serial", _serial, where)
     places = tuple(sorted(_entries(spec, "place", _place, where), key=lambda p: p.at_us))
+    _one_place_a_step(places)
     return Scenario(presses, serial, places, _entries(spec, "hand", _hand, where))
+
+
+def _one_place_a_step(places: tuple[Place, ...]) -> None:
+    """Two places at one physics step (a place happens at the first step at or after its time) would leave the
+    robot at the file's last of them, the other never seen: refused, naming both."""
+    steps = Scheduler(PHYSICS_STEP_US)
+    for a, b in zip(places, places[1:]):
+        if steps.quantize(a.at_us) == steps.quantize(b.at_us):
+            raise ScenarioError(f"{b.where}: at_s = {b.at_us / US_PER_S:g} is the same physics step "
+                                f"({PHYSICS_STEP_US} us) as {a.where} (at_s = {a.at_us / US_PER_S:g}): the robot "
+                                "is set down in one place at a time; give them different times")
 
 
 def load_scenario(path: str | Path | None) -> Scenario:

@@ -3,9 +3,9 @@
 Paper, section 4.1: the same parameters may succeed or fail depending on the load of the machine, so each set
 is tested repeatedly; whichever of success or failure reaches 3 first decides the set (at most 5 tests). A
 successful set scores the mean lap time of its successes, a failed one the bench's time limit (60 s in the
-paper); under ET Robocon's score, minus the mean score (the optimizers minimise) and 0 for a failed set. Here
-that rule is
-generalized to `repeats` tests with a strict majority `repeats // 2 + 1` needed for success.
+paper), on the bench's tick; under ET Robocon's score, minus the mean score (the optimizers minimise) and 0
+for a failed set. Here that rule is generalized to `repeats` tests with a strict majority `repeats // 2 + 1`
+needed for success.
 
 A CRASH of the robot program (Athrill died or went silent) may or may not be the parameters' doing, unlike a
 wall hit or a time-out, so it is not counted and the test is repeated. Parameters that make the program crash
@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 from hakoniwa.wire.protocol import Event
 from hakoniwa.wire.result import TestResult
+from hakoniwa.wire.timebase import on_tick_s
 
 # The paper's time limit (section 4.1), what a failure scores where no bench says otherwise: a rule made
 # without a bench, and a journal written before campaigns recorded their bench's limit (all were 60 s then).
@@ -108,5 +109,7 @@ class RepetitionRule:
         success = successes >= self.needed
         # Failed once success can no longer be reached within `repeats` counted tests.
         failed = failures >= self.failures_needed
-        value = (sum(laps) / len(laps) if success else self.failure_value) if success or failed else None
+        mean = sum(laps) / len(laps) if laps else 0.0
+        value = ((mean if self.score else on_tick_s(mean)) if success else self.failure_value) \
+            if success or failed else None
         return Verdict(successes, failures, crashes, tuple(laps), success or failed, success, value)

@@ -20,9 +20,9 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
 from testctl.campaign.loop import PHASE_INIT, CampaignSummary, SetResult
+from testctl.campaign.patch import BEST_JSON
 
 RESULTS_CSV = "results.csv"
-BEST_JSON = "best.json"
 FIG8_PNG = "fig8.png"
 FIG9_PNG = "fig9.png"
 # The paper's colours for Kp, Ki, Kd (Fig. 8); further parameters take matplotlib's cycle.

@@ -51,13 +51,10 @@ def new(image: Path, size: str, out: Path | None) -> None:
     """Write a course folder for a mat: the image, and a course.toml with its scale and origin (the mat's
     centre at (0, 0)), a start pose, one gate and the sensors' calibration to edit."""
     width_m, height_m = parse_size(size)
-    from PIL import Image, UnidentifiedImageError
+    from hakoniwa.physics.course import open_floor_image
 
-    try:
-        with Image.open(image) as img:
-            width_px, height_px = img.size
-    except (UnidentifiedImageError, OSError) as e:
-        raise MatError(f"--image {image}: not a readable image ({e})") from None
+    with open_floor_image(image, f"--image {image}") as img:
+        width_px, height_px = img.size
     image_aspect, mat_aspect = width_px / height_px, width_m / height_m
     if abs(image_aspect / mat_aspect - 1) > ASPECT_TOLERANCE:
         raise MatError(f"--image {image} is {width_px} x {height_px} px (aspect {image_aspect:.3f}) but --size "

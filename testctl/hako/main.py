@@ -32,6 +32,7 @@ from testctl import paper
 from testctl.bench_options import BenchOptions, bench_options, pop_bench
 from testctl.cluster_address import ClusterAddress, cluster_address
 from testctl.hako.course import course
+from testctl.hako.patch import patch
 from testctl.options import (
     DEFAULT_DRAWS,
     MAX_DRAWS,
@@ -70,6 +71,7 @@ def main() -> None:
 
 
 main.add_command(course)
+main.add_command(patch)
 
 
 @main.command(context_settings=HELP)
@@ -102,9 +104,12 @@ def trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: float
         check_film(film)
     if view:
         check_display()
+    options = pop_bench(bench)
+    ctx = click.get_current_context()
+    given = any(ctx.get_parameter_source(g) == click.core.ParameterSource.COMMANDLINE for g in GAINS)
     try:
-        _trial(kp, ki, kd, power, seed, noise, run_dir, as_json, trajectory, pop_bench(bench), film,
-               speed if view else None)
+        _trial(kp, ki, kd, power, seed, noise, run_dir, as_json, trajectory, options, film,
+               speed if view else None, gains_read=given or reads_paper_gains(options.app))
     except KeyboardInterrupt as e:
         stopped_by(e)
 
@@ -143,9 +148,21 @@ def make_film(run_dir: Path, film: VideoOptions, title: str = "") -> int:
         raise click.ClickException(f"cannot write {film.path}: {e.strerror or e}") from None
 
 
+GAINS = ("kp", "ki", "kd", "power")  # the paper's parameters, which `hako trial` writes into their slots
+
+
+def reads_paper_gains(app: str) -> bool:
+    """Whether the program reads the paper's gains from their slots, as far as the bench knows: its own
+    tracers do; a team's program, which keeps its gains where it likes (a CSV, a #define), does not unless
+    the gains were given for it on the command line."""
+    from athrill_sim.apps import BUILTIN, C_BUILTIN
+
+    return app in (*BUILTIN, *C_BUILTIN)
+
+
 def _trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: float, run_dir: Path | None,
            as_json: bool, trajectory: Path | None, options: BenchOptions, film: VideoOptions | None = None,
-           view_speed: float | None = None) -> None:
+           view_speed: float | None = None, gains_read: bool = True) -> None:
     from hakoniwa.wire.protocol import LayoutError
     from testctl.bench import Bench
     from testctl.executor import TestSpec
@@ -172,7 +189,9 @@ def _trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: floa
             bench.close()
         if result.bench_fault and bench.exit_status:  # the physics process died under the test
             report_death(bench.exit_status, rd)
-        params = {"kp": kp, "ki": ki, "kd": kd, "power": power}
+        # Only what reached the program: the paper's gains, written into their slots, mean nothing to a program
+        # that never reads them.
+        params = dict(zip(GAINS, (kp, ki, kd, power), strict=True)) if gains_read else {}
         # The date a native program's wall clock (system_clock, time()) reads at the test's start: its logs'
         # timestamps repeat from it (docs/NATIVE.md).
         epoch = dt.datetime.fromtimestamp(CLOCK_EPOCH_S, dt.UTC).isoformat().replace("+00:00", "Z")
@@ -185,7 +204,7 @@ def _trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: floa
 
             lap = f"lap {result.lap_time_s:.2f} s" if result.lap_time_s is not None else result.event.name
             draw_trajectory(load_course(options.course), read_trajectory(rd / TRAJECTORY_FILE), trajectory,
-                            title=f"Kp={kp:g} Ki={ki:g} Kd={kd:g} power={power:g}: {lap}")
+                            title=f"{' '.join(f'{k}={v:g}' for k, v in params.items()) or options.app}: {lap}")
     if result.program_output:  # the program's own error, which the run folder's log alone would hold
         click.echo(f"hako: the program's last lines:\n{result.program_output}", err=True)
     if as_json:
@@ -278,17 +297,22 @@ def _run(benches: int | None, scheduler: ClusterAddress | None, validate: int | 
     if validate is None:
         validate = (p.validate if p.validate is not None else 1 if p.config.noise == 0
                     else SMOKE_DRAWS if options["smoke"] else DEFAULT_DRAWS)
-    bench = dataclasses.replace(_campaign_bench(p.bench, given), bindings=p.config.space.bindings())
-    n = benches or campaign_benches(bench, p.config.rule.still_needed([]))
-    program = check_bench(bench, benches=None if scheduler else n)
-    files = recorded_files(p.bench, bench)
+    try:
+        bench = dataclasses.replace(_campaign_bench(p.bench, given), bindings=p.config.space.bindings())
+        n = benches or campaign_benches(bench, p.config.rule.still_needed([]))
+        program = check_bench(bench, benches=None if scheduler else n)
+        files = recorded_files(p.bench, bench)
+        from testctl.cluster import DaskExecutor
+
+        executor = DaskExecutor(bench, benches=None if scheduler else n, scheduler=scheduler)
+    except BaseException:
+        p.abandon()
+        raise
     run_dir = p.out_dir / "run"
     from testctl.bench import Bench
     from testctl.campaign.fingerprint import FILES_KEY
     from testctl.campaign.session import run_campaign
-    from testctl.cluster import ClusterError, DaskExecutor
-
-    executor = DaskExecutor(bench, benches=None if scheduler else n, scheduler=scheduler)
+    from testctl.cluster import ClusterError
     local = Bench(bench, run_dir)
     last: list = []  # [spec, (result, run_dir)] of the local bench's last sound test
 

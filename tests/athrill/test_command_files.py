@@ -69,6 +69,8 @@ def test_an_ini_key_is_found_in_its_section_and_its_comment_is_kept():
     (lambda: row_cell(CSV, "c.csv", line=9, column=1), "c.csv: line 9: the file has 4 lines"),
     (lambda: ini_cell(INI, "t.ini", section="pid", key="kd"), "t.ini: no key kd in section [pid]"),
     (lambda: ini_cell(INI, "t.ini", key="kp"), "t.ini: no key kp before the first section"),
+    (lambda: ini_cell(INI, "t.ini", section="gains", key="kp"),
+     "t.ini: no section [gains] (its sections: [pid], [turn])"),
 ])
 def test_each_missing_or_bad_cell_is_one_line_naming_the_file_and_the_row(find, message):
     with pytest.raises(CellError) as e:

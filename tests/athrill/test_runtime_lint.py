@@ -4,6 +4,7 @@ the build itself only warns)."""
 
 from __future__ import annotations
 
+import re
 import shutil
 import subprocess
 from pathlib import Path
@@ -11,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from athrill_sim.native import spike
-from athrill_sim.native.build import RUNTIME_INCLUDE, RUNTIME_SRC, find_compiler
+from athrill_sim.native.build import POSIX_LAYER, RUNTIME_INCLUDE, RUNTIME_SRC, find_compiler
 from athrill_sim.native.headers import generated_headers
 from athrill_sim.native.makefile import ETROBOC_COMMON
 from tests.helpers.paths import REPO
@@ -68,3 +69,26 @@ def test_the_kernel_calls_no_device_by_name(tmp_path):
     devices = [RUNTIME_SRC / d for d in DEVICES] + sorted(spike.SOURCE_DIR.glob("*.c"))
     for device in devices:
         assert not called & symbols(device, tmp_path, undefined=False), device.name
+
+
+def named(tool: list[str], source: Path, tmp_path: Path) -> list[str]:
+    """The lines `tool` prints of `source`'s object (compiled by `symbols`)."""
+    symbols(source, tmp_path, undefined=True)
+    out = subprocess.run([*tool, str(tmp_path / (source.name + ".o"))], capture_output=True, text=True, check=True)
+    return out.stdout.splitlines()
+
+
+@pytest.mark.skipif(shutil.which("nm") is None or shutil.which("objdump") is None,
+                    reason="needs nm and objdump (binutils) to read the objects' symbols")
+def test_the_runtime_reaches_no_c_library_name_it_defines(tmp_path):
+    """The POSIX layer's C library names are weak, so that a program's own `clock` or `open` wins (build.py);
+    a call the runtime made by such a name would then reach the program's. The runtime reaches its own through
+    their hako_ names, and the C library's through hako_real(), from whichever object calls."""
+    interposed = {line.split()[-1] for source in sorted(RUNTIME_SRC.glob(POSIX_LAYER))
+                  for line in named(["nm", "--defined-only", "--extern-only"], source, tmp_path)
+                  if not line.split()[-1].startswith("hako_")}
+    assert {"clock", "time", "sleep", "signal", "open", "system", "fopen"} <= interposed
+    for source in [s for s in RUNTIME_C if s.suffix == ".c"]:
+        relocations = [line for line in named(["objdump", "-r"], source, tmp_path) if line[:1].isdigit()]
+        reached = {re.split(r"[-+]", line.split()[-1])[0] for line in relocations}
+        assert not reached & interposed, source.name

@@ -106,6 +106,19 @@ def test_a_call_outside_the_subset_is_a_link_error_that_names_it(tmp_path, call)
     assert "\n" not in str(e.value)
 
 
+@pytest.mark.parametrize("name", ["app.c", "app.cpp"])
+def test_a_device_used_without_its_header_names_the_header(tmp_path, name):
+    """RasPike-ART's spikeapi.h declares no device (sdk/common/spikeapi/include/spikeapi.h includes only the
+    kernel's headers, stdio.h and kernel_cfg.h): `pup_motor_t` without `spike/pup/motor.h` fails on the robot
+    too, and the error said nothing of the header."""
+    source = ('#include "spikeapi.h"\n' + ('extern "C" ' if name.endswith("cpp") else "")
+              + "void main_task(intptr_t unused) { pup_motor_t *m = 0; (void)m; }\n")
+    with pytest.raises(NativeBuildError) as e:
+        build(tmp_path / "app", source, name=name)
+    assert "pup_motor_t is declared in spike/pup/motor.h, which the program does not include" in str(e.value)
+    assert "\n" not in str(e.value)
+
+
 # One call through each libcpp-spike header (the C++ classes call our C headers inline).
 LIBCPP_USES = """
 #include "Battery.h"

@@ -96,7 +96,8 @@ BAD_SPACES = {
                                     "column 2 is 'S001', not a number"),
     "no such file": ('row = { file = "datafiles/Missing.csv", key = "LineTrace", column = 5 }',
                      "datafiles/Missing.csv does not exist"),
-    "no such ini key": ('ini = { file = "app.h", section = "pid", key = "kp" }', "app.h: no key kp in section [pid]"),
+    "no such ini section": ('ini = { file = "app.h", section = "pid", key = "kp" }',
+                            "app.h: no section [pid] (its sections: none)"),
     "neither key nor line": ('row = { file = "datafiles/LineTraceLeft.csv", column = 5 }',
                              "give one of key and line"),
 }

@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 from athrill_sim.python_sources import program_sources
 from hakoniwa.physics.course import COURSES_DIR
 from testctl.bench_options import BenchOptions
-from testctl.campaign.fingerprint import FILES_KEY, changes, fingerprint
+from testctl.campaign.fingerprint import FILES_KEY, WORKSPACE, changes, fingerprint
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
 from tests.helpers.commands import hako, one_line_error
 from tests.helpers.native_fixtures import need_cc
@@ -139,3 +139,31 @@ def test_the_program_files_are_exactly_the_modules_its_imports_reach(tmp_path_fa
         assert set(program_sources(main)) == {p.resolve() for p in expected}
     finally:
         sys.path.remove(str(root))
+
+
+def test_every_file_a_tests_workspace_copy_holds_is_hashed(tmp_path):
+    """A native program's tests each start from a copy of its workspace (athrill_sim/working_folder.py): the
+    command file no parameter names, a file in the workspace beside the app folder and the SD card's are what
+    the program reads at run time, so an edit of any of them between a kill and `--resume` is named."""
+    need_cc()
+    app = tmp_path / "workspace" / "tracer"
+    (app / "datafiles").mkdir(parents=True)
+    (app / "sdcard").mkdir()
+    (app / "app.c").write_text(IDLE_C)
+    (app / "app.cfg").write_text('#include "app.h"\nCRE_TSK(MAIN_TASK, { TA_ACT, 0, main_task, TMIN_APP_TPRI + 1, '
+                                 '4096, NULL });\n')
+    (app / "app.h").write_text('#include "ev3api.h"\nvoid main_task(intptr_t exinf);\n')
+    edited = [app / "datafiles" / "commands.txt", app.parent / "tracer.ini", app / "sdcard" / "course.txt"]
+    for f in edited:
+        f.write_text("1\n")
+    bench = BenchOptions(app=str(app))
+    before = fingerprint(bench, ("app",))
+    for f in edited:
+        f.write_text("2\n")
+        changed = changes(before, fingerprint(bench, ("app",)), bench)
+        assert len(changed) == 1 and changed[0].startswith(f"--app {app}"), changed
+        assert changed[0].endswith(f"{f.name} changed"), changed
+        f.write_text("1\n")
+    without = {k: v for k, v in before.items() if k != WORKSPACE}  # a journal from before the workspace counted
+    edited[0].write_text("3\n")
+    assert changes(without, fingerprint(bench, ("app",)), bench) == []

@@ -26,6 +26,13 @@ def test_three_successes_decide_success_with_mean_lap() -> None:
     assert v.laps == (30.0, 33.0, 36.0)
 
 
+def test_a_sets_mean_lap_is_on_the_benchs_tick() -> None:
+    """best.json read 28.209999999999997 where each lap, and `hako trial` of the patched program, read 28.21."""
+    assert judge(RepetitionRule(), [G, G, G], lap=28.21).value == 28.21
+    v = RepetitionRule().judge([result(G, 28.21), result(G, 28.211), result(G, 28.213)])
+    assert v.value == 28.211  # 28.2113...: the mean, to the physics step (1 ms)
+
+
 def test_three_failures_decide_failure_with_penalty() -> None:
     v = judge(RepetitionRule(), [G, W, T, G, W])
     assert (v.decided, v.success, v.value) == (True, False, PAPER_PENALTY_S)

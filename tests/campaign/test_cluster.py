@@ -169,25 +169,53 @@ with socket.create_server(("127.0.0.1", int(sys.argv[1]))) as server:
 """
 
 
-def test_a_port_where_another_server_speaks_first_is_a_one_line_error(tmp_path):
-    """The scheduler's address with an SSH port: its banner, read as Dask's handshake, asked numpy for
-    exabytes, and the MemoryError came out as a traceback."""
+def hako_run_against(server_script: str, tmp_path: Path) -> tuple[str, subprocess.CompletedProcess]:
+    """`hako run --scheduler` at a server of this machine (127.0.0.1 only) that runs `server_script`."""
     port = free_port()
-    server = subprocess.Popen([sys.executable, "-c", BANNER_SERVER, str(port)])
+    server = subprocess.Popen([sys.executable, "-c", server_script, str(port)])
     try:
         def listening() -> bool:
             with socket.socket() as s:
                 return s.connect_ex(("127.0.0.1", port)) == 0
 
-        wait_until(listening, timeout=30, what="the banner server")
+        wait_until(listening, timeout=30, what="the server")
         address = f"tcp://127.0.0.1:{port}"
-        done = hako_run("--scheduler", address, "--smoke", "--out", str(tmp_path / "c"), timeout=120)
+        return address, hako_run("--scheduler", address, "--smoke", "--out", str(tmp_path / "c"), timeout=120)
     finally:
         server.kill()
         server.wait()
+
+
+def test_a_port_where_another_server_speaks_first_is_a_one_line_error(tmp_path):
+    """The scheduler's address with an SSH port: its banner, read as Dask's handshake, asked numpy for
+    exabytes, and the MemoryError came out as a traceback."""
+    address, done = hako_run_against(BANNER_SERVER, tmp_path)
     assert done.returncode != 0
     assert done.stderr.strip().splitlines() == [f"Error: {address} does not answer as a Dask scheduler "
                                                 "(MemoryError in Dask's handshake)"], done.stderr
+
+
+SILENT_SERVER = """
+import socket, sys
+with socket.create_server(("127.0.0.1", int(sys.argv[1]))) as server:
+    peers = []
+    while True:
+        peers.append(server.accept()[0])
+"""
+
+
+def test_a_listener_that_never_answers_is_a_one_line_error_within_the_bound(tmp_path):
+    """A port that accepts and says nothing (an HTTP server waiting for a request, a stopped scheduler) held
+    the campaign for ever: Dask bounds the connection, not its handshake."""
+    from testctl.cluster import ANSWER_TIMEOUT_S, CONNECT_TIMEOUT_S
+
+    start = time.monotonic()
+    address, done = hako_run_against(SILENT_SERVER, tmp_path)
+    assert time.monotonic() - start < CONNECT_TIMEOUT_S + ANSWER_TIMEOUT_S + 30
+    assert done.returncode != 0
+    assert done.stderr.strip().splitlines() == [
+        f"Error: {address} took the connection but did not answer as a Dask scheduler within "
+        f"{CONNECT_TIMEOUT_S + ANSWER_TIMEOUT_S} s"], done.stderr
 
 
 def descendants(pid: int) -> list[int]:

@@ -277,7 +277,16 @@ def test_a_binding_the_program_cannot_take_is_one_line_before_any_test(tmp_path:
     folder = tracers(tmp_path)
     r = run(folder, app, kind, edits, file)
     one_line_error(r, *words)
-    assert not (folder / "out" / "journal.jsonl").exists()
+    assert not (folder / "out").exists()  # no empty --out left behind, as if a campaign had run there
+
+
+def test_a_refused_campaign_leaves_a_given_folder_that_was_there_as_it_was(tmp_path: Path) -> None:
+    need_cc()
+    folder = tracers(tmp_path)
+    (folder / "out").mkdir()
+    (folder / "out" / "notes.txt").write_text("mine\n")
+    one_line_error(run(folder, *BAD["missing symbol"][:4]), "symbol g_nope")
+    assert [p.name for p in (folder / "out").iterdir()] == ["notes.txt"]
 
 
 def test_a_python_program_takes_only_offsets(tmp_path: Path) -> None:

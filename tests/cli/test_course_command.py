@@ -3,11 +3,14 @@ bench's checks. Each bad input is one line."""
 
 from __future__ import annotations
 
+import struct
+import zlib
+
 import numpy as np
 import pytest
 from PIL import Image
 
-from hakoniwa.physics.course import load_course
+from hakoniwa.physics.course import MAX_FLOOR_PIXELS, CourseError, load_course
 from tests.helpers.commands import hako, one_line_error
 
 
@@ -86,3 +89,31 @@ def test_show_refuses_a_course_no_test_could_run_on_in_one_line(tmp_path, mat, e
     toml.write_text(edit(text))
     one_line_error(hako("course", "show", str(out), "--png", str(tmp_path / "c.png")), *words)
     assert not (tmp_path / "c.png").exists()
+
+
+def png_header(path, width: int, height: int) -> None:
+    """A PNG that says it is `width` x `height` (an RGB image) and holds almost nothing: opening it reads only
+    the header, so the test costs no gigabytes."""
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+
+    ihdr = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+    path.write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(b"\0" * 16))
+                     + chunk(b"IEND", b""))
+
+
+@pytest.mark.parametrize("width, height", [(20000, 20000), (10000, 9000), (8000, 5001)])
+def test_an_image_over_the_limit_is_one_line_saying_the_limit_and_no_pil_warning(tmp_path, mat, width, height):
+    """20000 x 20000 gave PIL's DecompressionBombError as a traceback; over 89 Mpx PIL warned on every command."""
+    big = tmp_path / "big.png"
+    png_header(big, width, height)
+    r = hako("course", "new", "--image", str(big), "--size", f"{width / 1000}x{height / 1000}")
+    one_line_error(r, f"--image {big}: {width} x {height} px", f"limit of {MAX_FLOOR_PIXELS / 1e6:.0f} Mpx")
+    assert "Warning" not in r.stderr
+    course = tmp_path / "course"
+    assert hako("course", "new", "--image", str(mat), "--size", "5.46x3.64", "--out", str(course)).returncode == 0
+    (course / "big.png").write_bytes(big.read_bytes())
+    toml = course / "course.toml"
+    toml.write_text(toml.read_text().replace('floor_image = "mat.png"', 'floor_image = "big.png"'))
+    with pytest.raises(CourseError, match=f"^big.png: {width} x {height} px .* limit of"):
+        load_course(course)

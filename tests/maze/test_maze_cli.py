@@ -153,6 +153,16 @@ def test_replay_counts_every_record_of_the_log(tmp_path):
     assert "1 usable of 2" in mazelog("info", log, "--size", "4").output
 
 
+@pytest.mark.parametrize("fmt", ["text", "json", "mazefile"])
+def test_replay_of_an_empty_log_says_so_in_one_note(tmp_path, fmt):
+    """It exited 0 with an all-unknown maze and said nothing, in any format."""
+    log = tmp_path / "empty.bin"
+    log.write_bytes(b"")
+    result = mazelog("replay", log, "--size", "4", "--format", fmt)
+    assert result.exit_code == 0, result.output
+    assert result.stderr.splitlines() == [f"note: {log} holds no records: the maze shown is all unknown"]
+
+
 def test_power_cut_reports_what_was_written(tmp_path):
     """It reported the full log (388 records, 776 bytes) when the flash image held 1 record."""
     log = tmp_path / "cut.bin"

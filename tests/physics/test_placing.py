@@ -230,6 +230,19 @@ def test_places_happen_in_time_order_and_a_place_at_zero_before_the_first_step()
     assert env.event == Event.NONE
 
 
+@pytest.mark.parametrize("first, second", [("1", "1"), ("1.0002", "1.0008")])
+def test_two_places_at_one_physics_step_are_refused_naming_both(first, second):
+    """A place happens at the first physics step at or after its time; two there left the robot at the file's
+    last, the other never seen."""
+    def places(a: str, b: str) -> str:
+        return f'[[place]]\nat_s = {a}\nover = "black"\n[[place]]\nat_s = {b}\nover = "white"\n'
+
+    with pytest.raises(ScenarioError, match=rf"^s.toml place 2: at_s = {second} is the same physics step "
+                                            rf"\(1000 us\) as s.toml place 1 \(at_s = {first}\)"):
+        parse_scenario(places(first, second), "s.toml")
+    assert len(parse_scenario(places(first, "1.0012"), "s.toml").places) == 2
+
+
 def test_the_bench_checks_a_place_against_the_robot_it_runs(tmp_path):
     """HackSPi is narrower than the EV3 robot: a place beside a wall may suit one and not the other."""
     y = -0.85 + HACKSPI_BODY.track_width / 2 + HACKSPI_BODY.wheel_radius + 0.005  # HackSPi's wheel 5 mm clear

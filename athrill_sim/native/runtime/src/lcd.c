@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "ev3api.h"
+#include "real.h"
 #include "runtime.h"
 
 static lcdfont_t font = EV3_FONT_SMALL;
@@ -21,7 +22,7 @@ static void draw(const char *format, ...)
     if (lcd_log == NULL) {
         char path[4096];
         snprintf(path, sizeof path, "%s/%s", hako_run_dir(), HAKO_LCD_LOG);
-        lcd_log = fopen(path, "w");
+        lcd_log = hako_real()->fopen(path, "w");
         if (lcd_log == NULL)
             return;
     }

@@ -16,6 +16,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "real.h"
 #include "runtime.h"
 
 static uint8_t *rx_file;
@@ -31,7 +32,7 @@ void hako_bench_fault(const char *format, ...)
     if (bench_run_dir != NULL) {
         char path[PATH_MAX];
         snprintf(path, sizeof path, "%s/%s%d", bench_run_dir, HAKO_BENCH_FAULT_MARKER, (int)getpid());
-        FILE *marker = fopen(path, "w");
+        FILE *marker = hako_real()->fopen(path, "w");
         if (marker != NULL) {
             va_start(args, format);
             vfprintf(marker, format, args);
@@ -63,7 +64,7 @@ static uint8_t *open_checked(const char *run_dir, const char *name, const char *
 {
     char path[PATH_MAX];
     snprintf(path, sizeof path, "%s/%s", run_dir, name);
-    int fd = open(path, O_RDWR);
+    int fd = hako_real()->open(path, O_RDWR);
     if (fd < 0)
         hako_bench_fault("%s: %s (is the physics process running?)", path, strerror(errno));
     struct stat st;

@@ -9,8 +9,10 @@
 #ifndef HAKO_POSIX_H
 #define HAKO_POSIX_H
 
+#include <signal.h>
 #include <stdbool.h>
 #include <stdint.h>
+#include <sys/time.h>
 #include <time.h>
 
 #include "runtime.h"
@@ -37,5 +39,13 @@ int hako_sleep_for(int64_t us);
 
 /* The one log line of a call the bench does not cover, naming it (once per call name and reason). */
 void hako_uncovered(const char *call, const char *what);
+
+/* The runtime's own clock_gettime, gettimeofday, nanosleep, clock_nanosleep and sigaction, by names no program
+ * defines: the C library's names are weak (athrill_sim/native/build.py), and a program's own wins for them. */
+int hako_clock_gettime(clockid_t clock, struct timespec *tp);
+int hako_gettimeofday(struct timeval *restrict tv, void *restrict tz);
+int hako_nanosleep(const struct timespec *req, struct timespec *rem);
+int hako_clock_nanosleep(clockid_t clock, int flags, const struct timespec *req, struct timespec *rem);
+int hako_sigaction(int sig, const struct sigaction *restrict act, struct sigaction *restrict old);
 
 #endif /* HAKO_POSIX_H */

@@ -204,12 +204,14 @@ int sigaction(int sig, const struct sigaction *restrict act, struct sigaction *r
     }
     return 0;
 }
+int hako_sigaction(int sig, const struct sigaction *restrict act, struct sigaction *restrict old)
+    __attribute__((alias("sigaction")));
 
 sighandler_t signal(int sig, sighandler_t handler)
 {
     struct sigaction act = {.sa_handler = handler, .sa_flags = SA_RESTART}, old;
     sigemptyset(&act.sa_mask);
-    if (sigaction(sig, &act, &old) != 0)
+    if (hako_sigaction(sig, &act, &old) != 0)
         return SIG_ERR;
     return old.sa_handler;
 }

@@ -541,13 +541,14 @@ long syscall(long number, ...)
     case SYS_futex:
         return futex((uint32_t *)a[0], (int)a[1], (uint32_t)a[2], (const struct timespec *)a[3], (uint32_t)a[5]);
     case SYS_clock_gettime:
-        return clock_gettime((clockid_t)a[0], (struct timespec *)a[1]);
+        return hako_clock_gettime((clockid_t)a[0], (struct timespec *)a[1]);
     case SYS_gettimeofday:
-        return gettimeofday((struct timeval *)a[0], (void *)a[1]);
+        return hako_gettimeofday((struct timeval *)a[0], (void *)a[1]);
     case SYS_nanosleep:
-        return nanosleep((const struct timespec *)a[0], (struct timespec *)a[1]);
+        return hako_nanosleep((const struct timespec *)a[0], (struct timespec *)a[1]);
     case SYS_clock_nanosleep: {
-        int err = clock_nanosleep((clockid_t)a[0], (int)a[1], (const struct timespec *)a[2], (struct timespec *)a[3]);
+        int err =
+            hako_clock_nanosleep((clockid_t)a[0], (int)a[1], (const struct timespec *)a[2], (struct timespec *)a[3]);
         return err != 0 ? fail(err) : 0;
     }
     default:

@@ -105,6 +105,7 @@ int clock_gettime(clockid_t clock, struct timespec *tp)
     hako_spend_call();
     return 0;
 }
+int hako_clock_gettime(clockid_t clock, struct timespec *tp) __attribute__((alias("clock_gettime")));
 
 int gettimeofday(struct timeval *restrict tv, void *restrict tz)
 {
@@ -114,6 +115,7 @@ int gettimeofday(struct timeval *restrict tv, void *restrict tz)
     hako_spend_call();
     return 0;
 }
+int hako_gettimeofday(struct timeval *restrict tv, void *restrict tz) __attribute__((alias("gettimeofday")));
 
 time_t time(time_t *t)
 {
@@ -160,6 +162,7 @@ int nanosleep(const struct timespec *req, struct timespec *rem)
         *rem = (struct timespec){0, 0};
     return 0;
 }
+int hako_nanosleep(const struct timespec *req, struct timespec *rem) __attribute__((alias("nanosleep")));
 
 int clock_nanosleep(clockid_t clock, int flags, const struct timespec *req, struct timespec *rem)
 {
@@ -180,6 +183,8 @@ int clock_nanosleep(clockid_t clock, int flags, const struct timespec *req, stru
         cannot_wait(__func__);
     return 0;
 }
+int hako_clock_nanosleep(clockid_t clock, int flags, const struct timespec *req, struct timespec *rem)
+    __attribute__((alias("clock_nanosleep")));
 
 /* -- not covered -------------------------------------------------------------------------------------- */
 

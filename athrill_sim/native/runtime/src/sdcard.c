@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "ev3api.h"
+#include "real.h"
 #include "runtime.h"
 
 #define MAX_DIRS 16
@@ -27,7 +28,7 @@ ER ev3_memfile_load(const char *path, memfile_t *p_memfile)
     if (p_memfile == NULL)
         return E_NOMEM;
     p_memfile->buffer = NULL;
-    FILE *f = fopen(path, "rb");
+    FILE *f = hako_real()->fopen(path, "rb");
     if (f == NULL) {
         hako_log("API %s() warning: Path '%s' is invalid.", __func__, path); /* API_WARN */
         return E_PAR;

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "ev3api.h"
+#include "real.h"
 #include "runtime.h"
 
 struct input {
@@ -36,7 +37,7 @@ static void load_inputs(struct port *p, int which)
 {
     char path[4096];
     snprintf(path, sizeof path, "%s/%s", hako_run_dir(), HAKO_SERIAL_INPUT);
-    FILE *f = fopen(path, "r");
+    FILE *f = hako_real()->fopen(path, "r");
     if (f == NULL)
         return;
     long long at;
@@ -106,7 +107,7 @@ FILE *ev3_serial_open_file(serial_port_t port)
     char path[4096], name[64];
     snprintf(name, sizeof name, HAKO_SERIAL_LOG, port_names[port]);
     snprintf(path, sizeof path, "%s/%s", hako_run_dir(), name);
-    p->log = fopen(path, "w");
+    p->log = hako_real()->fopen(path, "w");
     load_inputs(p, (int)port);
     p->file = fopencookie(p, "r+", (cookie_io_functions_t){.read = port_read, .write = port_write});
     if (p->file != NULL)
