@@ -40,8 +40,8 @@ def test_a_run_by_the_mean_of_both_counts_stops_after_3_m_and_holds_its_speed(tm
     assert stop is not None, log
     mm, left, right = (int(g) for g in stop.groups())
     assert 3000 <= mm <= 3000 * 1.02 and left > 0 and right > 0 and abs(left - right) < 0.1 * (left + right)
-    # The bench's path length: its wheels roll a few percent short of their nominal 56 mm (see the report of
-    # issue 45), so the robot has driven a little less than its counts say.
+    # The bench's path length: its wheels roll a few percent short of their nominal 56 mm (docs/BENCHMARKS.md,
+    # "Wheels against their counts"), so the robot has driven a little less than its counts say.
     assert 0.9 * 3.0 < result["distance_m"] < 3.0 * 1.02
     # The speed loop on get_speed (measured deg/s) holds 400 deg/s on the first straight, within 5%.
     speeds = [(int(a), int(b), int(at)) for a, b, at in re.findall(r"speed (-?\d+) (-?\d+) at (\d+) mm", log)]
