@@ -95,7 +95,7 @@ def test_an_out_of_bounds_area_counts_from_the_margin_inside_it(tmp_path):
     ('\n[course_out]\nmargin_m = -0.1\n', ["[course_out]", "'margin_m' must not be negative"]),
     ('\n[course_out]\nmargin = 0.1\n', ["[course_out]", "unknown key 'margin'"]),
     ('\n[course_out]\n[[course_out.area]]\nx = 0\ny = 0\nhx = 0.1\nhy = 0.1\nheight = 1\n',
-     ["[course_out] area 0", "unknown key 'height'"]),
+     ["[[course_out.area]] 0", "unknown key 'height'"]),
     ('\n[course_out]\nmargin_m = 0.2\n[[course_out.area]]\nx = 0\ny = 0\nhx = 0.1\nhy = 0.5\n',
      ["no wider than twice the margin"]),
     ('\n[course_out]\n[[course_out.area]]\nname = "start"\nx = -0.43\ny = -1.5\nhx = 0.1\nhy = 0.1\n',
