@@ -13,7 +13,8 @@ Two things of the build are not the team's, and both are done to the scratch cop
   compiler comes first on PATH (the kernel and the app take `GCC_TARGET`, as RasPike-ART's make offers).
 
 The product is the aarch64 `asp` and, beside it, the `libssetjmp.so` that RasPike-ART's `make start`
-preloads (`sdk/common/setjmp/aarch64`): the two a run needs. The cache key is the team's source files by
+preloads (`sdk/common/setjmp/aarch64`) and the device config it passes (`sdk/common/
+device_config_raspike-art.txt`): what a run needs (`launch.py`). The cache key is the team's source files by
 their paths in its folder, every file of the RasPike-ART folder, this module, the make command and the cross
 compiler's identity.
 """
@@ -51,12 +52,13 @@ INSTALL_CROSS = ("no aarch64 cross compiler (RasPike-ART's asp is built for aarc
 MAKE = ("make", f"img={APP_NAME}", f"GCC_TARGET={TARGET}")
 ASP = "asp"
 SETJMP = Path("sdk/common/setjmp/aarch64/libssetjmp.so")  # what RasPike-ART's `make start` preloads
+DEVICE_CONFIG = Path("sdk/common/device_config_raspike-art.txt")  # what `make start` passes with -d
 # configure.rb's use of Ruby's removed `shell` library, and what replaces it (scripts/ev3rt-patches/
 # raspike-gcc12-ruby3.diff makes the same change to ET Robocon's other tree).
 RUBY3_FIX = (('require "shell"', '# require "shell"  # removed in Ruby 3'), ("Shell.new.cwd", "Dir.pwd"))
 # What marks a RasPike-ART folder: its workspace, its make, and the libraspike-art submodule checked out.
 MARKS = ("sdk/workspace/Makefile", "sdk/common/Makefile.workspace", "configure.rb",
-         "libraspike-art/build/obj-libraspike-art/Makefile", str(SETJMP))
+         "libraspike-art/build/obj-libraspike-art/Makefile", str(SETJMP), str(DEVICE_CONFIG))
 
 
 @dataclass(frozen=True)
@@ -155,6 +157,7 @@ def _build(root: Path, files: list[Path], tools: Tools, scratch: Path) -> None:
     (shims / "gcc").symlink_to(tools.gcc)
     run_make(MAKE, workspace, shims, {}, scratch / BUILD_LOG, ASP, root, staged_sources(root, files, False))
     (workspace / ASP).rename(scratch / ASP)
-    shutil.copyfile(tree / SETJMP, scratch / SETJMP.name)
+    for beside in (SETJMP, DEVICE_CONFIG):
+        shutil.copyfile(tree / beside, scratch / beside.name)
     shutil.rmtree(tree)
     shutil.rmtree(shims)

@@ -13,6 +13,7 @@ from athrill_sim.raspike_art import AspError
 from athrill_sim.raspike_art.build import (
     ASP,
     DEFAULT_FOLDER,
+    DEVICE_CONFIG,
     SETJMP,
     Tools,
     app_files,
@@ -103,7 +104,7 @@ def test_raspike_arts_own_sample_builds_into_an_aarch64_asp_without_writing_its_
     assert asp.name == ASP and asp.is_relative_to(tmp_path / "cache")
     header = asp.read_bytes()[:20]
     assert header[:4] == b"\x7fELF" and int.from_bytes(header[18:20], "little") == ELF_MACHINE_AARCH64
-    assert (asp.parent / SETJMP.name).is_file()
+    assert (asp.parent / SETJMP.name).is_file() and (asp.parent / DEVICE_CONFIG.name).is_file()
     assert not (SAMPLE.parents[1] / "workspace" / ASP).exists()  # RasPike-ART's own make leaves it there
     assert not (DEFAULT_FOLDER / "libraspike-art" / "lib" / "libraspike-art.a").exists()
     again = hako("build", "--raspike-art", str(SAMPLE), env=env)  # cached: the same product, no second build
