@@ -14,7 +14,8 @@ The protocol is 0.0.6, the one libraspike-art 28f3f38 (RasPike-ART e1d218c, the 
 (`spike_version`): its status adds `heading`, `is_ready` and `is_statinary` after the button word
 (raspike_protocol_com.h 196-198) and it takes two IMU commands (0xb4, 0xb5). A 0.0.6 Pi reads 128 bytes of
 status (libraspike-art src/raspike_protocol_com.h 190-199) and would see every port 8 bytes off, so this hub
-sends the 0.0.6 layout; everything else is raspike.c's behaviour, cited per line (raspike.c at 38ed091).
+sends the 0.0.6 layout; everything else is raspike.c's behaviour, cited per line (raspike.c at 38ed091; the
+0.0.6 hub program itself is not in ../shared, so its behaviour is taken to be 38ed091's less the IMU additions).
 
 Frames (raspike.c 95-137): `0xEA cmd size port data[size]` both ways. The handshake (858-890): the Pi sends
 `0xAE 0xCE`, the hub answers `0xAE 0xCE major minor patch`. An acknowledgement (179-183) is frame 0x02 with two
@@ -156,7 +157,7 @@ class Hub:
             return b""
         p = self._port(port, cmd)
         if cmd & 0x1f == 0:  # a device's configuration (400-409 and alike): acknowledged 1 if it is there
-            found = p.kind == kind and not p.configured
+            found = p.kind == kind  # (configured twice, the hub's RP_ASSERT shows a number and it goes on)
             p.configured = p.configured or found
             return self._ack(port, cmd, int(found))
         if not p.configured or p.kind != kind:  # raspike.c's RP_ASSERT: the hub shows an error and goes on
@@ -230,9 +231,9 @@ class Hub:
             elif p.kind == MOTOR and p.cmd == MOT_STU:  # 265-297: nothing before the motor is set up
                 data = self._motor_data(port, s, now_us)
             p.data = data + p.data[len(data):]  # memcpy over the last reading (205-250)
-            if p.reset:
+            if p.reset:  # acknowledged even when the motor was not set up and so not reset (268-269, 789-800)
                 acks += self._ack(port, MOT_RST, 1)
-                p.reset = False
+                p.reset = self.motors[port].rezero = False
         # The battery is the bench's charged pack, as the native runtime reads RX BATTERY_VOLTAGE / _CURRENT.
         head = STATUS_HEAD.pack(BATTERY_MV, BATTERY_MA,
                                 *(s.imu.acceleration_mm_s2 if s.imu else (0.0, 0.0, 0.0)),

@@ -105,6 +105,15 @@ def test_a_motor_reset_is_done_in_the_next_status_and_acknowledged_after_it():
     assert hub.status(readings(hub), 30_000)[4 + 128:] == b""  # owed once
 
 
+def test_a_reset_before_the_set_up_is_acknowledged_and_dropped():
+    hub = Hub(KINDS)
+    hub.feed(b"\xae\xce" + frame(0x60, 1) + frame(0x64, 1, struct.pack("<i", 40)) + frame(0x62, 1))
+    # 268-269: no set-up, no reset and no data; 789-800: the ack all the same, and the reset is gone
+    assert hub.status(readings(hub), 10_000)[4 + 128:] == frame(0x02, 1, struct.pack("<ii", 0x62, 1))
+    hub.feed(frame(0x61, 1, bytes(12)))
+    assert struct.unpack_from("<i", hub.status(readings(hub), 20_000), 4 + 32 + 16 + 4)[0] == 1000 + 280
+
+
 def test_a_reading_overwrites_only_its_own_bytes_of_the_port_data():
     hub = Hub(KINDS)
     hub.feed(b"\xae\xce" + frame(0x20, 4) + frame(0x21, 4))
