@@ -183,14 +183,16 @@ def test_frames_split_anywhere_get_the_same_answers(frames, cut):
     assert got == expected
 
 
-def compile_probe(out: Path) -> Path:
+def compile_probe(out: Path, version: str | None = None) -> Path:
     """The probe with the Pi's libraspike-art, natively, as libraspike-art's own Makefile compiles it
-    (build/obj-libraspike-art/Makefile: the version from src/expected_spike_version), or a skip."""
+    (build/obj-libraspike-art/Makefile: the version from src/expected_spike_version, unless `version`
+    says another), or a skip."""
     if not LIBRASPIKE_ART.is_dir():
         pytest.skip(needs_shared("libraspike-art", LIBRASPIKE_ART, RASPIKE_ART))
     if shutil.which("gcc") is None:
         pytest.skip("needs gcc (apt-get install gcc) to compile libraspike-art natively")
-    major, minor, patch = (LIBRASPIKE_ART / "src" / "expected_spike_version").read_text().strip().split(".")
+    expected = version or (LIBRASPIKE_ART / "src" / "expected_spike_version").read_text().strip()
+    major, minor, patch = expected.split(".")
     includes = ["include", "src", "drivers/include", "drivers/include/spike/pup", "drivers/include/spike/hub",
                 "drivers", "external/libpybricks/lib/pbio/include/pbio", "external/libpybricks/lib/pbio/include"]
     sources = ["raspike_protocol.c", "raspike_com.c", "raspike_color.c", "raspike_forcesensor.c", "raspike_motor.c",
@@ -202,9 +204,9 @@ def compile_probe(out: Path) -> Path:
     return out
 
 
-def run_against_the_hub(program: Path, pressed: bool = True) -> dict[str, list[str]]:
+def run_against_the_hub(program: Path, pressed: bool = True) -> tuple[int, str]:
     """Run the probe against a hub on a pty, the hub pumped every millisecond of wall time with the status
-    every 10 ms; its lines by their first word."""
+    every 10 ms, until it ends; its exit status and output."""
     hub = PtyHub(Hub(KINDS))
     proc = subprocess.Popen([str(program), hub.device], stdout=subprocess.PIPE, text=True)
     start = time.monotonic()
@@ -220,12 +222,13 @@ def run_against_the_hub(program: Path, pressed: bool = True) -> dict[str, list[s
         if proc.poll() is None:
             proc.kill()
         hub.close()
-    assert proc.returncode == 0, out
-    return {line.split()[0]: line.split()[1:] for line in out.splitlines() if line.split()}
+    return proc.returncode, out
 
 
 def test_libraspike_art_itself_reads_what_the_hub_sends(tmp_path):
-    lines = run_against_the_hub(compile_probe(tmp_path / "probe"))
+    status, out = run_against_the_hub(compile_probe(tmp_path / "probe"))
+    assert status == 0, out
+    lines = {line.split()[0]: line.split()[1:] for line in out.splitlines() if line.split()}
     assert lines["devices"] == ["1", "1", "1", "1", "0"]  # nothing on C: NULL, as the real hub's ack 0
     assert lines["setup"] == ["1", "1"]
     # raw 1000 + 7 * power, zeroed at the set-up (reset_count true) when the power was 0
@@ -241,6 +244,13 @@ def test_libraspike_art_itself_reads_what_the_hub_sends(tmp_path):
     assert lines["hub"] == [str(BATTERY_MV), str(BATTERY_MA), str((1 << 4) | (1 << 9))]
     assert lines["reset"] == ["1"] and lines["after_reset"] == ["0"]  # still at power 50: no move since
     assert lines["stop"] == ["1"]
+
+
+def test_a_pi_that_expects_another_version_stops_at_the_handshake(tmp_path):
+    # libraspike-art raspike_protocol.c 161-174: the three version bytes after INIT MAGIC, compared with its
+    # own, and exit(-1) with a line when they differ (protocol 0.1.0: RasPike-ART 46d328e's libraspike-art)
+    status, out = run_against_the_hub(compile_probe(tmp_path / "probe", "0.1.0"))
+    assert status == 255 and "version=0.0.6 expected=0.1.0" in out and "mismatched" in out
 
 
 def test_a_program_that_closes_the_port_is_a_fault(tmp_path):
