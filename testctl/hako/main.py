@@ -402,13 +402,27 @@ def _test(test_file: Path, benches: int | None, scheduler: ClusterAddress | None
 @click.option("--toolchain", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="A folder with v850-elf-gcc (or its bin/) [default: on PATH, else the SDK's toolchain tarball, "
                    "unpacked once into the cache].")
-def build(app: Path, sdk: Path | None, toolchain: Path | None) -> None:
+@click.option("--raspike-art", "raspike_art", is_flag=True,
+              help="Build APP (a RasPike-ART workspace folder) into RasPike-ART's aarch64 asp, with RasPike-ART's "
+                   "own make; --sdk names the RasPike-ART folder [default: $RASPIKE_ART, else "
+                   "../shared/third_party/raspike-art/RasPike-ART]. Needs Debian's gcc-aarch64-linux-gnu, "
+                   "g++-aarch64-linux-gnu and qemu-user.")
+def build(app: Path, sdk: Path | None, toolchain: Path | None, raspike_art: bool) -> None:
     """Build APP (an EV3RT app.c or workspace folder) into a v850 image for the real athrill2 and print its
     path. Images are cached by their sources, the SDK and the compiler; `hako trial --app APP --emulator
-    athrill2` builds and runs in one go."""
+    athrill2` builds and runs in one go. With --raspike-art, APP is a team's RasPike-ART workspace folder and
+    the product is its asp."""
+    announce = (lambda what: click.echo(what + " ...", err=True)) if sys.stderr.isatty() else None
+    if raspike_art:
+        from athrill_sim.raspike_art.build import build_asp
+
+        if toolchain is not None:
+            raise click.UsageError("--toolchain names a v850 toolchain; --raspike-art builds with Debian's "
+                                   "aarch64-linux-gnu-gcc on PATH")
+        click.echo(str(build_asp(app, sdk=sdk, announce=announce)))
+        return
     from athrill_sim.v850.build import build_image
 
-    announce = (lambda what: click.echo(what + " ...", err=True)) if sys.stderr.isatty() else None
     image = build_image(app, sdk=sdk, toolchain=toolchain, announce=announce)
     click.echo(str(image))
 
