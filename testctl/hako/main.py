@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Any, NoReturn, overload
 import click
 
 from hakoniwa.conventions import HELP, Float32, OneLineErrorsGroup, option_group, writable_file
-from hakoniwa.physics.video_options import VideoOptions, check_video_path, film_options
+from hakoniwa.pictures.video_options import VideoOptions, check_video_path, film_options
 from hakoniwa.wire.exits import exit_status
 from hakoniwa.wire.processes import describe_exit
 from hakoniwa.wire.protocol import Event
@@ -124,7 +124,7 @@ def check_display() -> None:
 def check_film(film: VideoOptions) -> None:
     """A video that cannot be made is one line before the test runs, not after."""
     check_video_path(film.path, film.fps)
-    from hakoniwa.physics.video import gl_problem, writer_problem
+    from hakoniwa.pictures.video import gl_problem, writer_problem
 
     problem = writer_problem(film.path) or gl_problem()
     if problem:
@@ -140,7 +140,7 @@ def make_film(run_dir: Path, film: VideoOptions, title: str = "") -> int:
         click.ClickException: the film cannot be written.
     """
     from hakoniwa.physics.replay import read_replay
-    from hakoniwa.physics.video import film as shoot
+    from hakoniwa.pictures.video import film as shoot
 
     try:
         return shoot(read_replay(run_dir), film, title=title)
@@ -200,7 +200,7 @@ def _trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: floa
             make_film(rd, film)  # as `hako replay` films the run folder
         if trajectory is not None:
             from hakoniwa.physics.course import load_course
-            from hakoniwa.physics.plot import draw_trajectory, read_trajectory
+            from hakoniwa.pictures.plot import draw_trajectory, read_trajectory
 
             lap = f"lap {result.lap_time_s:.2f} s" if result.lap_time_s is not None else result.event.name
             draw_trajectory(load_course(options.course), read_trajectory(rd / TRAJECTORY_FILE), trajectory,

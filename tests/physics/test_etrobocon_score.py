@@ -196,7 +196,7 @@ def test_films_and_the_viewer_put_each_object_where_the_replay_has_it():
     import mujoco
 
     from hakoniwa.physics.replay import RobotLook
-    from hakoniwa.physics.scene import build_scene
+    from hakoniwa.pictures.scene import build_scene
 
     course = load_course("etrobocon-l")
     robot = BUILT_IN["hackev"]
