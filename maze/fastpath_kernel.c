@@ -105,21 +105,18 @@ static void empty(workspace *ws, int64_t *size) {
     *size = 0;
 }
 
-/* Dijkstra from `sources` (time 0) over CSR rows (indptr, indices), the weight of entry j being w[j], or
- * infinite where mask says the edge is closed. Times go to dist (infinite on entry); nodes given a time are
- * appended to touched. Returns how many nodes it settled (their times are finite and <= limit). */
-static int32_t dijkstra(const int32_t *indptr, const int32_t *indices, const double *w, const uint8_t *mask,
-                        const int32_t *sources, int32_t nsrc, double limit, double *dist, workspace *ws,
-                        int32_t *ntouched) {
-    int64_t size = 0;
+/* Dijkstra over CSR rows (indptr, indices), the price of entry j being w[j] or infinite where `mask` says the
+ * edge is closed, from what the heap holds (`size` entries, their times in dist); it stops, rather than ends, at
+ * the first node whose time is over `limit`, so that A*'s try under a larger limit resumes it where the last
+ * stopped (its heap and times kept) instead of settling the same nodes again. Nodes given a time are appended to
+ * touched; none over `push_limit` is. Returns how many nodes it settled: every node whose time is at most the
+ * limit, with the times of a search limited to it. */
+static int32_t settle_to(const int32_t *indptr, const int32_t *indices, const double *w, const uint8_t *mask,
+                         double limit, double push_limit, double *dist, workspace *ws, int64_t *size,
+                         int32_t *ntouched) {
     int32_t settled = 0;
-    for (int32_t s = 0; s < nsrc; s++) {
-        if (dist[sources[s]] == INFINITY) ws->touched[(*ntouched)++] = sources[s];
-        dist[sources[s]] = 0.0;
-        push(ws, &size, 0.0, sources[s]);
-    }
-    while (size) {
-        item it = pop(ws, &size);
+    while (*size && lowest(ws) <= limit) {
+        item it = pop(ws, size);
         int32_t v = it.node;
         if (ws->done[v] || it.key != dist[v]) continue;  /* settled, or put in again at a lower time */
         ws->done[v] = 1;
@@ -127,16 +124,30 @@ static int32_t dijkstra(const int32_t *indptr, const int32_t *indices, const dou
         double at = dist[v];
         for (int32_t j = indptr[v]; j < indptr[v + 1]; j++) {
             int32_t u = indices[j];
-            if (ws->done[u]) continue;
-            if (mask && !mask[j]) continue;
+            if (ws->done[u] || (mask && !mask[j])) continue;
             double next = at + w[j];
-            if (next <= limit && next < dist[u]) {
+            if (next <= push_limit && next < dist[u]) {
                 if (dist[u] == INFINITY) ws->touched[(*ntouched)++] = u;
                 dist[u] = next;
-                push(ws, &size, next, u);
+                push(ws, size, next, u);
             }
         }
     }
+    return settled;
+}
+
+/* Dijkstra from `sources` (time 0), limited to `limit`: settle_to from a heap of them, nothing over the limit put
+ * in. Times go to dist (infinite on entry). Returns how many nodes it settled. */
+static int32_t dijkstra(const int32_t *indptr, const int32_t *indices, const double *w, const uint8_t *mask,
+                        const int32_t *sources, int32_t nsrc, double limit, double *dist, workspace *ws,
+                        int32_t *ntouched) {
+    int64_t size = 0;
+    for (int32_t s = 0; s < nsrc; s++) {
+        if (dist[sources[s]] == INFINITY) ws->touched[(*ntouched)++] = sources[s];
+        dist[sources[s]] = 0.0;
+        push(ws, &size, 0.0, sources[s]);
+    }
+    int32_t settled = settle_to(indptr, indices, w, mask, limit, limit, dist, ws, &size, ntouched);
     ws->last = 0;  /* empty again */
     return settled;
 }
@@ -209,34 +220,6 @@ static int32_t fp_bound(void *p, const int32_t *rindptr, const int32_t *rindices
 
 static double with_slack(double seconds, double slack) { return seconds + slack * (1 + seconds); }
 
-/* A*'s tries: Dijkstra that stops, rather than ends, at the first node whose time is over `limit`, so that a try
- * under a larger limit resumes it where the last stopped (its heap, `size`, and times kept) instead of settling
- * the same nodes again. The nodes it settles are those a search limited as `dijkstra` is would settle, with the
- * same times: every node whose time is at most the limit. Returns how many it settled. */
-static int32_t settle_to(const int32_t *indptr, const int32_t *indices, const double *w, const uint8_t *mask,
-                         double limit, double *dist, workspace *ws, int64_t *size, int32_t *ntouched) {
-    int32_t settled = 0;
-    while (*size && lowest(ws) <= limit) {
-        item it = pop(ws, size);
-        int32_t v = it.node;
-        if (ws->done[v] || it.key != dist[v]) continue;  /* settled, or put in again at a lower time */
-        ws->done[v] = 1;
-        settled++;
-        double at = dist[v];
-        for (int32_t j = indptr[v]; j < indptr[v + 1]; j++) {
-            int32_t u = indices[j];
-            if (ws->done[u] || (mask && !mask[j])) continue;
-            double next = at + w[j];
-            if (next < dist[u]) {
-                if (dist[u] == INFINITY) ws->touched[(*ntouched)++] = u;
-                dist[u] = next;
-                push(ws, size, next, u);
-            }
-        }
-    }
-    return settled;
-}
-
 /* FastestSearch.search: A* from the start (the last node) on the reduced prices `astar` of the open edges under limits
  * limit0 * growth^k (k < tries, then none), each try resuming the last (settle_to), adding the nodes settled to
  * *spent; then the exact search
@@ -257,7 +240,7 @@ static int32_t fp_search(void *p, const int32_t *indptr, const int32_t *indices,
     push(ws, &size, 0.0, start);
     for (int32_t k = 0; k <= tries && best < 0; k++) {
         double limit = k < tries ? limit0 * pow(growth, k) : INFINITY;
-        *spent += settle_to(indptr, indices, astar, open, limit, reduced, ws, &size, &ntouched);
+        *spent += settle_to(indptr, indices, astar, open, limit, INFINITY, reduced, ws, &size, &ntouched);
         for (int32_t g = goal_lo; g < goal_hi; g++)  /* the lowest-numbered of the first reached */
             if (ws->done[g] && (best < 0 || reduced[g] < reduced[best])) best = g;
     }
