@@ -44,6 +44,7 @@ typedef struct {
                               * `last` is b - 1 */
     uint64_t last;    /* the coarse key last taken out (keys only grow: the searches' prices are never negative) */
     int64_t low_at;   /* where in bucket 0 its lowest key is; -1 when not known */
+    double last_key;  /* the key last taken out */
     int64_t queued;
     double *lprice;
     int32_t walls;          /* pricing (fp_price): 0 before the first query */
@@ -84,7 +85,8 @@ static void push(workspace *ws, int64_t *size, double key, int32_t node) {
     bucket *b = &ws->buckets[bucket_of(bits(key), ws->last)];
     if (!put(b, (item){key, node})) return;
     (*size)++;
-    if (b == ws->buckets && ws->low_at >= 0 && key < b->at[ws->low_at].key) ws->low_at = b->count - 1;
+    if (b == ws->buckets && (ws->low_at >= 0 ? key < b->at[ws->low_at].key : key == ws->last_key))
+        ws->low_at = b->count - 1;  /* a key equal to the last taken out is a lowest */
 }
 
 /* The lowest key queued (the heap not empty), its entries moved into bucket 0. */
@@ -103,9 +105,9 @@ static double lowest(workspace *ws) {
         ws->low_at = -1;
     }
     bucket *b = ws->buckets;
-    if (ws->low_at < 0) {
-        ws->low_at = 0;
-        for (int64_t i = 1; i < b->count; i++)
+    if (ws->low_at < 0) {  /* newest first: a key equal to the last taken out (a price of 0) ends the look */
+        ws->low_at = b->count - 1;
+        for (int64_t i = b->count - 2; i >= 0 && b->at[ws->low_at].key != ws->last_key; i--)
             if (b->at[i].key < b->at[ws->low_at].key) ws->low_at = i;
     }
     return b->at[ws->low_at].key;
@@ -118,13 +120,13 @@ static item pop(workspace *ws, int64_t *size) {
     item it = b->at[ws->low_at];
     b->at[ws->low_at] = b->at[--b->count];
     ws->low_at = -1;
+    ws->last_key = it.key;
     return it;
 }
 
 static void empty(workspace *ws, int64_t *size) {
     for (int32_t b = 0; b < BUCKETS; b++) ws->buckets[b].count = 0;
-    ws->last = 0;
-    ws->low_at = -1;
+    ws->last = 0, ws->low_at = -1, ws->last_key = 0.0;
     *size = 0;
 }
 
@@ -171,7 +173,7 @@ static int32_t dijkstra(const int32_t *indptr, const int32_t *indices, const dou
         push(ws, &size, 0.0, sources[s]);
     }
     int32_t settled = settle_to(indptr, indices, w, mask, limit, limit, dist, ws, &size, ntouched);
-    ws->last = 0, ws->low_at = -1;  /* empty again */
+    ws->last = 0, ws->low_at = -1, ws->last_key = 0.0;  /* empty again */
     return settled;
 }
 
