@@ -58,9 +58,9 @@ typedef struct {
  * (its prices are never negative), and a double's bits order as the double does for keys >= 0, so a key goes in
  * the bucket of the highest bit in which its coarse key (the bits less the lowest COARSE) differs from that last
  * one's, and only the lowest non-empty bucket is ever sorted out. Bucket 0 holds the keys as coarse as the last;
- * the lowest of them is found by looking (a few keys within about 1e-5 of each other: the 2^-17 of a key's
- * unit, at times of 8-16 s), where whole bits would move each entry through up to 50 buckets on its way down
- * rather than about 17. A node whose time is lowered is put in again; the searches skip an entry whose key is no
+ * the lowest of them is found by looking (a few keys, within 2^-17 s of each other at times of 8-16 s and closer
+ * at shorter ones), where whole bits would move each entry through up to 50 buckets on its way down rather than
+ * about 17. A node whose time is lowered is put in again; the searches skip an entry whose key is no
  * longer its node's time, or whose node is settled. Empty between searches (`queued` 0, `last` 0). */
 static uint64_t bits(double key) {
     uint64_t b;
