@@ -30,6 +30,8 @@ const struct hako_real *hako_real(void)
         *(void **)&calls.syscall = find("syscall");
         *(void **)&calls.sigaction = find("sigaction");
         *(void **)&calls.setitimer = find("setitimer");
+        *(void **)&calls.sigsuspend = find("sigsuspend");
+        *(void **)&calls.pthread_cond_timedwait = find("pthread_cond_timedwait");
         *(void **)&calls.open = find("open");
         *(void **)&calls.openat = find("openat");
         *(void **)&calls.fopen = find("fopen");

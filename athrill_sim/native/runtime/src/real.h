@@ -8,6 +8,7 @@
 
 #include <netdb.h>
 #include <poll.h>
+#include <pthread.h>
 #include <signal.h>
 #include <stdio.h>
 #include <sys/epoll.h>
@@ -22,6 +23,8 @@ struct hako_real {
     long (*syscall)(long, ...);
     int (*sigaction)(int, const struct sigaction *, struct sigaction *);
     int (*setitimer)(int, const struct itimerval *, struct itimerval *);
+    int (*sigsuspend)(const sigset_t *);
+    int (*pthread_cond_timedwait)(pthread_cond_t *, pthread_mutex_t *, const struct timespec *);
     int (*open)(const char *, int, ...);
     int (*openat)(int, const char *, int, ...);
     FILE *(*fopen)(const char *, const char *);
