@@ -3,6 +3,7 @@ clear word when it stops early (how it stopped, and how to continue it)."""
 
 from __future__ import annotations
 
+import functools
 import queue
 import sys
 import threading
@@ -24,11 +25,13 @@ from testctl.runner import PhysicsGone
 from testctl.time_left import Countdown
 
 if TYPE_CHECKING:
+    from hakoniwa.physics.course import Course
     from testctl.campaign.patch import PatchInfo
 
 BEST_TRAJECTORY_PNG = "best_trajectory.png"
 # Runs one test on a local bench and returns its result and the run directory holding its trajectory.
 TrialOnce = Callable[[TestSpec], tuple[TestResult, Path]]
+CourseOnce = Callable[[], "Course"]  # the campaign's course, loaded at its first picture and kept
 # Writes best.patch for the best set's values ({name: value}) and says what it sets (testctl.campaign.patch.PatchInfo).
 PatchWriter = Callable[[Path, dict[str, float]], "PatchInfo"]
 
@@ -91,13 +94,14 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
     from testctl.executor import BenchFault
 
     on_stop_say(resume_hint(p.out_dir))
+    course = functools.cache(functools.partial(_load_course, course_folder))
     validation = None
     label = f"campaign {p.out_dir}"
     try:
         with click.progressbar(length=p.config.total_sets, label=label, show_eta=False,
                                item_show_func=lambda s: s, file=sys.stderr) as bar:
             plain = None if sys.stderr.isatty() else lambda line: click.echo(f"{label}: {line}", err=True)
-            mirror = StudyMirror(p.out_dir, lambda s, png: draw_set(p.config, s, trial_once, course_folder, png))
+            mirror = StudyMirror(p.out_dir, lambda s, png: draw_set(p.config, s, trial_once, course, png))
             mirror_update = InBackground(mirror.update)
             progress = ProgressLine(bar, plain=plain, measure=p.config.measure, repeats=p.config.repeats)
             summary = Campaign(p.config, p.out_dir, executor, on_progress=progress,
@@ -126,7 +130,7 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
         if summary.best is not None:
             from testctl.film import LAP_VIDEO
 
-            png, lap = draw_best(summary, trial_once, course_folder, p.out_dir / BEST_TRAJECTORY_PNG,
+            png, lap = draw_best(summary, trial_once, course, p.out_dir / BEST_TRAJECTORY_PNG,
                                  p.out_dir / LAP_VIDEO)
             for f in (png, lap):
                 if f is not None:
@@ -199,10 +203,16 @@ def trial_for_picture(trial_once: TrialOnce, spec: TestSpec, tries: int = 2) -> 
     return result, run_dir
 
 
-def draw_set(config: CampaignConfig, s: SetResult, trial_once: TrialOnce, course_folder: Path, out: Path,
-             what: str = "", film: Path | None = None) -> Path:
-    """Run set `s`'s test again and draw its trajectory into `out` (and, with `film`, film it there)."""
+def _load_course(folder: Path) -> Course:
     from hakoniwa.physics.course import load_course
+
+    return load_course(folder)
+
+
+def draw_set(config: CampaignConfig, s: SetResult, trial_once: TrialOnce, course: CourseOnce, out: Path,
+             what: str = "", film: Path | None = None) -> Path:
+    """Run set `s`'s test again and draw its trajectory into `out` (and, with `film`, film it there) on the
+    campaign's `course`, loaded once for all its pictures."""
     from hakoniwa.pictures.plot import draw_trajectory, read_trajectory
     from hakoniwa.wire.rundir import TRAJECTORY_FILE
 
@@ -210,7 +220,7 @@ def draw_set(config: CampaignConfig, s: SetResult, trial_once: TrialOnce, course
     m = config.measure
     test = m.format(result.cost) if result.cost is not None else result.event.name
     names = " ".join(f"{k}={v:.3f}" for k, v in config.space.to_named(s.x).items())
-    draw_trajectory(load_course(course_folder), read_trajectory(run_dir / TRAJECTORY_FILE), out,
+    draw_trajectory(course(), read_trajectory(run_dir / TRAJECTORY_FILE), out,
                     title=f"{what}set {s.number}, {names}: {test} (mean of the set {m.format(s.value)})")
     if film is not None:
         from testctl.film import film_run
@@ -219,9 +229,9 @@ def draw_set(config: CampaignConfig, s: SetResult, trial_once: TrialOnce, course
     return out
 
 
-def draw_best(summary: CampaignSummary, trial_once: TrialOnce, course_folder: Path, out: Path,
+def draw_best(summary: CampaignSummary, trial_once: TrialOnce, course: CourseOnce, out: Path,
               film: Path) -> tuple[Path, Path | None]:
     """The best set's trajectory, and its film (None where none can be made here)."""
     assert summary.best is not None
-    png = draw_set(summary.config, summary.best, trial_once, course_folder, out, what="best: ", film=film)
+    png = draw_set(summary.config, summary.best, trial_once, course, out, what="best: ", film=film)
     return png, film if film.is_file() else None

@@ -25,3 +25,27 @@ def test_no_success_exits_non_zero_naming_the_most_common_outcome(tmp_path, caps
                               "CRASH (program: athrill exited with status 1)")  # 4 sets, a test and 3 retries each
     assert "best: no parameter set succeeded" in capsys.readouterr().out  # the summary and report still come
     assert (tmp_path / "c" / "results.csv").is_file()
+
+
+def test_a_campaign_loads_its_course_once_for_all_its_pictures(tmp_path, monkeypatch):
+    """Each set that improves on the best is drawn on the course, and the best again at the end: one load of
+    the course (its floor image) serves them all."""
+    from hakoniwa.physics import course
+
+    loads = []
+    real = course.load_course
+    monkeypatch.setattr(course, "load_course", lambda spec: loads.append(spec) or real(spec))
+    run_dir = tmp_path / "run"
+    run_dir.mkdir()
+    (run_dir / "trajectory.csv").write_text("time_us,x,y\n0,0.0,0.0\n10000,0.1,0.0\n")
+    laps = iter(range(40, 10, -1))  # every set better than the last: each one is drawn
+
+    def test(spec):
+        return TestResult(Event.GOAL, next(laps) * 1_000_000, 0.01)
+
+    p = plan(trials=3, init_points=2, repeats=1, seed=None, optimizer="random", batch=None, noise=None,
+             space_file=None, out=tmp_path / "c", resume=None, smoke=False, penalty_s=60.0)
+    run_campaign(p, SerialExecutor(test), bench_info={}, trial_once=lambda spec: (test(spec), run_dir),
+                 course_folder="oval")  # type: ignore[arg-type]
+    assert loads == ["oval"]
+    assert len(list((tmp_path / "c").rglob("*.png"))) >= 3
