@@ -22,9 +22,13 @@ def timing_header() -> str:
         "CLOCK_EPOCH_S": f"{CLOCK_EPOCH_S}LL",
         "TEST_WAIT_NAP_S": mock_kernel.TEST_WAIT_NAP_S,
         "CHECK_EVERY_S": waiting.CHECK_EVERY_S,
+        "RASPIKE_HUB_SENT": rundir.RASPIKE_HUB_SENT,
+        "RASPIKE_PROGRAM_SENT": rundir.RASPIKE_PROGRAM_SENT,
+        "RASPIKE_SERIAL_SIZE": rundir.RASPIKE_SERIAL_SIZE,
     }
     files = {"LCD_LOG": rundir.LCD_LOG, "SERIAL_LOG": rundir.SERIAL_LOG.replace("{port}", "%s"),
-             "SERIAL_INPUT": rundir.SERIAL_INPUT, "SDCARD_DIR": rundir.SDCARD_DIR}
+             "SERIAL_INPUT": rundir.SERIAL_INPUT, "SDCARD_DIR": rundir.SDCARD_DIR,
+             "RASPIKE_SERIAL": rundir.RASPIKE_SERIAL}
     lines = ["/* Generated from hakoniwa.wire.timebase, hakoniwa.wire.waiting and athrill_sim.kernel; do not edit. */",
              "#ifndef HAKO_TIMING_H", "#define HAKO_TIMING_H"]
     lines += [f"#define HAKO_{name} {value}" for name, value in values.items()]

@@ -1,8 +1,9 @@
 """asp's clock library: the native runtime's simulated clock, lockstep and mapped files, with asp's timer tick
-(athrill_sim/native/runtime/asp/asp_time.c), compiled for aarch64 into a library that qemu-user preloads into
-asp beside RasPike-ART's `libssetjmp.so`. One mechanism for both paths: the same C files the native runtime
-links, and the same generated headers (athrill_sim/native/headers.py), so that the step, the cost of a call
-and the file layout cannot differ between them. Cached by those sources and the cross compiler's identity.
+(athrill_sim/native/runtime/asp/asp_time.c) and asp's serial port counted into the lockstep (asp_serial.c),
+compiled for aarch64 into a library that qemu-user preloads into asp beside RasPike-ART's `libssetjmp.so`. One
+mechanism for both paths: the same C files the native runtime links, and the same generated headers
+(athrill_sim/native/headers.py), so that the step, the cost of a call and the file layout cannot differ between
+them. Cached by those sources and the cross compiler's identity.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from athrill_sim.raspike_art.build import CROSS_GCC, INSTALL_CROSS
 RUNTIME = Path(__file__).parent.parent / "native" / "runtime"
 # The runtime's files asp takes as they are; asp_time.c stands where kernel.c does for the native runtime.
 SHARED_SOURCES = ("sim_time.c", "lockstep.c", "mapped_files.c", "real.c", "lines.c", "posix_time.c")
-ASP_SOURCES = ("asp_time.c",)
+ASP_SOURCES = ("asp_time.c", "asp_serial.c")
 EXPORTS = RUNTIME / "asp" / "exports.map"
 LIBRARY = "libhakotime.so"
 RUN_DIR_ENV = "HAKO_RUN_DIR"  # asp_time.c: the run directory, and the test it waits for (asp's argv is asp's)

@@ -26,13 +26,17 @@ int32: the command and a result. The status (802-809) is frame 0x01 for port 255
 from __future__ import annotations
 
 import os
+import select
 import struct
+import time
 from collections import deque
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from hakoniwa.physics import spike_hub
 from hakoniwa.physics.sensors import Sensors
 from hakoniwa.physics.slots import BATTERY_MA, BATTERY_MV
+from hakoniwa.wire import rundir
 from hakoniwa.wire.errors import HakoError
 
 VERSION = (0, 0, 6)  # libraspike-art 28f3f38 src/expected_spike_version
@@ -41,6 +45,7 @@ START = 0xEA  # RP_CMD_START: every frame's first byte
 PORT_NONE = 255  # RP_PORT_NONE: the hub itself
 PORTS = 6  # RP_MAX_DEVICES: A..F as 0..5 (raspike_protocol_com.h 175-179)
 STATUS_PERIOD_US = 10_000  # raspike.cfg 11: the status every 10 ms
+DELIVERY_LIMIT_S = 20.0  # how long asp's counted bytes may take to arrive through qemu and the pty (wall time)
 
 # Command types (the top three bits: raspike_protocol_com.h 12-21) and commands (29-135).
 SYS, COLOR, FORCE, MOTOR, ULTRASONIC, HUB = range(6)
@@ -286,6 +291,8 @@ class PtyHub:
         os.set_blocking(self.master, False)
         self.device = os.ttyname(slave)
         self._next_status_us = 0
+        self.received = 0  # bytes of the program's taken in
+        self.sent = 0  # bytes the hub wrote
 
     def close(self) -> None:
         for fd in (self.master, self._slave):
@@ -301,11 +308,35 @@ class PtyHub:
                 data = os.read(self.master, 4096)
                 if not data:
                     break
-                self._write(self.hub.feed(data))
+                self._take(data)
         except BlockingIOError:
             pass
         except OSError as e:  # EIO: every copy of the program's end is closed
             raise HubFault(f"the program's serial port closed ({e.strerror})") from None
+        self._after(readings, now_us)
+
+    def exchange(self, readings: Sensors | None, now_us: int, program_sent: int) -> int:
+        """`pump` in the lockstep, between two steps: read exactly the bytes the program says it sent so far
+        (`program_sent`, asp_serial.c's count), answer them, send the status when due; the count of bytes the
+        hub has sent, which the program waits for before its tasks run at the step."""
+        deadline = time.monotonic() + DELIVERY_LIMIT_S
+        while self.received < program_sent:
+            if not select.select([self.master], [], [], max(0.0, deadline - time.monotonic()))[0]:
+                raise HubFault(f"asp's bytes did not reach the hub in {DELIVERY_LIMIT_S:.0f} s")
+            try:
+                self._take(os.read(self.master, program_sent - self.received))
+            except BlockingIOError:
+                continue
+            except OSError as e:
+                raise HubFault(f"the program's serial port closed ({e.strerror})") from None
+        self._after(readings, now_us)
+        return self.sent
+
+    def _take(self, data: bytes) -> None:
+        self.received += len(data)
+        self._write(self.hub.feed(data))
+
+    def _after(self, readings: Sensors | None, now_us: int) -> None:
         if self.hub.shook_hands and self._slave is not None:  # the program has its end open: ours may go, so
             os.close(self._slave)  # that its closing reads as EIO here
             self._slave = None
@@ -314,10 +345,33 @@ class PtyHub:
             self._next_status_us = (now_us // STATUS_PERIOD_US + 1) * STATUS_PERIOD_US
 
     def _write(self, data: bytes) -> None:
+        self.sent += len(data)
         while data:
             try:
                 data = data[os.write(self.master, data):]
             except BlockingIOError:
-                import select
-
                 select.select([], [self.master], [], 1.0)
+
+
+class SerialCounts:
+    """The run's count of what each side of asp's serial port sent (rundir.RASPIKE_SERIAL), which the hub and
+    asp's clock library (asp_serial.c) share: the program publishes its count with each answer, the hub its
+    count before the next unity time."""
+
+    def __init__(self, run_dir: Path) -> None:
+        import mmap
+
+        path = run_dir / rundir.RASPIKE_SERIAL
+        path.write_bytes(bytes(rundir.RASPIKE_SERIAL_SIZE))
+        with path.open("r+b") as f:
+            self._map = mmap.mmap(f.fileno(), rundir.RASPIKE_SERIAL_SIZE)
+
+    @property
+    def program_sent(self) -> int:
+        return int(struct.unpack_from("<Q", self._map, rundir.RASPIKE_PROGRAM_SENT)[0])
+
+    def publish(self, hub_sent: int) -> None:
+        struct.pack_into("<Q", self._map, rundir.RASPIKE_HUB_SENT, hub_sent)
+
+    def close(self) -> None:
+        self._map.close()

@@ -26,6 +26,11 @@ LCD_PNG = "lcd.png"  # the 178x128 screen at the test's end, drawn from LCD_LOG 
 SERIAL_LOG = "serial-{port}.log"  # what the program wrote to ev3_serial_open_file(port)
 SERIAL_PORTS = ("default", "uart", "bt")  # serial_port_t order (EV3_SERIAL_DEFAULT, _UART, _BT): SERIAL_LOG's names
 SERIAL_INPUT = "serial-input.txt"  # the scenario's [[serial]] input: "<at_us> <port> <hex bytes>" per line
+# asp's serial port in the lockstep (RasPike-ART's asp, athrill_sim/native/runtime/asp/asp_serial.c): how many
+# bytes the hub (the physics side) and asp have each sent over the pty so far, two little-endian u64 at these
+# offsets, so that each side waits for exactly what the other sent (docs/DESIGN-NOTES.md, RasPike-ART).
+RASPIKE_SERIAL = "raspike-serial.bin"
+RASPIKE_HUB_SENT, RASPIKE_PROGRAM_SENT, RASPIKE_SERIAL_SIZE = 0, 8, 16
 SDCARD_DIR = "sdcard"  # the folder standing in for the SD card: the program's working directory
 # A native program's working folder, a scratch copy of its workspace per test (athrill_sim/working_folder.py): the
 # test being run's under WORKSPACES_DIR, the last test's, with what the program wrote, kept as WORKSPACE_DIR.

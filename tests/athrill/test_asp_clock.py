@@ -4,7 +4,6 @@ physics side played over the real bench files (tests/helpers/native_fixtures.py'
 
 from __future__ import annotations
 
-import select
 import shutil
 import subprocess
 import time
@@ -51,7 +50,7 @@ def test_the_library_exports_only_the_calls_it_puts_on_simulated_time(probe: tup
     names = {line.split()[-1] for line in out.stdout.splitlines()}
     assert names == {"clock_gettime", "gettimeofday", "time", "clock", "sleep", "usleep", "nanosleep",
                      "clock_nanosleep", "getitimer", "setitimer", "sigsuspend", "pthread_cond_timedwait",
-                     "pthread_cond_wait"}
+                     "pthread_cond_wait", "open", "read", "write"}
 
 
 def test_timer_clock_and_sleeps_follow_the_bench(probe: tuple[Path, Path], tmp_path: Path) -> None:
@@ -118,57 +117,66 @@ def test_it_waits_for_its_test_and_without_the_bench_it_says_so(probe: tuple[Pat
         f"athrill-native: bench fault: {RUN_DIR_ENV} is not set: asp's clock library runs only under the bench"]
 
 
+def run_sample(asp: Path, library: Path, folder: Path) -> tuple[list[int], int | None, float]:
+    """sample_c5_spike's asp with the clock library, its hub on a pty answered between the steps, as the
+    physics side does (the program's counted bytes in, the hub's count out before the next unity time), until
+    the motors turn; the wake-ups it published, when the force sensor was pressed, and the wall time from the
+    first wake-up to the last (qemu's start aside)."""
+    from athrill_sim.raspike_art.launch import asp_argv, prefix_folder
+    from hakoniwa.physics.raspike_hub import Hub, PtyHub, SerialCounts
+    from tests.physics.test_raspike_hub import KINDS, readings
+
+    hub = PtyHub(Hub(KINDS))
+    physics = FakePhysics(folder / "run")
+    counts = SerialCounts(physics.run_dir)
+    argv = asp_argv(asp, prefix_folder(folder / "prefix", hub.device))
+    preload = argv.index("-E") + 1
+    argv[preload] += f":{library}"
+    argv[preload + 1:preload + 1] = ["-E", f"{RUN_DIR_ENV}={physics.run_dir}"]
+    proc = subprocess.Popen(argv, cwd=folder, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    wakes: list[int] = []
+    pressed_at = None
+    started = 0.0
+    try:
+        while not wakes or wakes[-1] < 10_000_000:
+            wakes.append(physics.next_wake(proc))
+            started = started or time.monotonic()
+            if pressed_at is None and hub.hub.ports[3].configured:
+                pressed_at = wakes[-1] + 500_000  # the program waits on the force sensor: press it later
+            now = wakes[-1]
+            pressed = pressed_at is not None and now >= pressed_at
+            counts.publish(hub.exchange(readings(hub.hub, pressed=pressed), now, counts.program_sent))
+            physics.answer(now)
+            if hub.hub.powers(4)[0] != (0, 0, 0, 0):
+                break
+    finally:
+        proc.kill()
+        proc.communicate()
+        hub.close()
+        counts.close()
+        physics.close()
+    assert hub.hub.powers(4) == ((64, -4, 0, 0), (0, 1, 0, 0)), "the motors never turned"
+    return wakes, pressed_at, time.monotonic() - started
+
+
 @pytest.mark.slow
 def test_raspike_arts_own_sample_runs_on_the_bench_clock(probe: tuple[Path, Path], tmp_path: Path) -> None:
-    """sample_c5_spike's asp with the clock library, its hub on a pty answered at the simulated time the
-    bench is at: past main's sleep(1) and the force-sensor press, it drives the motors by the reflection, in
-    less wall time than the simulated time it took."""
+    """sample_c5_spike under the library: past main's sleep(1) and the force-sensor press it drives the motors
+    by the reflection (LineTracer.c 52-79; tests/physics/test_raspike_hub.py works the numbers out), in less
+    wall time than the simulated time it took, and at the same simulated instants twice: the serial exchange
+    is in the lockstep, not the wall's race (two runs reached the motors at 1.626 s and 2.560 s before it)."""
     from athrill_sim.raspike_art.build import DEFAULT_FOLDER, build_asp
-    from athrill_sim.raspike_art.launch import asp_argv, prefix_folder
     from athrill_sim.third_party import RASPIKE_ART
-    from hakoniwa.physics.raspike_hub import Hub, PtyHub
     from tests.helpers.paths import needs_shared
-    from tests.physics.test_raspike_hub import KINDS, readings
 
     if not DEFAULT_FOLDER.is_dir():
         pytest.skip(needs_shared("RasPike-ART", DEFAULT_FOLDER, RASPIKE_ART))
     _, library = probe
     asp = build_asp(DEFAULT_FOLDER / "sdk" / "workspace" / "sample_c5_spike")
-    hub = PtyHub(Hub(KINDS))
-    physics = FakePhysics(tmp_path / "run")
-    argv = asp_argv(asp, prefix_folder(tmp_path / "prefix", hub.device))
-    preload = argv.index("-E") + 1
-    argv[preload] += f":{library}"
-    argv[preload + 1:preload + 1] = ["-E", f"{RUN_DIR_ENV}={physics.run_dir}"]
-    proc = subprocess.Popen(argv, cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    wakes: list[int] = []
-    pressed_at = None
-    started = time.monotonic()
-    try:
-        while not wakes or wakes[-1] < 10_000_000:
-            deadline = time.monotonic() + 10
-            while physics.athrill.read_u32(Tx.ANSWER_SEQ) == physics.answers:  # the hub answers meanwhile
-                assert proc.poll() is None, proc.communicate()[1]
-                assert time.monotonic() < deadline, f"no answer after {wakes[-5:]}"
-                now = physics.unity.unity_time_us
-                hub.pump(readings(hub.hub, pressed=pressed_at is not None and now >= pressed_at), now)
-                select.select([hub.master], [], [], 0.0005)
-            physics.answers += 1
-            wakes.append(int(physics.athrill.read("q", Tx.NEXT_WAKE)))
-            if pressed_at is None and hub.hub.ports[3].configured:
-                pressed_at = wakes[-1] + 500_000  # the program waits on the force sensor: press it later
-            physics.answer(wakes[-1])
-            if hub.hub.powers(4)[0] != (0, 0, 0, 0):
-                break
-        wall = time.monotonic() - started
-    finally:
-        proc.kill()
-        proc.communicate()
-        hub.close()
-        physics.close()
-    assert wakes[0] == 1_000_000  # main.c's sleep(1) before the kernel starts
+    wakes, pressed_at, wall = run_sample(asp, library, tmp_path / "first")
+    # the hub answers the handshake between steps, at the first; then main.c's sleep(1) before the kernel starts
+    assert wakes[:2] == [PHYSICS_STEP_US, PHYSICS_STEP_US + 1_000_000]
     assert pressed_at is not None, "asp never configured the force sensor on D"
-    # LineTracer.c 52-79 (tests/physics/test_raspike_hub.py works the numbers out)
-    assert hub.hub.powers(4) == ((64, -4, 0, 0), (0, 1, 0, 0))
     assert wakes[-1] > pressed_at
-    assert wall < (wakes[-1] - wakes[0]) / 1e6 + 1.0  # qemu's start aside, faster than the wall
+    assert wall < (wakes[-1] - wakes[0]) / 1e6  # faster than the wall
+    assert run_sample(asp, library, tmp_path / "second")[:2] == (wakes, pressed_at)

@@ -20,11 +20,12 @@ from hypothesis import strategies as st
 
 from athrill_sim.third_party import RASPIKE_ART
 from hakoniwa.physics import spike_hub
-from hakoniwa.physics.raspike_hub import COLOR, FORCE, MOTOR, Hub, HubFault, PtyHub
+from hakoniwa.physics.raspike_hub import COLOR, FORCE, MOTOR, Hub, HubFault, PtyHub, SerialCounts
 from hakoniwa.physics.sensors import HubReadings, Sensors
 from hakoniwa.physics.slots import BATTERY_MA, BATTERY_MV
 from hakoniwa.physics.spike_hub import speed_over
 from hakoniwa.physics.world import Inertial
+from hakoniwa.wire import rundir
 from hakoniwa.wire.protocol import ColorId
 from tests.helpers.paths import PROGRAMS, SHARED, needs_shared
 
@@ -252,6 +253,47 @@ def test_a_pi_that_expects_another_version_stops_at_the_handshake(tmp_path):
     # own, and exit(-1) with a line when they differ (protocol 0.1.0: RasPike-ART 46d328e's libraspike-art)
     status, out = run_against_the_hub(compile_probe(tmp_path / "probe", "0.1.0"))
     assert status == 255 and "version=0.0.6 expected=0.1.0" in out and "mismatched" in out
+
+
+def test_in_the_lockstep_the_hub_takes_exactly_what_the_program_counted_and_counts_its_own(tmp_path):
+    """What asp_serial.c relies on: between two steps the hub reads the bytes asp says it sent, however the
+    pty delivers them, answers them, and says how many it sent in all; the counts lie where the generated
+    header tells asp they do (rundir.RASPIKE_SERIAL)."""
+    hub = PtyHub(Hub(KINDS))
+    counts = SerialCounts(tmp_path)
+    fd = os.open(hub.device, os.O_RDWR | os.O_NOCTTY)
+    try:
+        os.write(fd, b"\xae")
+        os.write(fd, b"\xce")  # two writes, one count
+        raw = (tmp_path / rundir.RASPIKE_SERIAL).read_bytes()
+        assert len(raw) == rundir.RASPIKE_SERIAL_SIZE and counts.program_sent == 0
+        with (tmp_path / rundir.RASPIKE_SERIAL).open("r+b") as f:  # as asp's write does
+            f.seek(rundir.RASPIKE_PROGRAM_SENT)
+            f.write(struct.pack("<Q", 2))
+        sent = hub.exchange(readings(hub.hub), 0, counts.program_sent)
+        assert sent == 5 + 4 + 128  # the version (raspike.c 858-890), then the first status
+        counts.publish(sent)
+        raw = (tmp_path / rundir.RASPIKE_SERIAL).read_bytes()
+        assert struct.unpack_from("<Q", raw, rundir.RASPIKE_HUB_SENT) == (sent,)
+        got = b""
+        while len(got) < sent:
+            got += os.read(fd, sent - len(got))
+        assert got[:5] == bytes([0xAE, 0xCE, 0, 0, 6]) and got[5] == 0xEA
+        assert hub.exchange(readings(hub.hub), 1_000, 2) == sent  # nothing new, no status due: nothing sent
+    finally:
+        os.close(fd)
+        counts.close()
+        hub.close()
+
+
+def test_bytes_the_program_counted_but_never_sent_are_a_fault(tmp_path, monkeypatch):
+    monkeypatch.setattr("hakoniwa.physics.raspike_hub.DELIVERY_LIMIT_S", 0.2)
+    hub = PtyHub(Hub(KINDS))
+    try:
+        with pytest.raises(HubFault, match="did not reach the hub"):
+            hub.exchange(None, 0, 2)
+    finally:
+        hub.close()
 
 
 def test_a_program_that_closes_the_port_is_a_fault(tmp_path):

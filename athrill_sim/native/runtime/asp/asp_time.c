@@ -17,8 +17,11 @@
  *   status with a port's new mode, 387-414), are idle too: a deadline is on the simulated clock, and while no
  *   answer comes (ANSWER_SLICE_NS of wall time) the bench moves on a step, since the Pi sends its commands
  *   only when a status arrives (raspike_protocol.c 333) and the hub sends one every 10 ms; SIGALRM is raised
- *   when the timer falls due, as the robot's tick interrupts that wait. Which step an answer comes in is
- *   still the wall's race (docs/DESIGN-NOTES.md, "What is left").
+ *   when the timer falls due, as the robot's tick interrupts that wait. Each move of the bench drains asp's
+ *   serial port (asp_serial.c), so an answer of the hub is in before the next wait begins; the wall slice is
+ *   for a team's own threads.
+ * Only asp's main thread, where its kernel and its tasks run, moves the bench or spends time: the receiving
+ * thread runs in wall time, and its clock reads and waits cannot make one run differ from the next.
  * Every clock read spends HAKO_CALL_COST_US, as in the native runtime; a step used up that way moves the
  * bench on by one step, so that a loop polling a clock sees time pass.
  *
@@ -31,7 +34,9 @@
 #include <signal.h>
 #include <stdlib.h>
 #include <sys/time.h>
+#include <unistd.h>
 
+#include "asp.h"
 #include "posix.h"
 #include "real.h"
 
@@ -54,15 +59,20 @@ __attribute__((constructor)) static void asp_time_start(void)
     hako_time_set_tick((int64_t)hako_rx_unity_time());
 }
 
-/* Move the bench to the step `until` falls in, and the clock within it to `until` itself, as calls spend it;
- * true when the timer fell due on the way, which is then reloaded or stopped. The caller holds the lock. */
-static bool run_until(int64_t until)
+bool hako_asp_is_main(void) { return gettid() == getpid(); }
+
+/* Move the bench to the step `until` falls in, and the clock within it to `until` itself, as calls spend it,
+ * the serial port drained at the new step unless `undrained`; true when the timer fell due on the way, which
+ * is then reloaded or stopped. The caller holds the lock. */
+static bool run_until_drained(int64_t until, bool drained)
 {
     int64_t step = until == HAKO_FOREVER ? HAKO_FOREVER : until - until % HAKO_PHYSICS_STEP_US;
     if (step > hako_tick()) {
         hako_publish(hako_now(), step);
         hako_wait_snapshot(step);
         hako_time_set_tick(step);
+        if (drained)
+            hako_serial_drain();
     }
     if (until > hako_now())
         hako_time_spend(until - hako_now()); /* less than a step: never used up */
@@ -70,6 +80,17 @@ static bool run_until(int64_t until)
         return false;
     timer_due = timer_interval > 0 ? timer_due + timer_interval : HAKO_FOREVER;
     return true;
+}
+
+static bool run_until(int64_t until) { return run_until_drained(until, true); }
+
+void hako_asp_step_undrained(void)
+{
+    pthread_mutex_lock(&lock);
+    bool fired = run_until_drained(hako_tick() + HAKO_PHYSICS_STEP_US, false);
+    pthread_mutex_unlock(&lock);
+    if (fired)
+        raise(SIGALRM);
 }
 
 /* When the timer falls due, not beyond a sleep's end `limit` (whole steps, as the native runtime's waits). */
@@ -83,6 +104,8 @@ static int64_t next_due(int64_t limit)
 
 void hako_spend_call(void)
 {
+    if (!hako_asp_is_main())
+        return;
     pthread_mutex_lock(&lock);
     bool fired = hako_time_spend(HAKO_CALL_COST_US) && run_until(hako_tick() + HAKO_PHYSICS_STEP_US);
     pthread_mutex_unlock(&lock);
@@ -176,11 +199,15 @@ int sigsuspend(const sigset_t *mask)
 
 /* -- waits for asp's other thread ------------------------------------------------------------------- */
 
-/* The time the answer of asp's other thread is awaited each step, in wall time [ns]: between the physics
- * side's bytes of a step and the receiver's signal lies a round trip through qemu and the pty. */
+/* The time a signal of another thread is awaited each step, in wall time [ns], before the bench moves on:
+ * for a team's own threads. asp's receiving thread cannot signal within it, since it takes in the hub's bytes
+ * only while the bench moves (hako_serial_drain). */
 #define ANSWER_SLICE_NS 2000000L
 
-/* Wait for the other thread's signal until simulated time `due`, the bench moving on while none comes. */
+/* Wait for another thread's signal until simulated time `due`. In the main thread, when none comes within the
+ * slice, the bench moves a step with the caller's mutex released (the receiving thread may need it to take in
+ * the step's bytes, and the robot's tick interrupts such a wait too), and the wait returns 0, a wake-up POSIX
+ * allows: the caller's predicate loop sees what the step brought, at the step it came in. */
 static int idle_wait(pthread_cond_t *cond, pthread_mutex_t *mutex, int64_t due)
 {
     hako_spend_call();
@@ -197,14 +224,16 @@ static int idle_wait(pthread_cond_t *cond, pthread_mutex_t *mutex, int64_t due)
         int result = hako_real()->pthread_cond_timedwait(cond, mutex, &wall);
         if (result != ETIMEDOUT)
             return result;
+        if (!hako_asp_is_main())
+            continue; /* the main thread moves the bench: this one's deadline passes as it does */
+        pthread_mutex_unlock(mutex);
         pthread_mutex_lock(&lock);
         bool fired = run_until(hako_tick() + HAKO_PHYSICS_STEP_US);
         pthread_mutex_unlock(&lock);
-        if (fired) { /* as on the robot, its handler runs while the wait has the mutex released */
-            pthread_mutex_unlock(mutex);
+        if (fired)
             raise(SIGALRM);
-            pthread_mutex_lock(mutex);
-        }
+        pthread_mutex_lock(mutex);
+        return 0;
     }
 }
 

@@ -30,6 +30,8 @@
     X(int, pthread_cond_timedwait, (pthread_cond_t *, pthread_mutex_t *, const struct timespec *))                     \
     X(int, open, (const char *, int, ...))                                                                             \
     X(int, openat, (int, const char *, int, ...))                                                                      \
+    X(ssize_t, read, (int, void *, size_t))                                                                            \
+    X(ssize_t, write, (int, const void *, size_t))                                                                     \
     X(FILE *, fopen, (const char *, const char *))                                                                     \
     X(int, connect, (int, const struct sockaddr *, socklen_t))                                                         \
     X(int, getaddrinfo, (const char *, const char *, const struct addrinfo *, struct addrinfo **))                     \

@@ -1,0 +1,136 @@
+/*
+ * asp's serial port in the lockstep: the hub (the physics side, hakoniwa/physics/raspike_hub.py) answers only
+ * between steps, and asp takes in a step's bytes before any task runs at that step.
+ *
+ * libraspike-art's receiving thread polls the port in wall time (VMIN = 0, raspike_com.c 190-194), beside the
+ * thread the tasks run in, so without this the step a status or an acknowledgement is taken in was the wall's
+ * race. Each side counts what it sent in a small file of the run (HAKO_RASPIKE_SERIAL: the hub's bytes, then
+ * asp's), not what a FIONREAD finds, since a pty's bytes reach the other end through the tty layer's flip
+ * buffer, pushed by a kernel work item, and an empty queue does not mean that nothing more is coming:
+ * - write: counted after the real write, so that the count asp publishes with its answer (the physics side
+ *   reads it after the answer) covers every byte it sent;
+ * - read, in the receiving thread: blocks (wall time) until the hub has sent more than was read, and says,
+ *   while it waits with everything read, that the thread is idle, which hako_serial_drain waits for;
+ * - read, in the main thread (the handshake, raspike_protocol.c 136-160, before the kernel starts): when all
+ *   the hub sent is read, the bench moves a step, as the hub answers only between steps.
+ * The port is the one RasPike-ART opens (vdev_com_usb.c 27); it is found by its path at open.
+ */
+#define _GNU_SOURCE
+#include <errno.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <stdarg.h>
+#include <stdatomic.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include "asp.h"
+#include "hako_timing.h"
+#include "real.h"
+#include "runtime.h"
+
+#define SERIAL_PATH "/dev/USB_SPIKE"
+/* How long a side may take to see bytes the other counted as sent, in wall time, before it is a fault of the
+ * bench: generous, since qemu and a busy machine stand between them [s]. */
+#define DELIVERY_LIMIT_S 20.0
+#define READ_NAP_MS 1
+
+static int serial_fd = -1;
+static volatile uint64_t *counts; /* the run's HAKO_RASPIKE_SERIAL, mapped */
+static _Atomic uint64_t received; /* bytes of the hub read so far */
+static atomic_bool reader_idle; /* the receiving thread waits in read with everything read */
+
+static uint64_t hub_sent(void)
+{
+    return __atomic_load_n(&counts[HAKO_RASPIKE_HUB_SENT / sizeof(uint64_t)], __ATOMIC_ACQUIRE);
+}
+
+static void map_counts(void)
+{
+    const char *run_dir = getenv("HAKO_RUN_DIR"); /* asp_time.c's constructor has checked it */
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s", run_dir, HAKO_RASPIKE_SERIAL);
+    int fd = hako_real()->open(path, O_RDWR);
+    if (fd < 0)
+        hako_bench_fault("cannot open %s: %s", path, strerror(errno));
+    void *map = mmap(NULL, HAKO_RASPIKE_SERIAL_SIZE, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+    close(fd);
+    if (map == MAP_FAILED)
+        hako_bench_fault("cannot map %s: %s", path, strerror(errno));
+    counts = map;
+}
+
+int open(const char *path, int flags, ...)
+{
+    va_list args;
+    va_start(args, flags);
+    mode_t mode = (flags & O_CREAT) || (flags & O_TMPFILE) == O_TMPFILE ? va_arg(args, mode_t) : 0;
+    va_end(args);
+    int fd = hako_real()->open(path, flags, mode);
+    if (fd >= 0 && strcmp(path, SERIAL_PATH) == 0) {
+        if (counts == NULL)
+            map_counts();
+        serial_fd = fd;
+    }
+    return fd;
+}
+
+ssize_t write(int fd, const void *buf, size_t size)
+{
+    ssize_t done = hako_real()->write(fd, buf, size);
+    if (fd == serial_fd && done > 0)
+        __atomic_fetch_add(&counts[HAKO_RASPIKE_PROGRAM_SENT / sizeof(uint64_t)], (uint64_t)done, __ATOMIC_RELEASE);
+    return done;
+}
+
+/* Wait (wall time) until the port has bytes to read: they are counted as sent, so they are on their way. */
+static void await_bytes(int fd)
+{
+    double limit = hako_wall_s() + DELIVERY_LIMIT_S;
+    struct pollfd p = {fd, POLLIN, 0};
+    while (hako_real()->poll(&p, 1, READ_NAP_MS) == 0)
+        if (hako_wall_s() > limit)
+            hako_bench_fault("the hub's bytes did not reach asp's serial port in %.0f s", DELIVERY_LIMIT_S);
+}
+
+ssize_t read(int fd, void *buf, size_t size)
+{
+    if (fd != serial_fd || size == 0)
+        return hako_real()->read(fd, buf, size);
+    bool main_thread = hako_asp_is_main();
+    for (;;) {
+        uint64_t owed = hub_sent() - received;
+        if (owed > 0) {
+            await_bytes(fd);
+            ssize_t got = hako_real()->read(fd, buf, size < owed ? size : owed);
+            if (got > 0)
+                received += (uint64_t)got;
+            return got;
+        }
+        if (main_thread) {
+            hako_asp_step_undrained();
+            continue;
+        }
+        reader_idle = true;
+        struct pollfd p = {fd, POLLIN, 0};
+        while (hub_sent() == received)
+            hako_real()->poll(&p, 1, READ_NAP_MS); /* the bytes come before their count */
+        reader_idle = false;
+    }
+}
+
+void hako_serial_drain(void)
+{
+    if (counts == NULL)
+        return;
+    double limit = hako_wall_s() + DELIVERY_LIMIT_S;
+    while (!(reader_idle && received == hub_sent())) {
+        if (hako_wall_s() > limit)
+            hako_bench_fault("asp's receiving thread did not take in the hub's bytes in %.0f s", DELIVERY_LIMIT_S);
+        hako_wall_nap(20e-6);
+    }
+}
