@@ -58,9 +58,9 @@ def test_timer_clock_and_sleeps_follow_the_bench(probe: tuple[Path, Path], tmp_p
     physics = FakePhysics(tmp_path / "run")
     proc = start(exe, library, physics.run_dir)
     try:
-        s = 1_000_000
+        s = 30_000_000  # probe.c's sleep(30): asp's main.c sleeps 1 s; 30 s is one no load would pass for
         tick = 10_000  # probe.c's one-shot, re-armed in its handler
-        # main's sleep(1); five ticks of the sigsuspend idle, each at the step its time falls in; then the 3 ms
+        # main's sleep; five ticks of the sigsuspend idle, each at the step its time falls in; then the 3 ms
         # periodic timer during a 10 ms sleep
         expected_wakes = [s, *(s + tick * i for i in range(1, 6)), s + 5 * tick + 3_000, s + 5 * tick + 6_000,
                           s + 5 * tick + 9_000, s + 6 * tick]
@@ -94,7 +94,7 @@ def test_timer_clock_and_sleeps_follow_the_bench(probe: tuple[Path, Path], tmp_p
         # wait, twice
         f"acked {s + 6 * tick + 5 * c}",
     ]
-    assert wall < 1.06  # simulated time, not the wall's: 1.06 s of it passed
+    assert wall < 30  # simulated time, not the wall's: 30.06 s of it passed
 
 
 def test_it_waits_for_its_test_and_without_the_bench_it_says_so(probe: tuple[Path, Path], tmp_path: Path) -> None:
@@ -105,7 +105,7 @@ def test_it_waits_for_its_test_and_without_the_bench_it_says_so(probe: tuple[Pat
         time.sleep(0.5)
         assert physics.athrill.read_u32(Tx.ANSWER_SEQ) == 0 and proc.poll() is None  # waiting for test 3
         physics.unity.write_u32(Rx.TEST_SEQ, 3)
-        assert physics.next_wake(proc) == 1_000_000  # then on: main's sleep(1)
+        assert physics.next_wake(proc) == 30_000_000  # then on: main's sleep(30)
     finally:
         proc.kill()
         proc.communicate()
@@ -117,11 +117,10 @@ def test_it_waits_for_its_test_and_without_the_bench_it_says_so(probe: tuple[Pat
         f"athrill-native: bench fault: {RUN_DIR_ENV} is not set: asp's clock library runs only under the bench"]
 
 
-def run_sample(asp: Path, library: Path, folder: Path) -> tuple[list[int], int | None, float]:
+def run_sample(asp: Path, library: Path, folder: Path) -> tuple[list[int], int | None]:
     """sample_c5_spike's asp with the clock library, its hub on a pty answered between the steps, as the
     physics side does (the program's counted bytes in, the hub's count out before the next unity time), until
-    the motors turn; the wake-ups it published, when the force sensor was pressed, and the wall time from the
-    first wake-up to the last (qemu's start aside)."""
+    the motors turn; the wake-ups it published, and when the force sensor was pressed."""
     from athrill_sim.raspike_art.launch import asp_argv, prefix_folder
     from hakoniwa.physics.raspike_hub import Hub, PtyHub, SerialCounts
     from tests.physics.test_raspike_hub import KINDS, readings
@@ -136,11 +135,9 @@ def run_sample(asp: Path, library: Path, folder: Path) -> tuple[list[int], int |
     proc = subprocess.Popen(argv, cwd=folder, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     wakes: list[int] = []
     pressed_at = None
-    started = 0.0
     try:
         while not wakes or wakes[-1] < 10_000_000:
             wakes.append(physics.next_wake(proc))
-            started = started or time.monotonic()
             if pressed_at is None and hub.hub.ports[3].configured:
                 pressed_at = wakes[-1] + 500_000  # the program waits on the force sensor: press it later
             now = wakes[-1]
@@ -156,15 +153,16 @@ def run_sample(asp: Path, library: Path, folder: Path) -> tuple[list[int], int |
         counts.close()
         physics.close()
     assert hub.hub.powers(4) == ((64, -4, 0, 0), (0, 1, 0, 0)), "the motors never turned"
-    return wakes, pressed_at, time.monotonic() - started
+    return wakes, pressed_at
 
 
 @pytest.mark.slow
 def test_raspike_arts_own_sample_runs_on_the_bench_clock(probe: tuple[Path, Path], tmp_path: Path) -> None:
     """sample_c5_spike under the library: past main's sleep(1) and the force-sensor press it drives the motors
-    by the reflection (LineTracer.c 52-79; tests/physics/test_raspike_hub.py works the numbers out), in less
-    wall time than the simulated time it took, and at the same simulated instants twice: the serial exchange
-    is in the lockstep, not the wall's race (two runs reached the motors at 1.626 s and 2.560 s before it)."""
+    by the reflection (LineTracer.c 52-79; tests/physics/test_raspike_hub.py works the numbers out), at the
+    same simulated instants twice: the serial exchange is in the lockstep, not the wall's race (two runs reached
+    the motors at 1.626 s and 2.560 s before it). How fast it runs is scripts/bench_sim.py's to say, not a
+    test's."""
     from athrill_sim.raspike_art.build import DEFAULT_FOLDER, build_asp
     from athrill_sim.third_party import RASPIKE_ART
     from tests.helpers.paths import needs_shared
@@ -173,10 +171,9 @@ def test_raspike_arts_own_sample_runs_on_the_bench_clock(probe: tuple[Path, Path
         pytest.skip(needs_shared("RasPike-ART", DEFAULT_FOLDER, RASPIKE_ART))
     _, library = probe
     asp = build_asp(DEFAULT_FOLDER / "sdk" / "workspace" / "sample_c5_spike")
-    wakes, pressed_at, wall = run_sample(asp, library, tmp_path / "first")
+    wakes, pressed_at = run_sample(asp, library, tmp_path / "first")
     # the hub answers the handshake between steps, at the first; then main.c's sleep(1) before the kernel starts
     assert wakes[:2] == [PHYSICS_STEP_US, PHYSICS_STEP_US + 1_000_000]
     assert pressed_at is not None, "asp never configured the force sensor on D"
     assert wakes[-1] > pressed_at
-    assert wall < (wakes[-1] - wakes[0]) / 1e6  # faster than the wall
-    assert run_sample(asp, library, tmp_path / "second")[:2] == (wakes, pressed_at)
+    assert run_sample(asp, library, tmp_path / "second") == (wakes, pressed_at)
