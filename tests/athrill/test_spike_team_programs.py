@@ -19,6 +19,10 @@ FORCE_START = PROGRAMS / "scenarios" / "force-start.toml"
 # The lanes' first blue section starts 3.0 m along the line from the start mark (scripts/make_etrobocon_course.py
 # LANE: 0.3 + 1.0 + 0.9 m, a quarter circle of 0.45 m, 0.1 m); the robot's sensor starts 7 cm past the mark.
 BLUE_FROM_M = 3.0 - 0.07
+# Before it the lanes turn a quarter circle of 0.45 m, left on -l, right on -r. A right-edge tracer drives it
+# on the line's inner edge on -r (1 cm in: the half of the 2 cm line), its axle a little further in than its
+# sensor (7 cm ahead), so its counts reach the section up to about pi / 2 * 1.6 cm = 25 mm sooner.
+INNER_EDGE_M = 0.025
 
 
 def run(tmp_path, lane: str, app: str) -> tuple[dict, str]:
@@ -40,9 +44,9 @@ def test_a_run_by_the_mean_of_both_counts_stops_after_3_m_and_holds_its_speed(tm
     assert stop is not None, log
     mm, left, right = (int(g) for g in stop.groups())
     assert 3000 <= mm <= 3000 * 1.02 and left > 0 and right > 0 and abs(left - right) < 0.1 * (left + right)
-    # The bench's path length: its wheels roll a few percent short of their nominal 56 mm (docs/BENCHMARKS.md,
-    # "Wheels against their counts"), so the robot has driven a little less than its counts say.
-    assert 0.9 * 3.0 < result["distance_m"] < 3.0 * 1.02
+    # The path the robot drove: 3 m within 2%, as on the mat (issue 45). Its wheels roll on their nominal 56 mm
+    # and the caster drags nothing (docs/BENCHMARKS.md, "Wheels against their counts"): 2.804 m before that.
+    assert 3.0 * 0.98 <= result["distance_m"] <= 3.0 * 1.02
     # The speed loop on get_speed (measured deg/s) holds 400 deg/s on the first straight, within 5%.
     speeds = [(int(a), int(b), int(at)) for a, b, at in re.findall(r"speed (-?\d+) (-?\d+) at (\d+) mm", log)]
     straight = [(a, b) for a, b, at in speeds if 300 <= at <= 2000]
@@ -61,7 +65,7 @@ def test_colour_rules_on_the_hubs_hsv_and_rgb_find_the_blue_section(tmp_path, la
         found = re.search(rf"{rule}: blue section at (\d+) mm \(hsv (\d+) (\d+) (\d+), rgb (\d+) (\d+) (\d+)\)", log)
         assert found is not None, log
         mm, h, s, v, r, g, b = (int(x) for x in found.groups())
-        assert BLUE_FROM_M * 1000 <= mm <= (BLUE_FROM_M + 0.25) * 1000 * 1.1, (rule, mm)
+        assert (BLUE_FROM_M - INNER_EDGE_M) * 1000 <= mm <= (BLUE_FROM_M + 0.25) * 1000 * 1.1, (rule, mm)
         assert (200 <= h <= 280 and s >= 20) if rule == "hsv" else (b > r + 60 and b > g), (rule, found.groups())
         assert max(r, g, b) <= 1024 and v < 100
     counts = re.search(r"black (\d+), white (\d+), blue (\d+), other (\d+) readings", log)
