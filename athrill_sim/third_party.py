@@ -49,6 +49,8 @@ RASPIKE_SDK = Piece("third_party/raspike/raspike-athrill-v850e2m", "ETrobocon/ra
                     "scripts/ev3rt-patches/raspike-gcc12-ruby3.diff (RASPIKE_SDK or --sdk names the folder)")
 RASPIKE_SAMPLES = Piece("third_party/raspike/raspike-art-samples", "ETrobocon/RasPike-ART", "46d328e",
                         "take its sdk/workspace")
+RASPIKE_ART = Piece("third_party/raspike-art/RasPike-ART", "ETrobocon/RasPike-ART", "e1d218c",
+                    "check out its libraspike-art submodule at 28f3f38 (RASPIKE_ART or --sdk names the folder)")
 SPIKE_RT_HUB = Piece("third_party/raspike-art/spike-rt-hub", "ETrobocon/spike-rt-RasPike-ART", "38ed091",
                      "take its sdk/ and drivers/")
 MAZES = Piece("mazes", "micromouseonline/mazefiles", "a71f846897fdd2193e726a1276c6774c9ce9ac67",
@@ -56,4 +58,4 @@ MAZES = Piece("mazes", "micromouseonline/mazefiles", "a71f846897fdd2193e726a1276
 SEEDS = Piece("seeds", None, None, "the project's source documents, not published; the tests that read them "
               "check our code against their worked examples, which the rest of the tests also cover")
 PIECES = (ATHRILL, ATHRILL_CORE, EV3RT_SDK, EV3RT_SAMPLE_IMAGE, V850_TOOLCHAIN, RASPIKE_SDK, RASPIKE_SAMPLES,
-          SPIKE_RT_HUB, MAZES, SEEDS)
+          RASPIKE_ART, SPIKE_RT_HUB, MAZES, SEEDS)

@@ -24,6 +24,9 @@ typedef struct {
     int64_t count, cap;
 } bucket;
 
+#define COARSE 32                 /* the low bits of a key's double that the radix heap's buckets ignore */
+#define BUCKETS (64 - COARSE + 1)
+
 /* The working memory of one query graph of n nodes and m edges, kept between its queries: the time arrays are
  * all infinite and the flags all clear between calls (each call resets only what it touched). */
 typedef struct {
@@ -37,8 +40,11 @@ typedef struct {
     int32_t *local;   /* node -> its number among the kept nodes */
     int32_t *nodes;   /* the kept nodes, ascending */
     int32_t *lrow, *lcol, *ledge, *lindptr, *rindptr, *rsrc, *queue, *pred;
-    bucket buckets[65]; /* the radix heap: bucket b holds keys whose highest bit differing from `last` is b - 1 */
-    uint64_t last;    /* the key last taken out (keys only grow: the searches' prices are never negative) */
+    bucket buckets[BUCKETS]; /* the radix heap: bucket b holds keys whose coarse key's highest bit differing from
+                              * `last` is b - 1 */
+    uint64_t last;    /* the coarse key last taken out (keys only grow: the searches' prices are never negative) */
+    int64_t low_at;   /* where in bucket 0 its lowest key is; -1 when not known */
+    double last_key;  /* the key last taken out */
     int64_t queued;
     double *lprice;
     int32_t walls;          /* pricing (fp_price): 0 before the first query */
@@ -50,13 +56,16 @@ typedef struct {
 
 /* A radix heap of nodes keyed by their tentative times: a search's keys never fall below the last one taken out
  * (its prices are never negative), and a double's bits order as the double does for keys >= 0, so a key goes in
- * the bucket of the highest bit in which it differs from that last key, and only the lowest non-empty bucket is
- * ever sorted out. A node whose time is lowered is put in again; the searches skip an entry whose key is no
+ * the bucket of the highest bit in which its coarse key (the bits less the lowest COARSE) differs from that last
+ * one's, and only the lowest non-empty bucket is ever sorted out. Bucket 0 holds the keys as coarse as the last;
+ * the lowest of them is found by looking (a few keys, within 2^-17 s of each other at times of 8-16 s and closer
+ * at shorter ones), where whole bits would move each entry through up to 50 buckets on its way down rather than
+ * about 17. A node whose time is lowered is put in again; the searches skip an entry whose key is no
  * longer its node's time, or whose node is settled. Empty between searches (`queued` 0, `last` 0). */
 static uint64_t bits(double key) {
     uint64_t b;
     memcpy(&b, &key, sizeof b);
-    return b;
+    return b >> COARSE;
 }
 
 static int32_t bucket_of(uint64_t key, uint64_t last) { return key == last ? 0 : 64 - __builtin_clzll(key ^ last); }
@@ -73,7 +82,11 @@ static int put(bucket *b, item it) {
 }
 
 static void push(workspace *ws, int64_t *size, double key, int32_t node) {
-    if (put(&ws->buckets[bucket_of(bits(key), ws->last)], (item){key, node})) (*size)++;
+    bucket *b = &ws->buckets[bucket_of(bits(key), ws->last)];
+    if (!put(b, (item){key, node})) return;
+    (*size)++;
+    if (b == ws->buckets && (ws->low_at >= 0 ? key < b->at[ws->low_at].key : key == ws->last_key))
+        ws->low_at = b->count - 1;  /* a key equal to the last taken out is a lowest */
 }
 
 /* The lowest key queued (the heap not empty), its entries moved into bucket 0. */
@@ -89,37 +102,46 @@ static double lowest(workspace *ws) {
         for (int64_t i = 0; i < from->count; i++)  /* each to a lower bucket: it shares the bits above b with low */
             put(&ws->buckets[bucket_of(bits(from->at[i].key), low)], from->at[i]);
         from->count = 0;
+        ws->low_at = -1;
     }
-    return ws->buckets[0].at[ws->buckets[0].count - 1].key;
+    bucket *b = ws->buckets;
+    if (ws->low_at < 0) {  /* newest first: a key equal to the last taken out (a price of 0) ends the look */
+        ws->low_at = b->count - 1;
+        for (int64_t i = b->count - 2; i >= 0 && b->at[ws->low_at].key != ws->last_key; i--)
+            if (b->at[i].key < b->at[ws->low_at].key) ws->low_at = i;
+    }
+    return b->at[ws->low_at].key;
 }
 
 static item pop(workspace *ws, int64_t *size) {
     lowest(ws);
     (*size)--;
-    return ws->buckets[0].at[--ws->buckets[0].count];
+    bucket *b = ws->buckets;
+    item it = b->at[ws->low_at];
+    b->at[ws->low_at] = b->at[--b->count];
+    ws->low_at = -1;
+    ws->last_key = it.key;
+    return it;
 }
 
 static void empty(workspace *ws, int64_t *size) {
-    for (int32_t b = 0; b < 65; b++) ws->buckets[b].count = 0;
-    ws->last = 0;
+    for (int32_t b = 0; b < BUCKETS; b++) ws->buckets[b].count = 0;
+    ws->last = 0, ws->low_at = -1, ws->last_key = 0.0;
     *size = 0;
 }
 
-/* Dijkstra from `sources` (time 0) over CSR rows (indptr, indices), the weight of entry j being w[j], or
- * infinite where mask says the edge is closed. Times go to dist (infinite on entry); nodes given a time are
- * appended to touched. Returns how many nodes it settled (their times are finite and <= limit). */
-static int32_t dijkstra(const int32_t *indptr, const int32_t *indices, const double *w, const uint8_t *mask,
-                        const int32_t *sources, int32_t nsrc, double limit, double *dist, workspace *ws,
-                        int32_t *ntouched) {
-    int64_t size = 0;
+/* Dijkstra over CSR rows (indptr, indices), the price of entry j being w[j] or infinite where `mask` says the
+ * edge is closed, from what the heap holds (`size` entries, their times in dist); it stops, rather than ends, at
+ * the first node whose time is over `limit`, so that A*'s try under a larger limit resumes it where the last
+ * stopped (its heap and times kept) instead of settling the same nodes again. Nodes given a time are appended to
+ * touched; none over `push_limit` is. Returns how many nodes it settled: every node whose time is at most the
+ * limit, with the times of a search limited to it. */
+static int32_t settle_to(const int32_t *indptr, const int32_t *indices, const double *w, const uint8_t *mask,
+                         double limit, double push_limit, double *dist, workspace *ws, int64_t *size,
+                         int32_t *ntouched) {
     int32_t settled = 0;
-    for (int32_t s = 0; s < nsrc; s++) {
-        if (dist[sources[s]] == INFINITY) ws->touched[(*ntouched)++] = sources[s];
-        dist[sources[s]] = 0.0;
-        push(ws, &size, 0.0, sources[s]);
-    }
-    while (size) {
-        item it = pop(ws, &size);
+    while (*size && lowest(ws) <= limit) {
+        item it = pop(ws, size);
         int32_t v = it.node;
         if (ws->done[v] || it.key != dist[v]) continue;  /* settled, or put in again at a lower time */
         ws->done[v] = 1;
@@ -127,17 +149,31 @@ static int32_t dijkstra(const int32_t *indptr, const int32_t *indices, const dou
         double at = dist[v];
         for (int32_t j = indptr[v]; j < indptr[v + 1]; j++) {
             int32_t u = indices[j];
-            if (ws->done[u]) continue;
-            if (mask && !mask[j]) continue;
+            if (ws->done[u] || (mask && !mask[j])) continue;
             double next = at + w[j];
-            if (next <= limit && next < dist[u]) {
+            if (next <= push_limit && next < dist[u]) {
                 if (dist[u] == INFINITY) ws->touched[(*ntouched)++] = u;
                 dist[u] = next;
-                push(ws, &size, next, u);
+                push(ws, size, next, u);
             }
         }
     }
-    ws->last = 0;  /* empty again */
+    return settled;
+}
+
+/* Dijkstra from `sources` (time 0), limited to `limit`: settle_to from a heap of them, nothing over the limit put
+ * in. Times go to dist (infinite on entry). Returns how many nodes it settled. */
+static int32_t dijkstra(const int32_t *indptr, const int32_t *indices, const double *w, const uint8_t *mask,
+                        const int32_t *sources, int32_t nsrc, double limit, double *dist, workspace *ws,
+                        int32_t *ntouched) {
+    int64_t size = 0;
+    for (int32_t s = 0; s < nsrc; s++) {
+        if (dist[sources[s]] == INFINITY) ws->touched[(*ntouched)++] = sources[s];
+        dist[sources[s]] = 0.0;
+        push(ws, &size, 0.0, sources[s]);
+    }
+    int32_t settled = settle_to(indptr, indices, w, mask, limit, limit, dist, ws, &size, ntouched);
+    ws->last = 0, ws->low_at = -1, ws->last_key = 0.0;  /* empty again */
     return settled;
 }
 
@@ -153,6 +189,7 @@ static void *fp_new(int32_t n, int64_t m) {
     if (!ws) return NULL;
     ws->n = n;
     ws->m = m;
+    ws->low_at = -1;
     ws->reduced = malloc(sizeof(double) * n);
     ws->exact = malloc(sizeof(double) * n);
     ws->done = calloc(n, 1);
@@ -185,7 +222,7 @@ static void fp_free(void *p) {
     free(ws->local); free(ws->nodes); free(ws->lrow); free(ws->lcol); free(ws->ledge); free(ws->lindptr);
     free(ws->rindptr); free(ws->rsrc); free(ws->queue); free(ws->pred); free(ws->lprice);
     free(ws->open_wall); free(ws->was_open); free(ws->wall_indptr); free(ws->wall_edges);
-    for (int32_t b = 0; b < 65; b++) free(ws->buckets[b].at);
+    for (int32_t b = 0; b < BUCKETS; b++) free(ws->buckets[b].at);
     free(ws);
 }
 
@@ -207,40 +244,23 @@ static int32_t fp_bound(void *p, const int32_t *rindptr, const int32_t *rindices
     return cost;
 }
 
-static double with_slack(double seconds, double slack) { return seconds + slack * (1 + seconds); }
-
-static int cmp_int32(const void *a, const void *b) {
-    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
-    return (x > y) - (x < y);
-}
-
-/* A*'s tries: Dijkstra that stops, rather than ends, at the first node whose time is over `limit`, so that a try
- * under a larger limit resumes it where the last stopped (its heap, `size`, and times kept) instead of settling
- * the same nodes again. The nodes it settles are those a search limited as `dijkstra` is would settle, with the
- * same times: every node whose time is at most the limit. Returns how many it settled. */
-static int32_t settle_to(const int32_t *indptr, const int32_t *indices, const double *w, const uint8_t *mask,
-                         double limit, double *dist, workspace *ws, int64_t *size, int32_t *ntouched) {
-    int32_t settled = 0;
-    while (*size && lowest(ws) <= limit) {
-        item it = pop(ws, size);
-        int32_t v = it.node;
-        if (ws->done[v] || it.key != dist[v]) continue;  /* settled, or put in again at a lower time */
-        ws->done[v] = 1;
-        settled++;
-        double at = dist[v];
-        for (int32_t j = indptr[v]; j < indptr[v + 1]; j++) {
-            int32_t u = indices[j];
-            if (ws->done[u] || (mask && !mask[j])) continue;
-            double next = at + w[j];
-            if (next < dist[u]) {
-                if (dist[u] == INFINITY) ws->touched[(*ntouched)++] = u;
-                dist[u] = next;
-                push(ws, size, next, u);
-            }
-        }
+/* Nodes (numbers below n) in ascending order, by their bytes from the lowest (a radix sort: two passes over a
+ * 32x32 graph's), `spare` holding as many: linear in their count, where qsort's calls to compare cost 0.04-0.08 ms
+ * over a search's 600-2100 kept nodes and a scan of n flags costs a query with known walls its few. */
+static void sort_nodes(int32_t *nodes, int32_t count, int32_t n, int32_t *spare) {
+    int32_t *from = nodes, *to = spare;
+    for (int32_t shift = 0; shift < 32 && (n - 1) >> shift; shift += 8) {
+        int32_t at[257] = {0};
+        for (int32_t i = 0; i < count; i++) at[((from[i] >> shift) & 255) + 1]++;
+        for (int32_t b = 0; b < 256; b++) at[b + 1] += at[b];
+        for (int32_t i = 0; i < count; i++) to[at[(from[i] >> shift) & 255]++] = from[i];
+        int32_t *was = from;
+        from = to, to = was;
     }
-    return settled;
+    if (from != nodes) memcpy(nodes, from, sizeof(int32_t) * count);
 }
+
+static double with_slack(double seconds, double slack) { return seconds + slack * (1 + seconds); }
 
 /* FastestSearch.search: A* from the start (the last node) on the reduced prices `astar` of the open edges under limits
  * limit0 * growth^k (k < tries, then none), each try resuming the last (settle_to), adding the nodes settled to
@@ -262,7 +282,7 @@ static int32_t fp_search(void *p, const int32_t *indptr, const int32_t *indices,
     push(ws, &size, 0.0, start);
     for (int32_t k = 0; k <= tries && best < 0; k++) {
         double limit = k < tries ? limit0 * pow(growth, k) : INFINITY;
-        *spent += settle_to(indptr, indices, astar, open, limit, reduced, ws, &size, &ntouched);
+        *spent += settle_to(indptr, indices, astar, open, limit, INFINITY, reduced, ws, &size, &ntouched);
         for (int32_t g = goal_lo; g < goal_hi; g++)  /* the lowest-numbered of the first reached */
             if (ws->done[g] && (best < 0 || reduced[g] < reduced[best])) best = g;
     }
@@ -279,7 +299,7 @@ static int32_t fp_search(void *p, const int32_t *indptr, const int32_t *indices,
     int32_t count = 0;
     for (int32_t i = 0; i < ntouched; i++)  /* settled: a node given a time over the limit is not */
         if (ws->done[ws->touched[i]] && reduced[ws->touched[i]] <= keep_to) ws->nodes[count++] = ws->touched[i];
-    qsort(ws->nodes, count, sizeof(int32_t), cmp_int32);
+    sort_nodes(ws->nodes, count, n, ws->queue);
     for (int32_t i = 0; i < count; i++) {
         ws->kept[ws->nodes[i]] = 1;
         ws->local[ws->nodes[i]] = i;

@@ -105,6 +105,7 @@ class NativeGraph:
                           min_limit=first_limit_floor(mouse), tries=LIMIT_TRIES, narrow_from=NARROW_FROM)
         self._graphs: dict[tuple[Cell, tuple[Cell, ...]], _Graph] = {}
         self._turns = [(s.token, TURNS[s.name].cells) for s in self.shapes]  # per shape: its move's token, cells
+        self._tokens: tuple[dict[int, str], ...] = ({}, {}, {}, {})  # per kind of move: its value's token, once made
 
     def _graph(self, start: Cell, goals: tuple[Cell, ...]) -> _Graph:
         """The kernel's graph of one start and goal set, built once and kept."""
@@ -140,21 +141,25 @@ class NativeGraph:
         moves = self.lib.fp_decode(g.handle, _at(g.route), _at(g.times), count, 2 * start[0] + 1, 2 * start[1] + 1,
                                    *(_at(a) for a in (g.kind, g.value, g.cells, g.seconds)),
                                    *(_at(a) for a in points), ctypes.addressof(npoints))
-        turns = self._turns
+        turns, tokens, make = self._turns, self._tokens, Move._make  # dozens of moves: made tokens, no f-strings
         out = []
         for k, v, c, t in zip(g.kind[:moves].tolist(), g.value[:moves].tolist(), g.cells[:moves].tolist(),
                               g.seconds[:moves].tolist()):
-            if k == 0:
-                out.append(Move(f"S{v - 0.5:g}", v - 0.5, t))
-            elif k == 1:
-                token, cells = turns[v]
-                out.append(Move(token, cells, t))
+            if k == 1:
+                out.append(make(turns[v] + (t,)))
             else:
-                out.append(Move(f"{'S' if k == 2 else 'D'}{v}", c, t))
+                token = tokens[k].get(v) or tokens[k].setdefault(v, _token(k, v))
+                out.append(make((token, v - 0.5 if k == 0 else c, t)))
         n = npoints.value
         px, py, cell_x, cell_y, wall = (a[:n].tolist() for a in points)
         return Route(out, g.times[count - 1], list(zip(px, py)), wall[:n - 1],
                      [start] + list(zip(cell_x[:n - 1], cell_y[:n - 1])))
+
+
+def _token(kind: int, value: int) -> str:
+    """A straight's token: the start's (kind 0) of `value` cells less the half it starts in, else `value` steps
+    along the walls (2) or diagonal (3)."""
+    return f"S{value - 0.5:g}" if kind == 0 else f"{'S' if kind == 2 else 'D'}{value}"
 
 
 def _at(a: array[int] | array[float]) -> int:

@@ -24,7 +24,7 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 @click.option("--frames", type=click.IntRange(min=5), default=60, show_default=True, help="Frames per setting.")
 def main(frames: int) -> None:
     from hakoniwa.physics.replay import REPLAY_FILE, read_replay, write_replay
-    from hakoniwa.physics.video import Filmer, write_video
+    from hakoniwa.pictures.video import Filmer, write_video
 
     with tempfile.TemporaryDirectory() as tmp:
         run = Path(tmp) / "run"

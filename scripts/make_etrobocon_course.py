@@ -222,7 +222,7 @@ def course_toml(lane: Lane, name: str, image: str, mirror: bool) -> str:
               'name = "bottle"', 'shape = "cylinder"', *(f"{k} = {v}" for k, v in BOTTLE.items()),
               "color = [40, 40, 40]", f"x = {sign * rx:.4f}", f"y = {ry:.4f}",
               "", "[score]                       # --objective etrobocon: ET Robocon's result points",
-              'class = "applied"             # HackSPi\'s class (regulation 3, 表 3-1)',
+              'class = "applied"             # a robot of no class (an EV3): HackSPi\'s class (regulation 3, 表 3-1)',
               'garage = "garage"', 'sumo_ring = "ring"', 'sumo_bottle = "bottle"', ""]
     return "\n".join(lines)
 

@@ -19,8 +19,8 @@ FILM_SPEED = 2.0
 def film_run(run_dir: Path, out: Path, title: str) -> Path | None:
     """Film the last test of `run_dir` into `out`; None, with a one-line note, when it cannot be made."""
     from hakoniwa.physics.replay import ReplayError, read_replay
-    from hakoniwa.physics.video import VideoError, film
-    from hakoniwa.physics.video_options import VideoOptions
+    from hakoniwa.pictures.video import VideoError, film
+    from hakoniwa.pictures.video_options import VideoOptions
 
     try:
         film(read_replay(run_dir), VideoOptions(out, "chase", FILM_FPS, FILM_SPEED), title=title)

@@ -56,7 +56,7 @@ def main(run_dir: Path, controller: tuple[str, ...], view_speed: float | None, *
                                scenario=scenario, objective=options.scored_by)
         program.finish_check(check)
         if view_speed is not None:
-            from hakoniwa.physics.viewer import LiveView
+            from hakoniwa.pictures.viewer import LiveView
 
             view = LiveView(server.env, view_speed)
         code = serve(server, run_dir, world_course.folder, controller)

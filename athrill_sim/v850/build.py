@@ -172,14 +172,7 @@ def _build(root: Path, files: list[Path], lone: bool, tools: Tools, scratch: Pat
 
 def _make_image(root: Path, files: list[Path], lone: bool, tools: Tools, scratch: Path,
                 flags: tuple[str, ...], cxx: bool) -> None:
-    sdk = scratch / tools.sdk.name
-    shutil.copytree(tools.sdk, sdk, symlinks=True)
-    for d, _, names in os.walk(sdk):  # a read-only source tree copies read-only
-        os.chmod(d, 0o755)
-        for n in names:
-            p = Path(d) / n
-            if not p.is_symlink():
-                os.chmod(p, 0o644 | (p.stat().st_mode & 0o111))
+    sdk = writable_copy(tools.sdk, scratch)
     (scratch / "athrill").symlink_to(tools.athrill)
     workspace = sdk / "sdk" / "workspace"
     staged = workspace / APP_NAME
@@ -203,20 +196,43 @@ def _make_image(root: Path, files: list[Path], lone: bool, tools: Tools, scratch
     if flags:
         with open(staged / MAKEFILE_INC, "a") as inc:
             inc.write("\nCOPTS += " + " ".join(shlex.quote(f).replace("$", "$$") for f in flags) + "\n")
-    env = {**os.environ, "LC_ALL": "C.UTF-8", "PWD": str(workspace),  # Ruby reads the SDK's UTF-8; make $(PWD)
-           "PATH": f"{tools.gcc.parent}{os.pathsep}{os.environ.get('PATH', '')}", **_etrobo_env(scratch)}
-    try:
-        out = subprocess.run(MAKE, cwd=workspace, capture_output=True, text=True, timeout=BUILD_TIMEOUT_S, env=env)
-    except (OSError, subprocess.TimeoutExpired) as e:
-        raise ImageError(f"{root}: make failed to run: {e}") from None
-    (scratch / BUILD_LOG).write_text(out.stdout + out.stderr)
-    if out.returncode != 0 or not (workspace / IMAGE).is_file():
-        message = first_error(out.stdout + "\n" + out.stderr, cxx)
-        raise ImageError(f"{root} does not build: {user_paths(message, staged_sources(root, files, lone))}")
+    run_make(MAKE, workspace, tools.gcc.parent, _etrobo_env(scratch), scratch / BUILD_LOG, IMAGE,
+             root, staged_sources(root, files, lone), cxx)
     (workspace / IMAGE).rename(scratch / IMAGE)
     shutil.rmtree(sdk)
     shutil.rmtree(scratch / ETROBO_FOLDER)
     (scratch / "athrill").unlink()
+
+
+def run_make(make: tuple[str, ...], workspace: Path, tools: Path, env: dict[str, str], log: Path, product: str,
+             root: Path, sources: dict[str, Path], cxx: bool = False) -> None:
+    """The SDK's make in its workspace folder, with the folder `tools` first on PATH and `env` added, its
+    output kept in `log`; a build that fails or leaves no `product` there is said as its first error, with
+    the user's own file for each staged one (`sources`)."""
+    env = {**os.environ, "LC_ALL": "C.UTF-8", "PWD": str(workspace),  # Ruby reads the SDK's UTF-8; make $(PWD)
+           "PATH": f"{tools}{os.pathsep}{os.environ.get('PATH', '')}", **env}
+    try:
+        out = subprocess.run(make, cwd=workspace, capture_output=True, text=True, timeout=BUILD_TIMEOUT_S, env=env)
+    except (OSError, subprocess.TimeoutExpired) as e:
+        raise ImageError(f"{root}: make failed to run: {e}") from None
+    log.write_text(out.stdout + out.stderr)
+    if out.returncode != 0 or not (workspace / product).is_file():
+        message = first_error(out.stdout + "\n" + out.stderr, cxx)
+        raise ImageError(f"{root} does not build: {user_paths(message, sources)}")
+
+
+def writable_copy(tree: Path, into: Path) -> Path:
+    """A copy of `tree` in the folder `into`, writable: a build in it writes beside its sources, and a
+    read-only source tree (../shared) copies read-only."""
+    copy = into / tree.name
+    shutil.copytree(tree, copy, symlinks=True)
+    for d, _, names in os.walk(copy):
+        os.chmod(d, 0o755)
+        for n in names:
+            p = Path(d) / n
+            if not p.is_symlink():
+                os.chmod(p, 0o644 | (p.stat().st_mode & 0o111))
+    return copy
 
 
 def _etrobo_env(scratch: Path) -> dict[str, str]:

@@ -47,18 +47,23 @@ def find_sdk(given: Path | None, spike: bool = False) -> Path:
     ../shared/third_party/ev3rt. Either the SDK folder itself or a folder holding it (and its toolchain) may
     be named."""
     env_name, default, piece = (SPIKE_SDK_ENV, "raspike", RASPIKE_SDK) if spike else (SDK_ENV, "ev3rt", EV3RT_SDK)
-    env = os.environ.get(env_name)
-    if given is not None:
-        folder, origin = given, "--sdk"
-    elif env:
-        folder, origin = Path(env), f"${env_name}"
-    else:
-        folder, origin = SHARED / default, f"the default, ../shared/third_party/{default}"
+    folder, origin = chosen_folder(given, env_name, SHARED / default)
     for sdk in (folder, *(folder / d for d in SDK_DIRS)):
         if (sdk / "sdk" / "workspace").is_dir() and (sdk / "sdk" / "common").is_dir():
             return sdk.resolve()
     kind = "SPIKE (RasPike-ART) SDK for Athrill" if spike else "EV3RT SDK"
     raise ImageError(f"no {kind} at {folder} ({origin}); {piece.source()}")
+
+
+def chosen_folder(given: Path | None, env_name: str, default: Path) -> tuple[Path, str]:
+    """The folder --sdk names, else $`env_name`, else `default` (under ../shared/third_party), and how it was
+    chosen, for an error that names it."""
+    env = os.environ.get(env_name)
+    if given is not None:
+        return given, "--sdk"
+    if env:
+        return Path(env), f"${env_name}"
+    return default, f"the default, ../shared/third_party/{default.relative_to(SHARED)}"
 
 
 def find_toolchain(given: Path | None, sdk: Path) -> Path:

@@ -119,7 +119,9 @@ class Environment:
 
     def score(self) -> Score | None:
         """ET Robocon's result points as they stand (None under another objective)."""
-        return self.task.score(self.world) if isinstance(self.task, EtRoboconTask) else None
+        if not isinstance(self.task, EtRoboconTask):
+            return None
+        return self.task.score(self.world, self.robot.competition_class)
 
     def read_sensors(self) -> Sensors:
         return self.sensors.read(self.world, self.now_us)

@@ -127,14 +127,16 @@ class EtRoboconTask(LapTask):
                              for a in (-1, 1) for b in (-1, 1)]
         return any(zone.contains(px, py) for px, py in points)
 
-    def score(self, world: World) -> Score:
-        """The run's result points, as they stand now (at its end: the regulation's)."""
+    def score(self, world: World, competition_class: str | None = None) -> Score:
+        """The run's result points, as they stand now (at its end: the regulation's), by the points of
+        `competition_class` (the robot's class; None: the course's)."""
         spec = self.course.score
         sumo = None
         if spec.sumo_ring is not None and spec.sumo_bottle is not None:
             bottle = world.object_state(spec.sumo_bottle)
             sumo = self._bottle_out and self._left_with_robot_inside and bottle.upright and bottle.speed < STILL_M_S
-        return Score.of(spec.competition_class, self._lap_us, len(self._reached), self._finished, sumo)
+        return Score.of(competition_class or spec.competition_class, self._lap_us, len(self._reached),
+                        self._finished, sumo)
 
 
 def _passes(gate: Box, x: float, y: float, yaw: float) -> bool:

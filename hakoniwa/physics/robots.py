@@ -15,6 +15,8 @@ A robot file is TOML:
     body = "ev3"                   # or "hackspi" [default: ev3 on an EV3, hackspi on a SPIKE hub]
     reflection = { white = 40, black = 10 }  # a SPIKE hub's: what its colour sensor's reflection reads on a
                                    # course's white and black, from how high it sits [default: HackSPi's]
+    class = "applied"              # or "basic": the ET Robocon class whose points --objective etrobocon
+                                   # gives [default: the course's [score] class]
     [[sensor]]
     port = 2                       # an EV3's sensor ports are 1..4; a SPIKE hub's are "A".."F"
     kind = "color"                 # EV3: color, ultrasonic, gyro, touch; SPIKE: color, ultrasonic, force
@@ -30,7 +32,9 @@ touch 4), whose wheel ports a course's `[robot]` table may change; `hackev`, ET 
 left, B right; touch 1, colour 2, ultrasonic 3, gyro 4); `hackspi`, ET Robocon's HackSPi (SPIKE hub: left
 wheel B mounted mirror-wise, right A; force D, colour E, ultrasonic F); and `basic`, the Basic class's robot,
 which runs SPIKE-RT on the hub itself: HackSPi's wiring and body, with its colour sensor mounted lower, so that it
-reads white 80 and black 10, as SPIKE-RT's own samples assume.
+reads white 80 and black 10, as SPIKE-RT's own samples assume. `hackspi` competes in ET Robocon's applied class
+and `basic` in the basic class: `--objective etrobocon` scores each by its class's points, whatever class the
+course's `[score]` names (that one is for robots of no class, the EV3s).
 
 A SPIKE robot's colour sensor has its own response (`reflection`): the course says what a sensor reads on
 its white, black and colours channel by channel, and the robot how its sensor, at its height, reads them
@@ -46,6 +50,7 @@ from pathlib import Path
 from hakoniwa.physics.color_response import SPIKE_DEFAULT, Calibration
 from hakoniwa.physics.robot import DEFAULT_WIRING, EV3_BODY, HACKSPI_BODY, Body, Wiring
 from hakoniwa.wire.errors import HakoError
+from hakoniwa.wire.etrobocon_rules import CLASSES
 
 EV3, SPIKE = "ev3", "spike"
 HUB_PORTS = {EV3: ("1", "2", "3", "4"), SPIKE: ("A", "B", "C", "D", "E", "F")}  # sensor ports, by hub
@@ -69,6 +74,9 @@ class Robot:
     hub: str = EV3
     body: Body = EV3_BODY
     reflection: Calibration = SPIKE_DEFAULT  # a SPIKE colour sensor's reflection on white and black
+    # The ET Robocon class the robot competes in (regulation 3, 表 3-1: HackSPi applied, SPIKE-RT on the hub
+    # basic), whose points `--objective etrobocon` gives; None: the course's `[score] class`.
+    competition_class: str | None = None
 
     @property
     def spike(self) -> bool:
@@ -105,10 +113,11 @@ DEFAULT_ROBOT = Robot("default", None, (("1", "color"), ("2", "ultrasonic"), ("3
 # RasPike-ART programs; the samples do not use one (docs/DESIGN-NOTES.md).
 HACKSPI = Robot("hackspi", Wiring(left=1, right=0, left_forward=-1),
                 (("D", "force"), ("E", "color"), ("F", "ultrasonic")), False, SPIKE, HACKSPI_BODY,
-                reflection=SPIKE_DEFAULT)
+                reflection=SPIKE_DEFAULT, competition_class="applied")
 # The Basic class's robot as SPIKE-RT's own samples wire it (sdk/workspace/sample_c5 app.c and LineTracer.c:
 # HackSPi's ports and directions) and calibrate it (LineTracer.h: WHITE_BRIGHTNESS 80, BLACK_BRIGHTNESS 10).
-BASIC = Robot("basic", HACKSPI.wiring, HACKSPI.sensors, False, SPIKE, HACKSPI_BODY, Calibration(white=80, black=10))
+BASIC = Robot("basic", HACKSPI.wiring, HACKSPI.sensors, False, SPIKE, HACKSPI_BODY, Calibration(white=80, black=10),
+              competition_class="basic")
 BUILT_IN = {"default": DEFAULT_ROBOT,
             "hackev": Robot("hackev", Wiring(left=2, right=1),
                             (("1", "touch"), ("2", "color"), ("3", "ultrasonic"), ("4", "gyro")), False),
@@ -144,7 +153,7 @@ def parse_robot(text: str, where: str) -> Robot:
     except tomllib.TOMLDecodeError as e:
         raise RobotError(f"{where}: not valid TOML: {e}") from None
     unknown = sorted(set(spec) - {"name", "hub", "body", "left_motor", "right_motor", "left_motor_forward",
-                                  "right_motor_forward", "bumper", "sensor", "reflection"})
+                                  "right_motor_forward", "bumper", "sensor", "reflection", "class"})
     if unknown:
         raise RobotError(f"{where}: unknown key {unknown[0]!r}")
     hub = _choice(spec, "hub", HUB_PORTS, EV3, where)
@@ -189,9 +198,12 @@ def parse_robot(text: str, where: str) -> Robot:
     bumper = spec.get("bumper", False)
     if not isinstance(bumper, bool):
         raise RobotError(f"{where}: bumper must be true or false")
+    competition_class = spec.get("class")
+    if competition_class is not None and competition_class not in CLASSES:
+        raise RobotError(f"{where}: class must be one of {', '.join(CLASSES)}, got {competition_class!r}")
     wiring = Wiring(ports["left_motor"], ports["right_motor"], forward["left_motor"], forward["right_motor"])
     return Robot(str(spec.get("name", where)), wiring, tuple(sorted(sensors.items())), bumper, hub, body,
-                 _reflection(spec.get("reflection"), hub, where))
+                 _reflection(spec.get("reflection"), hub, where), competition_class)
 
 
 def _reflection(table: object, hub: str, where: str) -> Calibration:

@@ -122,3 +122,29 @@ def color(x: Hsv, colors: tuple[Hsv, ...] = DEFAULT_COLORS) -> Hsv:
         if best_cost is None or cost < best_cost:
             best, best_cost = c, cost
     return best
+
+
+# A SPIKE force sensor's full travel (spike-rt-hub drivers/spike/pup/forcesensor.c 40-51): raw readings map
+# linearly to 0..10000 mN of force and 0..6670 um of distance, and the API divides each by 1000 as an integer
+# (74-81), so the program sees whole newtons and whole millimetres.
+FORCE_FULL_MN = 10000
+FORCE_TRAVEL_UM = 6670
+
+
+def force_report(force_n: int) -> tuple[float, float, bool]:
+    """`pup_force_sensor_force`, `_distance` and `_touched` of a sensor pressed with `force_n` newtons (0:
+    released): the force in whole newtons, the button's travel in whole millimetres for that force, touched
+    once it moves at all (forcesensor.c 89-91: raw above the released reading)."""
+    force_mn = min(max(force_n, 0) * 1000, FORCE_FULL_MN)
+    return float(force_mn // 1000), float(FORCE_TRAVEL_UM * force_mn // FORCE_FULL_MN // 1000), force_mn > 0
+
+
+# SPIKE-RT's hub buttons (drivers/include/spike/hub/button.h 51-54: pbio's PBIO_BUTTON_LEFT 1 << 4, CENTER
+# 1 << 5, RIGHT 1 << 6, RIGHT_UP 1 << 9 as BT), each by the bit of the EV3 button a scenario holds it on
+# (hakoniwa/physics/scenario.py SPIKE_BUTTONS: LEFT 0, RIGHT 1, ENTER 4 for CENTER, BACK 5 for BT).
+HUB_BUTTON_BITS = ((0, 1 << 4), (1, 1 << 6), (4, 1 << 5), (5, 1 << 9))
+
+
+def hub_buttons(ev3_bits: int) -> int:
+    """`hub_button_is_pressed` of the buttons a scenario holds down, given as RX BUTTONS' EV3 bitmask."""
+    return sum(hub for ev3, hub in HUB_BUTTON_BITS if ev3_bits >> ev3 & 1)

@@ -203,7 +203,7 @@ def draw_set(config: CampaignConfig, s: SetResult, trial_once: TrialOnce, course
              what: str = "", film: Path | None = None) -> Path:
     """Run set `s`'s test again and draw its trajectory into `out` (and, with `film`, film it there)."""
     from hakoniwa.physics.course import load_course
-    from hakoniwa.physics.plot import draw_trajectory, read_trajectory
+    from hakoniwa.pictures.plot import draw_trajectory, read_trajectory
     from hakoniwa.wire.rundir import TRAJECTORY_FILE
 
     result, run_dir = trial_for_picture(trial_once, set_spec(config, s))

@@ -122,8 +122,8 @@ def show(course_name: str, png: Path, robot: str | None) -> None:
     checks a bench makes before any test."""
     from hakoniwa.physics.course import course_file, load_course
     from hakoniwa.physics.course_check import check_course
-    from hakoniwa.physics.plot import draw_course
     from hakoniwa.physics.robots import load_robot
+    from hakoniwa.pictures.plot import draw_course
 
     writable_file(png, "--png")
     loaded = load_course(course_name)

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Any, NoReturn, overload
 import click
 
 from hakoniwa.conventions import HELP, Float32, OneLineErrorsGroup, option_group, writable_file
-from hakoniwa.physics.video_options import VideoOptions, check_video_path, film_options
+from hakoniwa.pictures.video_options import VideoOptions, check_video_path, film_options
 from hakoniwa.wire.exits import exit_status
 from hakoniwa.wire.processes import describe_exit
 from hakoniwa.wire.protocol import Event
@@ -124,7 +124,7 @@ def check_display() -> None:
 def check_film(film: VideoOptions) -> None:
     """A video that cannot be made is one line before the test runs, not after."""
     check_video_path(film.path, film.fps)
-    from hakoniwa.physics.video import gl_problem, writer_problem
+    from hakoniwa.pictures.video import gl_problem, writer_problem
 
     problem = writer_problem(film.path) or gl_problem()
     if problem:
@@ -140,7 +140,7 @@ def make_film(run_dir: Path, film: VideoOptions, title: str = "") -> int:
         click.ClickException: the film cannot be written.
     """
     from hakoniwa.physics.replay import read_replay
-    from hakoniwa.physics.video import film as shoot
+    from hakoniwa.pictures.video import film as shoot
 
     try:
         return shoot(read_replay(run_dir), film, title=title)
@@ -200,7 +200,7 @@ def _trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: floa
             make_film(rd, film)  # as `hako replay` films the run folder
         if trajectory is not None:
             from hakoniwa.physics.course import load_course
-            from hakoniwa.physics.plot import draw_trajectory, read_trajectory
+            from hakoniwa.pictures.plot import draw_trajectory, read_trajectory
 
             lap = f"lap {result.lap_time_s:.2f} s" if result.lap_time_s is not None else result.event.name
             draw_trajectory(load_course(options.course), read_trajectory(rd / TRAJECTORY_FILE), trajectory,
@@ -402,13 +402,27 @@ def _test(test_file: Path, benches: int | None, scheduler: ClusterAddress | None
 @click.option("--toolchain", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="A folder with v850-elf-gcc (or its bin/) [default: on PATH, else the SDK's toolchain tarball, "
                    "unpacked once into the cache].")
-def build(app: Path, sdk: Path | None, toolchain: Path | None) -> None:
+@click.option("--raspike-art", "raspike_art", is_flag=True,
+              help="Build APP (a RasPike-ART workspace folder) into RasPike-ART's aarch64 asp, with RasPike-ART's "
+                   "own make; --sdk names the RasPike-ART folder [default: $RASPIKE_ART, else "
+                   "../shared/third_party/raspike-art/RasPike-ART]. Needs Debian's gcc-aarch64-linux-gnu, "
+                   "g++-aarch64-linux-gnu and qemu-user.")
+def build(app: Path, sdk: Path | None, toolchain: Path | None, raspike_art: bool) -> None:
     """Build APP (an EV3RT app.c or workspace folder) into a v850 image for the real athrill2 and print its
     path. Images are cached by their sources, the SDK and the compiler; `hako trial --app APP --emulator
-    athrill2` builds and runs in one go."""
+    athrill2` builds and runs in one go. With --raspike-art, APP is a team's RasPike-ART workspace folder and
+    the product is its asp."""
+    announce = (lambda what: click.echo(what + " ...", err=True)) if sys.stderr.isatty() else None
+    if raspike_art:
+        from athrill_sim.raspike_art.build import build_asp
+
+        if toolchain is not None:
+            raise click.UsageError("--toolchain names a v850 toolchain; --raspike-art builds with Debian's "
+                                   "aarch64-linux-gnu-gcc on PATH")
+        click.echo(str(build_asp(app, sdk=sdk, announce=announce)))
+        return
     from athrill_sim.v850.build import build_image
 
-    announce = (lambda what: click.echo(what + " ...", err=True)) if sys.stderr.isatty() else None
     image = build_image(app, sdk=sdk, toolchain=toolchain, announce=announce)
     click.echo(str(image))
 

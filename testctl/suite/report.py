@@ -65,7 +65,7 @@ def keep_case_files(out_dir: Path, run: CaseRun, worst: Callable[[CaseRun, Path]
                                    f"case {run.case.name}: {verdict(run)} on {len(run.runs)} noise draws")]
     if not run.passed:
         from hakoniwa.physics.course import load_course
-        from hakoniwa.physics.plot import draw_trajectory, read_trajectory
+        from hakoniwa.pictures.plot import draw_trajectory, read_trajectory
         from hakoniwa.wire.rundir import TRAJECTORY_FILE
 
         result, run_dir = worst(run, folder / "run")

@@ -83,7 +83,7 @@ def test_a_program_that_pushes_the_bottle_out_of_the_ring_scores_the_sumo(sumo_r
 
 @pytest.mark.slow
 def test_a_film_of_the_sumo_run_shows_the_lanes_colours_the_bottle_moving_and_the_score(sumo_run, tmp_path):
-    from hakoniwa.physics import video
+    from hakoniwa.pictures import video
     from tests.physics.test_video import read_frames
 
     if (problem := video.gl_problem()) is not None:

@@ -22,7 +22,7 @@ def test_smoke_campaign_writes_every_result_file(tmp_path):
     assert "best:" in r.stdout
     assert f"campaign {out}: sets 0/4, tests 0, benches" in r.stderr  # stderr is no terminal: plain progress
     names = ["journal.jsonl", "results.csv", "best.json", "fig8.png", "fig9.png", "best_trajectory.png"]
-    from hakoniwa.physics.video import gl_problem
+    from hakoniwa.pictures.video import gl_problem
 
     filmed = gl_problem() is None  # where MuJoCo can render: the best set's lap, filmed (tests/physics/test_video.py)
     if filmed:

@@ -13,7 +13,7 @@ import pytest
 from hakoniwa.physics.course import COURSES_DIR, Pose, load_course
 from hakoniwa.physics.etrobocon_task import EtRoboconTask
 from hakoniwa.physics.robot import ULTRASONIC_MAX_MM
-from hakoniwa.physics.robots import BUILT_IN, DEFAULT_ROBOT
+from hakoniwa.physics.robots import BUILT_IN, DEFAULT_ROBOT, RobotError, parse_robot
 from hakoniwa.physics.world import ObjectState
 from hakoniwa.wire.etrobocon_rules import Score, result_points, run_points
 from hakoniwa.wire.protocol import ColorId, Event, Objective
@@ -196,7 +196,7 @@ def test_films_and_the_viewer_put_each_object_where_the_replay_has_it():
     import mujoco
 
     from hakoniwa.physics.replay import RobotLook
-    from hakoniwa.physics.scene import build_scene
+    from hakoniwa.pictures.scene import build_scene
 
     course = load_course("etrobocon-l")
     robot = BUILT_IN["hackev"]
@@ -209,3 +209,26 @@ def test_films_and_the_viewer_put_each_object_where_the_replay_has_it():
     scene.show(state, 0, lying)
     assert tuple(scene.data.xpos[bottle]) == pytest.approx(lying[:3])
     assert scene.data.xmat[bottle][8] == pytest.approx(0.0, abs=1e-9)  # knocked over: its axis lies flat
+
+
+@pytest.mark.parametrize("robot, competition_class, points", [("hackspi", "applied", 2), ("basic", "basic", 4),
+                                                               ("default", "applied", 2)])
+def test_a_run_is_scored_by_its_robots_class_and_a_robot_of_none_by_the_courses(robot, competition_class, points):
+    """HackSPi competes in the applied class and SPIKE-RT on the hub in the basic class (regulation 3, 表 3-1),
+    whose checkpoints are worth 2 and 4 points (7.4 表 7-3, 6.4 表 6-2); the built-in courses' `[score]` says
+    applied, which is what an EV3 of no class gets."""
+    env = environment(lane(), 120_000_000, BUILT_IN[robot], objective=Objective.ETROBOCON)
+    cp1 = env.course.checkpoints[0]
+    world = FakeWorld()
+    world.xy, world.yaw = (cp1.x, cp1.y), math.radians(cp1.heading_deg)
+    env.task.check(world, 10_000)
+    score = env.score()
+    assert score is not None and (score.competition_class, score.checkpoints) == (competition_class, 1)
+    assert score.task_points == points
+
+
+def test_a_robot_file_names_its_class_and_an_unknown_one_is_refused():
+    assert parse_robot('class = "basic"\n', "r.toml").competition_class == "basic"
+    assert parse_robot("", "r.toml").competition_class is None
+    with pytest.raises(RobotError, match="r.toml: class must be one of basic, applied, got 'open'"):
+        parse_robot('class = "open"\n', "r.toml")

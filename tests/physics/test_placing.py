@@ -21,10 +21,10 @@ from hakoniwa.physics.course_check import color_sensor_xy
 from hakoniwa.physics.environment import Environment
 from hakoniwa.physics.noise import NoiseDraw
 from hakoniwa.physics.placing import shade_at, spot_over
-from hakoniwa.physics.plot import read_trajectory
 from hakoniwa.physics.robot import EV3_BODY, HACKSPI_BODY
 from hakoniwa.physics.robots import BUILT_IN
 from hakoniwa.physics.scenario import EV3_BUTTONS, ScenarioError, parse_scenario
+from hakoniwa.pictures.plot import read_trajectory
 from hakoniwa.wire.protocol import Event
 from testctl.bench_options import BenchOptions, load_bench
 from tests.helpers.commands import hako, one_line_error

@@ -95,3 +95,22 @@ def test_spike_rts_cost_and_its_order_decide_the_colour():
     assert hub.color((216, 73, 37)) == (240, 100, 100)
     assert hub.color((55, 90, 90)) == (60, 100, 100)
     assert hub.color((0, 0, 50), ((0, 0, 100), (0, 0, 0))) == (0, 0, 100)  # 12500 + 5000 against 12500 + 5000
+
+
+def test_the_force_sensor_reads_whole_newtons_and_millimetres():
+    # spike-rt-hub drivers/spike/pup/forcesensor.c 40-51, 74-81: 10000 mN and 6670 um at full travel, each
+    # divided by 1000 as an integer; 89-91: touched once the button moves
+    assert hub.force_report(10) == (10.0, 6.0, True)
+    assert hub.force_report(5) == (5.0, 3.0, True)
+    assert hub.force_report(0) == (0.0, 0.0, False)
+    assert hub.force_report(25) == (10.0, 6.0, True)  # the sensor's range ends at 10 N
+
+
+def test_the_hub_buttons_are_pbios_bits_of_the_ev3_buttons_a_scenario_holds():
+    # button.h 51-54 (pbio's button.h: LEFT 1 << 4, CENTER 1 << 5, RIGHT 1 << 6, RIGHT_UP 1 << 9 as BT); the
+    # scenario holds LEFT, RIGHT, CENTER, BT on the EV3 bits 0, 1, 4 (ENTER), 5 (BACK)
+    assert hub.hub_buttons(0b000001) == 1 << 4
+    assert hub.hub_buttons(0b000010) == 1 << 6
+    assert hub.hub_buttons(0b010000) == 1 << 5
+    assert hub.hub_buttons(0b100000) == 1 << 9
+    assert hub.hub_buttons(0b001100) == 0  # UP and DOWN: no such buttons on the hub

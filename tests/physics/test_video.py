@@ -17,7 +17,7 @@ from PIL import Image
 from hakoniwa.physics.course import COURSES_DIR, load_course
 from hakoniwa.physics.replay import REPLAY_FILE, Replay, RobotLook, read_replay, write_replay
 from hakoniwa.physics.robots import DEFAULT_ROBOT, HACKSPI
-from hakoniwa.physics.video_options import VideoOptions
+from hakoniwa.pictures.video_options import VideoOptions
 from tests.helpers.commands import hako, one_line_error
 
 OVAL = load_course("oval")
@@ -25,7 +25,7 @@ OVAL = load_course("oval")
 
 @pytest.fixture(scope="module")
 def video():
-    from hakoniwa.physics import video
+    from hakoniwa.pictures import video
 
     problem = video.gl_problem()
     if problem:
@@ -162,7 +162,7 @@ def read_frames(path: Path) -> list[np.ndarray]:
 
 
 def test_frame_times_run_from_the_start_to_the_end_at_the_speed_asked() -> None:
-    from hakoniwa.physics.video import frame_times_us
+    from hakoniwa.pictures.video import frame_times_us
 
     times = frame_times_us(35_680_000, 30, 4.0)
     assert len(times) == round(35.68 * 30 / 4) and times[0] == 0 and times[-1] == 35_680_000
@@ -275,7 +275,7 @@ def test_the_film_module_picks_egl_before_mujoco_chooses_its_backend() -> None:
     import subprocess
     import sys
 
-    code = "import os\nimport hakoniwa.physics.video\nprint(os.environ.get('MUJOCO_GL'))"
+    code = "import os\nimport hakoniwa.pictures.video\nprint(os.environ.get('MUJOCO_GL'))"
     env = {k: v for k, v in os.environ.items() if k != "MUJOCO_GL"}
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
     assert out.stdout.strip() == "egl"
@@ -288,7 +288,7 @@ def test_a_backend_that_opens_a_context_but_cannot_render_is_told_before_the_fil
     import sys
 
     code = ("import warnings\nwarnings.simplefilter('ignore')\n"
-            "from hakoniwa.physics.video import gl_problem\nprint(gl_problem())")
+            "from hakoniwa.pictures.video import gl_problem\nprint(gl_problem())")
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")} | {"MUJOCO_GL": "glfw"}
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
     assert out.stdout.startswith("MuJoCo cannot render here (MUJOCO_GL=glfw"), out.stdout
@@ -303,7 +303,7 @@ def test_a_machine_without_egl_gets_a_note_not_a_traceback_at_import() -> None:
 
     code = ("import ctypes.util, os, warnings\nwarnings.simplefilter('ignore')\n"
             "ctypes.util.find_library = lambda name: None\n"
-            "import hakoniwa.physics.video as video\nprint(os.environ.get('MUJOCO_GL'), video.gl_problem() is None)")
+            "import hakoniwa.pictures.video as video\nprint(os.environ.get('MUJOCO_GL'), video.gl_problem() is None)")
     env = {k: v for k, v in os.environ.items() if k not in ("MUJOCO_GL", "DISPLAY", "WAYLAND_DISPLAY")}
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
     assert out.stdout.split() == ["None", "False"], out.stdout

@@ -18,15 +18,17 @@ OURS = ("hakoniwa", "athrill_sim", "testctl", "maze")
 
 # The packages of the bench, bottom to top, each with the packages below it that it may import. A module
 # belongs to the longest of these names it starts with.
-WIRE, CONVENTIONS, PHYSICS, ATHRILL, CONTROLLER, CLI = (
-    "hakoniwa.wire", "hakoniwa.conventions", "hakoniwa.physics", "athrill_sim", "testctl", "testctl.hako")
+WIRE, CONVENTIONS, PHYSICS, PICTURES, ATHRILL, CONTROLLER, CLI = (
+    "hakoniwa.wire", "hakoniwa.conventions", "hakoniwa.physics", "hakoniwa.pictures", "athrill_sim", "testctl",
+    "testctl.hako")
 PACKAGES: dict[str, tuple[str, ...]] = {
     WIRE: (),  # the contract every process shares: stdlib only
     CONVENTIONS: (WIRE,),  # what every command line shares
     PHYSICS: (WIRE, CONVENTIONS),  # the "Unity" side: given the program's launch (`hakoniwa.wire.launch`)
-    ATHRILL: (WIRE, CONVENTIONS),  # the robot programs, its peer: resolving, building and running them
-    CONTROLLER: (WIRE, CONVENTIONS, PHYSICS, ATHRILL),  # benches (where the peers meet), tests, campaigns
-    CLI: (WIRE, CONVENTIONS, PHYSICS, ATHRILL, CONTROLLER),  # the user's `hako`: imported by nothing
+    PICTURES: (WIRE, CONVENTIONS, PHYSICS),  # what the physics looks like: drawn from it, never stepping it
+    ATHRILL: (WIRE, CONVENTIONS),  # the robot programs, the physics' peer: resolving, building and running them
+    CONTROLLER: (WIRE, CONVENTIONS, PHYSICS, PICTURES, ATHRILL),  # benches (where the peers meet), tests, campaigns
+    CLI: (WIRE, CONVENTIONS, PHYSICS, PICTURES, ATHRILL, CONTROLLER),  # the user's `hako`: imported by nothing
 }
 ROOTS = ("hakoniwa", "hakoniwa.physics")  # folders of the bench that are no package of their own
 STANDALONE = ("maze",)  # imports nothing of the bench, and nothing of the bench imports it
@@ -188,8 +190,8 @@ def test_the_package_roots_import_nothing() -> None:
     """Importing a package must not drag in its layers (hakoniwa/__init__ would otherwise pull MuJoCo into
     a process that needs only the wire contract). One exception: `hakoniwa` pins the floating-point kernels
     (stdlib only), which must happen before anything imports numpy."""
-    for name in ("hakoniwa", "hakoniwa.physics", "hakoniwa.wire", "testctl.hako", "testctl", "testctl.suite",
-                 "testctl.search", "testctl.campaign", "athrill_sim", "athrill_sim.kinds"):
+    for name in ("hakoniwa", "hakoniwa.physics", "hakoniwa.pictures", "hakoniwa.wire", "testctl.hako", "testctl",
+                 "testctl.suite", "testctl.search", "testctl.campaign", "athrill_sim", "athrill_sim.kinds"):
         path = modules()[name]
         allowed = ROOT_MAY_IMPORT.get(name)
         found = [t for _, t in imports(name, path) if is_ours(t)]

@@ -74,7 +74,7 @@ def test_an_impossible_bound_fails_the_case_naming_bound_and_lap(tmp_path):
     kept = out / "too-fast"
     assert (kept / "trajectory.png").stat().st_size > 0 and (kept / "run" / "trajectory.csv").exists()
     assert not (out / "ok" / "trajectory.png").exists() and (out / "ok" / "laps.png").exists()
-    from hakoniwa.physics.video import gl_problem
+    from hakoniwa.pictures.video import gl_problem
 
     if gl_problem() is None:  # where MuJoCo can render, the failing run filmed beside its picture
         assert (kept / "lap.mp4").stat().st_size > 0 and not (out / "ok" / "lap.mp4").exists()

@@ -1,8 +1,8 @@
 // A HackSPi run as teams write it: trace the line's right edge by the reflection (as ET Robocon's
 // sample_c5_spike does), and name every reading by the rules teams tune on the real mat: on the hub's HSV, a
 // hue of 200..280 with some saturation is blue, else v below 32 is black and s below 40 white; on its 10-bit
-// RGB, blue is b well above r and above g. A few blue readings in a row by a rule are a blue section; at the first
-// one's end the run is over.
+// RGB, blue is b well above r and above g. A few blue readings in a row by a rule are a blue section; the lane
+// has two (after the first curve, and before the garage), and past the second the run is over.
 #include "spike_drive_task.h"
 
 #include <cstdio>
@@ -20,6 +20,7 @@ static constexpr int TARGET = 25;  // between the sensor's white (40) and black 
 static constexpr float KP = 1.5f;  // sample_c5_spike's
 static constexpr int IN_A_ROW = 3;  // blue readings in a row that make a blue section
 static constexpr int PAST_MM = 100;  // driven without a blue reading: the section is behind
+static constexpr int SECTIONS = 2;  // the lane's blue sections
 
 enum class Named { BLACK, WHITE, BLUE, OTHER };
 
@@ -44,19 +45,25 @@ static bool blueByRgb(const ColorSensor::RGB& rgb) { return rgb.b > rgb.r + 60 &
 struct Detector {
     const char* rule;
     int inARow = 0;
-    int foundMm = -1;  // where the section was first seen
-    int lastMm = 0;
+    int found = 0;  // sections seen
+    bool inside = false;  // on a section now
+    int lastMm = 0;  // the last blue reading
 
     void see(bool blue, int mm, const ColorSensor::HSV& hsv, const ColorSensor::RGB& rgb) {
         inARow = blue ? inARow + 1 : 0;
-        if (inARow >= IN_A_ROW && foundMm < 0) {
-            foundMm = mm;
-            std::printf("%s: blue section at %d mm (hsv %d %d %d, rgb %d %d %d)\n", rule, mm, hsv.h, hsv.s, hsv.v,
-                        rgb.r, rgb.g, rgb.b);
+        if (inside && mm - lastMm > PAST_MM)
+            inside = false;
+        if (inARow >= IN_A_ROW && !inside) {
+            inside = true;
+            found++;
+            std::printf("%s: blue section %d at %d mm (hsv %d %d %d, rgb %d %d %d)\n", rule, found, mm, hsv.h, hsv.s,
+                        hsv.v, rgb.r, rgb.g, rgb.b);
         }
         if (blue)
             lastMm = mm;
     }
+
+    bool done() const { return found >= SECTIONS && !inside; }
 };
 
 static Detector gHsvRule{"hsv"}, gRgbRule{"rgb"};
@@ -86,13 +93,11 @@ void drive_task(intptr_t unused)
     gSeen[static_cast<int>(named)]++;
     gHsvRule.see(named == Named::BLUE, mm, hsv, rgb);
     gRgbRule.see(blueByRgb(rgb), mm, hsv, rgb);
-    bool past = gHsvRule.foundMm >= 0 && gRgbRule.foundMm >= 0 && mm - gHsvRule.lastMm > PAST_MM &&
-                mm - gRgbRule.lastMm > PAST_MM;
-    if (past) {
+    if (gHsvRule.done() && gRgbRule.done()) {
         stp_cyc(DRIVE_CYC);
         gLeft.brake();
         gRight.brake();
-        std::printf("past the blue section at %d mm: black %d, white %d, blue %d, other %d readings\n", mm,
+        std::printf("past the last blue section at %d mm: black %d, white %d, blue %d, other %d readings\n", mm,
                     gSeen[0], gSeen[1], gSeen[2], gSeen[3]);
         ETRoboc_notifyCompletedToSimulator();
         ext_tsk();

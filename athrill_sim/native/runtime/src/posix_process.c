@@ -13,7 +13,6 @@
  * handler that only raises a flag lets the program see it, end its loops and write its logs.
  */
 #define _GNU_SOURCE
-#include <dlfcn.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <signal.h>
@@ -30,8 +29,6 @@
 
 #define DEFAULT_CHILD_BOUND_S 5.0
 #define MAX_POPEN 16
-
-static pid_t (*real_fork)(void);
 
 static double child_bound_s(void)
 {
@@ -50,11 +47,9 @@ static double child_bound_s(void)
  * bound; its wait status. */
 static int run_shell(const char *call, const char *command, int in_fd, int out_fd)
 {
-    if (real_fork == NULL)
-        *(void **)&real_fork = dlsym(RTLD_NEXT, "fork");
     fflush(stdout);
     hako_log("%s: sh -c \"%s\"", call, command);
-    pid_t pid = real_fork();
+    pid_t pid = hako_real()->fork();
     if (pid < 0)
         return -1;
     if (pid == 0) {
@@ -154,10 +149,8 @@ int pclose(FILE *file)
  * scanner) works, and a child that goes on in the program's code runs in simulated time of its own. */
 pid_t fork(void)
 {
-    if (real_fork == NULL)
-        *(void **)&real_fork = dlsym(RTLD_NEXT, "fork");
     fflush(NULL);
-    pid_t pid = real_fork();
+    pid_t pid = hako_real()->fork();
     if (pid == 0) {
         hako_lockstep_detach();
         hako_kernel_forked();

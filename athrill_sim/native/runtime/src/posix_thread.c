@@ -19,7 +19,6 @@
 
 #include "posix.h"
 
-#define MAX_KEYS 128 /* as kernel.c keeps per task */
 #define NAME_LEN 16 /* the kernel's limit on a thread's name, with its terminator */
 
 struct start {
@@ -27,9 +26,9 @@ struct start {
     void *arg;
 };
 
-static void (*key_destructors[MAX_KEYS])(void *);
-static bool key_used[MAX_KEYS];
-static void *kernel_specific[MAX_KEYS]; /* the keys' values where no task runs */
+static void (*key_destructors[HAKO_KEYS])(void *);
+static bool key_used[HAKO_KEYS];
+static void *kernel_specific[HAKO_KEYS]; /* the keys' values where no task runs */
 static char names[1024][NAME_LEN]; /* by task number; later threads keep the kernel's name */
 
 static hako_task *thread_of(pthread_t thread) { return hako_task_by_number((long)thread); }
@@ -40,7 +39,7 @@ static void run_key_destructors(void)
     hako_task *self = hako_self();
     for (int round = 0; round < 4; round++) {
         bool any = false;
-        for (unsigned k = 0; k < MAX_KEYS; k++) {
+        for (unsigned k = 0; k < HAKO_KEYS; k++) {
             void **slot = self != NULL ? hako_task_specific(self, k) : &kernel_specific[k];
             if (!key_used[k] || key_destructors[k] == NULL || slot == NULL || *slot == NULL)
                 continue;
@@ -197,7 +196,7 @@ int pthread_once(pthread_once_t *once, void (*routine)(void))
 int pthread_key_create(pthread_key_t *key, void (*destructor)(void *))
 {
     HAKO_SERVICE;
-    for (unsigned k = 0; k < MAX_KEYS; k++) {
+    for (unsigned k = 0; k < HAKO_KEYS; k++) {
         if (key_used[k])
             continue;
         key_used[k] = true;
@@ -211,7 +210,7 @@ int pthread_key_create(pthread_key_t *key, void (*destructor)(void *))
 int pthread_key_delete(pthread_key_t key)
 {
     HAKO_SERVICE;
-    if (key >= MAX_KEYS || !key_used[key])
+    if (key >= HAKO_KEYS || !key_used[key])
         return EINVAL;
     key_used[key] = false;
     key_destructors[key] = NULL;
@@ -227,7 +226,7 @@ int pthread_key_delete(pthread_key_t key)
 
 static void **specific(pthread_key_t key)
 {
-    if (key >= MAX_KEYS || !key_used[key])
+    if (key >= HAKO_KEYS || !key_used[key])
         return NULL;
     hako_task *self = hako_self();
     return self != NULL ? hako_task_specific(self, key) : &kernel_specific[key];

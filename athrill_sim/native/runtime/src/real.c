@@ -25,20 +25,9 @@ static void *find(const char *name)
 const struct hako_real *hako_real(void)
 {
     if (!resolved) {
-        *(void **)&calls.clock_gettime = find("clock_gettime");
-        *(void **)&calls.nanosleep = find("nanosleep");
-        *(void **)&calls.syscall = find("syscall");
-        *(void **)&calls.sigaction = find("sigaction");
-        *(void **)&calls.setitimer = find("setitimer");
-        *(void **)&calls.open = find("open");
-        *(void **)&calls.openat = find("openat");
-        *(void **)&calls.fopen = find("fopen");
-        *(void **)&calls.connect = find("connect");
-        *(void **)&calls.getaddrinfo = find("getaddrinfo");
-        *(void **)&calls.poll = find("poll");
-        *(void **)&calls.select = find("select");
-        *(void **)&calls.epoll_wait = find("epoll_wait");
-        *(void **)&calls.pclose = find("pclose");
+#define HAKO_REAL_FIND(ret, name, params) *(void **)&calls.name = find(#name);
+        HAKO_REAL_CALLS(HAKO_REAL_FIND)
+#undef HAKO_REAL_FIND
         resolved = 1;
     }
     return &calls;

@@ -1,7 +1,7 @@
 /*
  * The C library's own functions where the runtime defines one of the same name (posix_*.c): the runtime's
  * own waiting and timing is in wall time, and a call the runtime passes on goes to the real one. Found with
- * dlsym(RTLD_NEXT), once, before the first use.
+ * dlsym(RTLD_NEXT), once, before the first use; a function the runtime needs is one line of HAKO_REAL_CALLS.
  */
 #ifndef HAKO_REAL_H
 #define HAKO_REAL_H
@@ -14,24 +14,33 @@
 #include <sys/select.h>
 #include <sys/socket.h>
 #include <sys/time.h>
+#include <sys/types.h>
 #include <time.h>
 
+/* Each real function as X(return type, name, parameter list): the one list, from which both the struct and
+ * its resolution are made. */
+#define HAKO_REAL_CALLS(X)                                                                                             \
+    X(int, clock_gettime, (clockid_t, struct timespec *))                                                              \
+    X(int, nanosleep, (const struct timespec *, struct timespec *))                                                    \
+    X(long, syscall, (long, ...))                                                                                      \
+    X(int, sigaction, (int, const struct sigaction *, struct sigaction *))                                             \
+    X(int, setitimer, (int, const struct itimerval *, struct itimerval *))                                             \
+    X(int, open, (const char *, int, ...))                                                                             \
+    X(int, openat, (int, const char *, int, ...))                                                                      \
+    X(FILE *, fopen, (const char *, const char *))                                                                     \
+    X(int, connect, (int, const struct sockaddr *, socklen_t))                                                         \
+    X(int, getaddrinfo, (const char *, const char *, const struct addrinfo *, struct addrinfo **))                     \
+    X(int, poll, (struct pollfd *, nfds_t, int))                                                                       \
+    X(int, select, (int, fd_set *, fd_set *, fd_set *, struct timeval *))                                              \
+    X(int, epoll_wait, (int, struct epoll_event *, int, int))                                                          \
+    X(int, pclose, (FILE *))                                                                                           \
+    X(pid_t, fork, (void))
+
+#define HAKO_REAL_FIELD(ret, name, params) ret(*name) params;
 struct hako_real {
-    int (*clock_gettime)(clockid_t, struct timespec *);
-    int (*nanosleep)(const struct timespec *, struct timespec *);
-    long (*syscall)(long, ...);
-    int (*sigaction)(int, const struct sigaction *, struct sigaction *);
-    int (*setitimer)(int, const struct itimerval *, struct itimerval *);
-    int (*open)(const char *, int, ...);
-    int (*openat)(int, const char *, int, ...);
-    FILE *(*fopen)(const char *, const char *);
-    int (*connect)(int, const struct sockaddr *, socklen_t);
-    int (*getaddrinfo)(const char *, const char *, const struct addrinfo *, struct addrinfo **);
-    int (*poll)(struct pollfd *, nfds_t, int);
-    int (*select)(int, fd_set *, fd_set *, fd_set *, struct timeval *);
-    int (*epoll_wait)(int, struct epoll_event *, int, int);
-    int (*pclose)(FILE *);
+    HAKO_REAL_CALLS(HAKO_REAL_FIELD)
 };
+#undef HAKO_REAL_FIELD
 
 /* The real functions; resolved at the first call. */
 const struct hako_real *hako_real(void);

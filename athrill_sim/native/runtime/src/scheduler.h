@@ -61,7 +61,9 @@ bool hako_thread_ended(const hako_task *t, void **result);
 bool hako_thread_is_thread(const hako_task *t);
 int hako_thread_release(hako_task *t); /* joined or detached: 0, or EINVAL if it already was */
 
-/* Per-thread values (pthread keys). */
+#define HAKO_KEYS 128 /* pthread keys: PTHREAD_KEYS_MAX is 1024, programs use a handful */
+
+/* Per-thread values (pthread keys), HAKO_KEYS of them; NULL for a key beyond. */
 void **hako_task_specific(hako_task *t, unsigned key);
 
 /* In a forked child: the running task goes on alone, as the forking thread does on Linux. */

@@ -16,7 +16,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
-from hakoniwa.physics.scene import HEIGHT, WIDTH, Scene, build_scene  # before mujoco: it picks the OpenGL backend
+from hakoniwa.pictures.scene import HEIGHT, WIDTH, Scene, build_scene  # before mujoco: it picks the OpenGL backend
 
 # isort: split
 import mujoco
@@ -24,7 +24,7 @@ import numpy as np
 
 from hakoniwa.physics.course import Course, load_course
 from hakoniwa.physics.replay import Replay
-from hakoniwa.physics.video_options import VideoOptions
+from hakoniwa.pictures.video_options import VideoOptions
 from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.etrobocon_rules import Score
 from hakoniwa.wire.timebase import US_PER_S

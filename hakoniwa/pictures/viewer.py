@@ -30,7 +30,7 @@ class LiveView:
         import mujoco.viewer
 
         from hakoniwa.physics.replay import RobotLook
-        from hakoniwa.physics.scene import build_scene
+        from hakoniwa.pictures.scene import build_scene
 
         r = env.robot
         self.env = env
