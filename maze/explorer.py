@@ -3,7 +3,7 @@
 The mouse only knows what it has seen: entering a cell it reads the front, left and right walls (the back one
 is the wall it came through), updates its map and appends each newly learned wall to its log. Where it goes
 after reaching the goal depends on the strategy and, for the stopping rule, on the objective: the fewest cells,
-or the fastest run under the time model (maze/fastpath.py).
+or the fastest run under the time model (maze/fastpath/__init__.py).
 """
 
 from __future__ import annotations

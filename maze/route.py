@@ -1,5 +1,5 @@
 """A fastest run as the commands print it: its moves, its time, the wall points it crosses, the walls and the
-cells it enters. Apart from the searches that find one (maze/fastpath.py), so that reading one needs no numpy."""
+cells it enters. Apart from the searches that find one (maze/fastpath/), so that reading one needs no numpy."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """Print every fastest-path route mazelog computes on the contest mazes, one line per query, and a digest.
 
-Why: the fast-path search (maze/fastpath.py) is refactored and tuned for speed again and again, and its routes
+Why: the fast-path search (maze/fastpath/__init__.py) is refactored and tuned for speed again and again, and its routes
 must stay exactly the same through that: the same time to the last bit and the same moves, so that every
 `mazelog path` / `explore --objective time` output and every log a timed search writes stays byte for byte
 the same. Run this before a change and after it and compare the outputs (or just the last line):

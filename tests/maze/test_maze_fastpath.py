@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 from maze.builtin import builtin_path
 from maze.fastpath import MoveGraph, move_graph
-from maze.fastpath_model import G
+from maze.fastpath.graph import G
 from maze.mazefile import parse_maze
 from maze.model import Maze
 from maze.mouseparams import load_mouse

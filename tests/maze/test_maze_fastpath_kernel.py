@@ -1,4 +1,4 @@
-"""The compiled fastest-path kernel (maze/fastpath_kernel.c, its graph built in C: maze/fastpath_native.py) against
+"""The compiled fastest-path kernel (maze/fastpath/kernel.c, its graph built in C: maze/fastpath/native.py) against
 the numpy and scipy path it replaces: the same routes to the bit, query after query on one graph (so that the bound,
 the limits and the edges priced from the last query's walls all come into play); and how it is built: cached, and
 the scipy path, said once, where no compiler works; and which commands import numpy or scipy."""
@@ -10,18 +10,17 @@ from unittest import mock
 import pytest
 from hypothesis import given, settings
 
-from maze import fastpath_kernel
 from maze.builtin import builtin_names, builtin_path
 from maze.explorer import explore
-from maze.fastpath import Graph, MoveGraph, Route, move_graph
-from maze.fastpath_native import NativeGraph
+from maze.fastpath import Graph, MoveGraph, Route, compiled, move_graph
+from maze.fastpath.native import NativeGraph
 from maze.mazefile import parse_maze
 from maze.model import Maze
 from maze.mouseparams import load_mouse
 from maze.stepmap import optimistic, pessimistic
 from tests.maze.test_maze_fastpath import maze_series
 
-pytestmark = pytest.mark.skipif(fastpath_kernel.kernel() is None, reason="no C compiler to build the kernel")
+pytestmark = pytest.mark.skipif(compiled.kernel() is None, reason="no C compiler to build the kernel")
 
 
 def routes(graph: Graph, mazes: list[Maze]) -> list[Route | None]:
@@ -33,7 +32,7 @@ def same_routes(mazes: list[Maze], diagonal: bool) -> None:
     """The kernel's routes (its graph, its searches and its decoding) and the numpy and scipy path's, query after
     query."""
     size, mouse = mazes[0].size, load_mouse(None, mazes[0].size)
-    native = NativeGraph(fastpath_kernel.kernel(), size, diagonal, mouse)
+    native = NativeGraph(compiled.kernel(), size, diagonal, mouse)
     assert routes(native, mazes) == routes(MoveGraph(size, diagonal, mouse), mazes)
 
 
@@ -63,17 +62,17 @@ def fallback_notes(cc: str, tmp_path, monkeypatch, capsys) -> list[str]:
     monkeypatch.setenv("CC", cc)
     monkeypatch.setenv("PATH", str(tmp_path))  # no cc or gcc
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
-    fastpath_kernel.kernel.cache_clear()
+    compiled.kernel.cache_clear()
     try:
-        assert fastpath_kernel.kernel() is None
+        assert compiled.kernel() is None
         assert move_graph.__wrapped__(4, True, load_mouse(None, 4)).fastest(bytes(40), (0, 0), ((1, 1),))
     finally:
-        fastpath_kernel.kernel.cache_clear()
+        compiled.kernel.cache_clear()
     return capsys.readouterr().err.splitlines()
 
 
 def test_no_compiler_takes_the_scipy_path_and_says_so_once(tmp_path, monkeypatch, capsys):
-    assert fallback_notes("/nonexistent", tmp_path, monkeypatch, capsys) == [fastpath_kernel.NO_COMPILER]
+    assert fallback_notes("/nonexistent", tmp_path, monkeypatch, capsys) == [compiled.NO_COMPILER]
     assert not (tmp_path / "cache").exists()
 
 
@@ -83,22 +82,22 @@ def test_a_compiler_that_fails_is_named_once_and_the_scipy_path_taken(tmp_path, 
     failing.chmod(0o755)
     err = fallback_notes(str(failing), tmp_path, monkeypatch, capsys)
     assert len(err) == 1 and "kernel.c:1: error: this compiler is broken" in err[0]
-    assert err[0].endswith(fastpath_kernel.FALLBACK)
+    assert err[0].endswith(compiled.FALLBACK)
 
 
 def test_the_built_kernel_is_cached_and_reused(tmp_path, monkeypatch):
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
-    fastpath_kernel.kernel.cache_clear()
+    compiled.kernel.cache_clear()
     try:
-        assert fastpath_kernel.kernel() is not None
+        assert compiled.kernel() is not None
         built = list((tmp_path / "mazelog").iterdir())
         assert len(built) == 1 and built[0].suffix == ".so"
-        fastpath_kernel.kernel.cache_clear()
-        with mock.patch.object(fastpath_kernel, "_build", side_effect=AssertionError("built again")):
-            assert fastpath_kernel.kernel() is not None
+        compiled.kernel.cache_clear()
+        with mock.patch.object(compiled, "_build", side_effect=AssertionError("built again")):
+            assert compiled.kernel() is not None
         assert list((tmp_path / "mazelog").iterdir()) == built
     finally:
-        fastpath_kernel.kernel.cache_clear()
+        compiled.kernel.cache_clear()
 
 
 PROBE = ("import sys; from maze.cli import main\n"

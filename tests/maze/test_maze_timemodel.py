@@ -10,7 +10,7 @@ from maze.builtin import builtin_path
 from maze.direction import EAST, NORTH, SOUTH, WEST
 from maze.errors import MazeError
 from maze.fastpath import fastest_route, run_of_cells
-from maze.fastpath_model import ALONG_TURNS, DIAGONAL_TURNS, turn_shapes
+from maze.fastpath.graph import ALONG_TURNS, DIAGONAL_TURNS, turn_shapes
 from maze.mazefile import parse_maze
 from maze.model import Maze
 from maze.motion import TURNS, search_run, straight_seconds, turn_seconds

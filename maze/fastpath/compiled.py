@@ -1,4 +1,4 @@
-"""The compiled move graph and fastest-path queries (maze/fastpath_kernel.c), built at first use and cached.
+"""The compiled move graph and fastest-path queries (maze/fastpath/kernel.c), built at first use and cached.
 
 Why: every query went through scipy's Dijkstra from Python, three calls and a few dozen numpy operations a
 query, and importing scipy alone cost a whole-process `mazelog explore --objective time` 0.2-0.3 s. The C file
@@ -22,7 +22,7 @@ from importlib.resources import files
 from pathlib import Path
 from typing import Any
 
-SOURCE = "fastpath_kernel.c"
+SOURCE = "kernel.c"
 FLAGS = ("-O2", "-shared", "-fPIC", "-ffp-contract=off", "-fno-fast-math")  # no fused rounding: routes to the bit
 COMPILE_TIMEOUT_S = 60
 FALLBACK = "so fastest-path queries use scipy (the same routes, slower)"
@@ -69,7 +69,7 @@ _i32_p = ctypes.POINTER(ctypes.c_int32)
 
 
 class Spec(ctypes.Structure):
-    """What fp_graph reads to build a query graph (spec_t in maze/fastpath_kernel.c, field for field)."""
+    """What fp_graph reads to build a query graph (spec_t in maze/fastpath/kernel.c, field for field)."""
 
     _fields_ = [("size", ctypes.c_int32), ("has", ctypes.c_int32 * 8), ("k", ctypes.c_int32 * 8),
                 ("max_n", ctypes.c_int32), ("to_turn", _double_p), ("to_goal", _double_p),
@@ -102,7 +102,7 @@ def kernel() -> ctypes.CDLL | None:
     MAZELOG_KERNEL=off forces the scipy path (the tests compare the two)."""
     if os.environ.get("MAZELOG_KERNEL") == "off":
         return None
-    source = files("maze").joinpath(SOURCE).read_bytes()
+    source = files("maze.fastpath").joinpath(SOURCE).read_bytes()
     cc = compiler()
     if cc is None:
         print(NO_COMPILER, file=sys.stderr)

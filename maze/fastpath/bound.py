@@ -1,4 +1,4 @@
-"""The lower bound of the time to the goal that A* searches the move graph with (maze/fastpath_query.py), kept
+"""The lower bound of the time to the goal that A* searches the move graph with (maze/fastpath/query.py), kept
 from query to query.
 
 The bound is the exact time to the goal from every node under the walls of an earlier query, found by one

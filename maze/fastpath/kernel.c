@@ -1,12 +1,12 @@
-/* mazelog's move graph and its fastest-path queries (maze/fastpath_query.py and maze/fastpath_bound.py say what
+/* mazelog's move graph and its fastest-path queries (maze/fastpath/query.py and maze/fastpath/bound.py say what
  * each step is for, on the scipy path that does the same where no C compiler works), compiled at first use by
- * maze/fastpath_kernel.py and called through ctypes by maze/fastpath_native.py: fp_graph builds a graph,
+ * maze/fastpath/compiled.py and called through ctypes by maze/fastpath/native.py: fp_graph builds a graph,
  * fp_query answers a query on it, fp_decode decodes its route, fp_graph_free frees it.
  *
  * Every step computes exactly what the scipy path computes, so that routes stay identical to the bit: Dijkstra's
  * times are the minimum over paths of the left-to-right sums dist[u] + w (whatever order nodes are settled in),
  * a limit keeps the nodes whose time is <= the limit (scipy's rule), and ties are broken by the rules written
- * in maze/fastpath_query.py (the lowest-numbered goal node, the earliest then highest-numbered predecessor).
+ * in maze/fastpath/query.py (the lowest-numbered goal node, the earliest then highest-numbered predecessor).
  * It must be compiled without contracting a * b + c into one rounding (-ffp-contract=off).
  */
 #include <math.h>
@@ -589,10 +589,10 @@ static int32_t fp_route(const int32_t *nodes, const double *times, int32_t count
 }
 
 /* ---------------------------------------------------------------------------------------------------------------
- * The move graph of one start and goal set, built here rather than in numpy (maze/fastpath_native.py passes the
+ * The move graph of one start and goal set, built here rather than in numpy (maze/fastpath/native.py passes the
  * prices, worked out in Python by the time model, and the turns' shapes), node for node and edge for edge the
- * graph maze/fastpath_build.py and FastestSearch._build_query make, in the same row order; and its queries:
- * pricing, the bound, A*, the exact search and decoding, in one call each. maze/fastpath_build.py says what the
+ * graph maze/fastpath/build.py and FastestSearch._build_query make, in the same row order; and its queries:
+ * pricing, the bound, A*, the exact search and decoding, in one call each. maze/fastpath/build.py says what the
  * layers and edges are.
  * ------------------------------------------------------------------------------------------------------------- */
 
@@ -602,9 +602,9 @@ static const int32_t STEP_X[8] = {1, 1, 0, -1, -1, -1, 0, 1}, STEP_Y[8] = {0, 1,
 
 /* What Python passes: per heading (0 east ... 7 south-east), whether the graph has it, its chain steps k and the
  * prices of its straights of n steps (n < 2k) braking to turn speed and free over the goal line, of k steps
- * speeding up, and of one step at top speed; per turn shape (in fastpath_build.turn_shapes' order) its headings
+ * speeding up, and of one step at top speed; per turn shape (in fastpath.build.turn_shapes' order) its headings
  * in and out, the parity of its entry point's X, its wall points and its time; the start's edges; the goal cells;
- * the wall at each point; and the query's constants (maze/fastpath_query.py). */
+ * the wall at each point; and the query's constants (maze/fastpath/query.py). */
 typedef struct {
     int32_t size, has[8], k[8], max_n;
     const double *to_turn, *to_goal;  /* [h * max_n + n] */

@@ -1,9 +1,9 @@
-"""The fastest-path queries on the compiled kernel (maze/fastpath_kernel.c), with no numpy.
+"""The fastest-path queries on the compiled kernel (maze/fastpath/kernel.c), with no numpy.
 
 The kernel builds the move graph of each start and goal set itself (fp_graph), node for node and edge for edge
-the graph maze/fastpath_build.py and fastpath_query.py build in numpy, and answers a query in two calls: the
+the graph maze/fastpath/build.py and fastpath/query.py build in numpy, and answers a query in two calls: the
 search (fp_query: pricing, the bound, A*, the exact search) and the route's decoding (fp_decode). Python works
-out only what the time model and the turns' shapes say (maze/fastpath_model.py), a few hundred numbers, so that
+out only what the time model and the turns' shapes say (maze/fastpath/graph.py), a few hundred numbers, so that
 a process that times a run imports neither numpy (0.1 s) nor scipy and builds no graph in them (0.05 s). The
 routes are the numpy and scipy path's to the bit (tests/maze/test_maze_fastpath_kernel.py compares them query
 after query).
@@ -17,9 +17,13 @@ from array import array
 from collections.abc import Sequence
 from typing import Any
 
-from .direction import ALONG, DIAGONAL
-from .fastpath_kernel import Spec
-from .fastpath_model import (
+from ..direction import ALONG, DIAGONAL
+from ..model import Cell, point_wall
+from ..motion import TURNS, turn_seconds
+from ..mouseparams import MouseParams
+from ..route import Move, Route
+from .compiled import Spec
+from .graph import (
     HINT_MARGIN,
     LIMIT_GROWTH,
     LIMIT_TRIES,
@@ -35,10 +39,6 @@ from .fastpath_model import (
     turn_shapes,
     unit,
 )
-from .model import Cell, point_wall
-from .motion import TURNS, turn_seconds
-from .mouseparams import MouseParams
-from .route import Move, Route
 
 
 def _ints(values: Sequence[int]) -> ctypes.Array[ctypes.c_int32]:

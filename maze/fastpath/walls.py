@@ -1,8 +1,8 @@
-"""Which edges of a query graph (maze/fastpath_query.py) need each wall open.
+"""Which edges of a query graph (maze/fastpath/query.py) need each wall open.
 
 The queries of a search differ from one another by the walls found in between, a handful, while a 32x32
 diagonal graph has 176 000 edges: working out which are open from every wall costs more per query than A*
-itself once A*'s bound is tight (maze/fastpath_bound.py). With this index a query that only closes walls closes
+itself once A*'s bound is tight (maze/fastpath/bound.py). With this index a query that only closes walls closes
 the edges through them and leaves the rest as the last query priced them.
 """
 
@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .fastpath_bound import row_pointers
-from .fastpath_build import StaticGraph
+from .bound import row_pointers
+from .build import StaticGraph
 
 
 def _ahead(graph: StaticGraph, run_from: np.ndarray, count: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

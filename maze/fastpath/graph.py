@@ -1,7 +1,7 @@
-"""What the move graph is, apart from how it is built (maze/fastpath_build.py in numpy, maze/fastpath_kernel.c in C):
+"""What the move graph is, apart from how it is built (maze/fastpath/build.py in numpy, maze/fastpath/kernel.c in C):
 its layers, the turns' shapes, each heading's steps and the prices of its straights, the start's edges and the
-constants of a query (maze/fastpath_query.py says what they do). Free of numpy, so that the compiled kernel's
-queries (maze/fastpath_native.py) import none.
+constants of a query (maze/fastpath/query.py says what they do). Free of numpy, so that the compiled kernel's
+queries (maze/fastpath/native.py) import none.
 """
 
 from __future__ import annotations
@@ -9,10 +9,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from math import ceil
 
-from .direction import ALONG, STEP, opposite
-from .model import Cell, sides_of
-from .motion import HALF_DIAGONAL, straight_seconds
-from .mouseparams import MouseParams
+from ..direction import ALONG, STEP, opposite
+from ..model import Cell, sides_of
+from ..motion import HALF_DIAGONAL, straight_seconds
+from ..mouseparams import MouseParams
 
 LAYERS = 4  # A, B, G, C
 A, B, G, C = range(LAYERS)
@@ -117,7 +117,7 @@ def straight_prices(mouse: MouseParams, h: int, n: int) -> tuple[float, float]:
 
 
 def chain_prices(mouse: MouseParams, h: int) -> tuple[float, float]:
-    """The chain's (fastpath_build.StaticGraph._build_chain) k steps speeding up (braking costs the same), and
+    """The chain's (fastpath.build.StaticGraph._build_chain) k steps speeding up (braking costs the same), and
     one step at top speed."""
     run, top = mouse.run, top_speed(mouse, h)
     step = unit(h) * mouse.cell

@@ -1,5 +1,5 @@
-"""One fastest-path query on the move graph (maze/fastpath_build.py): which edges its walls leave open, A* to the
-goal, and the nodes and times of the fastest route (maze/fastpath.py says why it is searched this way)."""
+"""One fastest-path query on the move graph (maze/fastpath/build.py): which edges its walls leave open, A* to the
+goal, and the nodes and times of the fastest route (maze/fastpath/__init__.py says why it is searched this way)."""
 
 from __future__ import annotations
 
@@ -7,9 +7,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .fastpath_bound import Csr, TimeBound, row_pointers
-from .fastpath_build import StaticGraph
-from .fastpath_model import (
+from ..model import Cell
+from .bound import Csr, TimeBound, row_pointers
+from .build import StaticGraph
+from .graph import (
     HINT_MARGIN,
     LIMIT_GROWTH,
     LIMIT_TRIES,
@@ -21,8 +22,7 @@ from .fastpath_model import (
     first_limit_floor,
     start_edges,
 )
-from .fastpath_walls import wall_edges
-from .model import Cell
+from .walls import wall_edges
 
 
 def _predecessors(row: np.ndarray, col: np.ndarray, price: np.ndarray, dist: np.ndarray) -> np.ndarray:
@@ -90,9 +90,9 @@ class QueryGraph:
     per wall crossed); for a start edge, its first wall too. `prices` holds the prices (they depend on the mouse
     only); `open` marks the edges the last query's walls leave open; `astar` has the same edges, with the
     reduced prices for A* where open and infinity elsewhere; `bound` is A*'s bound and the reduced prices under
-    it (maze/fastpath_bound.py); `hint` is the last query's reduced time to the goal, where the next one's limit
+    it (maze/fastpath/bound.py); `hint` is the last query's reduced time to the goal, where the next one's limit
     starts (walls change a few at a time). `walls` are the walls `open` was worked out for (None before the
-    first query), and `wall_edges` the edges through each wall (maze/fastpath_walls.py).
+    first query), and `wall_edges` the edges through each wall (maze/fastpath/walls.py).
 
     Its nodes are only those of the move graph with an edge: `nodes` holds their numbers there, ascending (so
     ties between nodes break as they would on the whole graph), the standing start last, and `goal` the range
@@ -253,7 +253,7 @@ class FastestSearch:
         search of the whole graph, bit for bit), and the route is walked back from the goal by those times
         alone (`_predecessors`), so that among equally fast routes it picks the same one whatever A*'s bound
         and limit were. That search runs on the graph of those nodes alone. The compiled kernel does the same on
-        the graph it builds itself (maze/fastpath_native.py)."""
+        the graph it builds itself (maze/fastpath/native.py)."""
         from scipy.sparse.csgraph import dijkstra
 
         reduced = self._reduced_search(q)

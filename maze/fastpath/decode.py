@@ -1,6 +1,6 @@
-"""The nodes and times a query of the scipy path found (maze/fastpath_query.py) decoded into a Route (maze/route.py):
+"""The nodes and times a query of the scipy path found (maze/fastpath/query.py) decoded into a Route (maze/route.py):
 its moves, the wall points crossed, the walls and the cells entered. The compiled kernel decodes its own
-(fp_decode in maze/fastpath_kernel.c)."""
+(fp_decode in maze/fastpath/kernel.c)."""
 
 from __future__ import annotations
 
@@ -8,12 +8,12 @@ from functools import cached_property
 
 import numpy as np
 
-from .direction import ALONG, STEP
-from .fastpath_build import StaticGraph
-from .fastpath_model import B, G
-from .model import Cell
-from .motion import TURNS
-from .route import Move, Route
+from ..direction import ALONG, STEP
+from ..model import Cell
+from ..motion import TURNS
+from ..route import Move, Route
+from .build import StaticGraph
+from .graph import B, G
 
 
 class RouteDecoder:

@@ -1,4 +1,4 @@
-"""The static graph of moves of one maze size and mouse (maze/fastpath.py says how it is searched).
+"""The static graph of moves of one maze size and mouse (maze/fastpath/__init__.py says how it is searched).
 
 Points are in half-cell units, X and Y in 0..2N; a wall's midpoint has X + Y odd (X odd: a horizontal wall).
 A node is a wall midpoint the mouse is crossing, with its heading in the seed library's eight directions
@@ -7,7 +7,7 @@ layers so that a straight's price depends only on its length: A (just left a tur
 ended here, a turn must follow), G (crossed into a goal cell: the timed run is over) and C (cruising at top speed
 on a long straight). This module builds, once per maze size, diagonal flag and mouse, every straight, chain
 and turn edge with all inner walls open, and what each needs open; the start's edges and the goal's depend on
-the query (maze/fastpath_query.py).
+the query (maze/fastpath/query.py).
 """
 
 from __future__ import annotations
@@ -17,8 +17,11 @@ from typing import overload
 
 import numpy as np
 
-from .direction import ALONG, DIAGONAL, STEP
-from .fastpath_model import (
+from ..direction import ALONG, DIAGONAL, STEP
+from ..model import point_wall
+from ..motion import turn_seconds
+from ..mouseparams import MouseParams
+from .graph import (
     LAYERS,
     MAX_CROSSINGS,
     A,
@@ -32,9 +35,6 @@ from .fastpath_model import (
     turn_shapes,
     unit,
 )
-from .model import point_wall
-from .motion import turn_seconds
-from .mouseparams import MouseParams
 
 
 @dataclass
