@@ -62,12 +62,6 @@ PORT_STATUS = struct.Struct("<BB2x12s")
 STATUS_SIZE = STATUS_HEAD.size + PORTS * PORT_STATUS.size  # 128
 ACK_DATA = struct.Struct("<ii")
 
-# pbio's measured speed and stall, as the native runtime's motor.c takes them (Pybricks' control settings).
-SPEED_WINDOW_US = 100_000  # PBIO_CONFIG_DIFFERENTIATOR_WINDOW_MS
-STALL_SPEED_DPS = 20  # stall_speed_limit
-STALL_TIME_US = 200_000  # stall_time
-
-
 class HubFault(HakoError):
     """The program and the hub no longer speak the protocol (a malformed frame, a command the hub would
     assert on, the pty closed): one line, a fault of the run and never of the parameters under test."""
@@ -97,7 +91,8 @@ class Motor:
     zero: int = 0
     rezero: bool = False  # the count is zeroed at the next status (a reset, or a set-up that resets)
     driven_since_us: int | None = None
-    counts: deque[tuple[int, int]] = field(default_factory=lambda: deque(maxlen=STALL_TIME_US // STATUS_PERIOD_US + 1))
+    counts: deque[tuple[int, int]] = field(
+        default_factory=lambda: deque(maxlen=spike_hub.STALL_TIME_US // STATUS_PERIOD_US + 1))
 
 
 def frame(cmd: int, port: int, data: bytes = b"") -> bytes:
@@ -249,27 +244,14 @@ class Hub:
             motor.zero, motor.counts, motor.rezero = raw, deque(maxlen=motor.counts.maxlen), False
         count = raw - motor.zero
         motor.counts.append((now_us, count))
-        speed = speed_over(motor.counts, SPEED_WINDOW_US)
+        speed = spike_hub.speed_over(motor.counts, spike_hub.SPEED_WINDOW_US)
         if motor.power == 0:
             motor.driven_since_us = None
         elif motor.driven_since_us is None:
             motor.driven_since_us = now_us
-        stalled = (motor.driven_since_us is not None and now_us - motor.driven_since_us >= STALL_TIME_US
-                   and abs(speed_over(motor.counts, STALL_TIME_US)) < STALL_SPEED_DPS)
+        stalled = spike_hub.stalled(motor.counts, motor.driven_since_us, now_us)
         power = spike_hub.power_report(motor.power, motor.direction)
         return struct.pack("<iih?", count, speed, power, stalled)
-
-
-def speed_over(counts: deque[tuple[int, int]], window_us: int) -> int:
-    """The count's change per second from the newest sample back to the newest one at least `window_us`
-    older, or the oldest kept (motor.c's speed_over); 0 before two samples."""
-    now, newest = counts[-1]
-    then, oldest = counts[0]
-    for t, c in reversed(counts):
-        then, oldest = t, c
-        if now - t >= window_us:
-            break
-    return 0 if now == then else int((newest - oldest) * 1_000_000 / (now - then))
 
 
 def color_data(cmd: int, s: Sensors) -> bytes:

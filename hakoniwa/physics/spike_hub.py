@@ -21,6 +21,8 @@ Sources, in ../shared/third_party/raspike-art (the commits its README names):
 
 from __future__ import annotations
 
+from collections import deque
+
 PBIO_CLOCKWISE, PBIO_COUNTERCLOCKWISE = 0, 1  # pbio_direction_t, as pup_motor_setup takes it
 RGB_FULL = 1024  # the top of the colour sensor's RGB_I channels (colorsensor.c 36-38 maps it to 255)
 REFLECTION_SCALE = 3072  # colorsensor.c 241: (r + g + b) * 100 / 3072
@@ -148,3 +150,29 @@ HUB_BUTTON_BITS = ((0, 1 << 4), (1, 1 << 6), (4, 1 << 5), (5, 1 << 9))
 def hub_buttons(ev3_bits: int) -> int:
     """`hub_button_is_pressed` of the buttons a scenario holds down, given as RX BUTTONS' EV3 bitmask."""
     return sum(hub for ev3, hub in HUB_BUTTON_BITS if ev3_bits >> ev3 & 1)
+
+
+# pbio's measured speed and stall (Pybricks' control settings). The native runtime's motor.c computes them in C
+# from its own samples; tests/athrill/test_spike_native.py checks its constants are these.
+SPEED_WINDOW_US = 100_000  # PBIO_CONFIG_DIFFERENTIATOR_WINDOW_MS
+STALL_SPEED_DPS = 20  # stall_speed_limit
+STALL_TIME_US = 200_000  # stall_time
+
+
+def speed_over(counts: deque[tuple[int, int]], window_us: int) -> int:
+    """The count's change per second from the newest sample back to the newest one at least `window_us`
+    older, or the oldest kept (motor.c's speed_over); 0 before two samples."""
+    now, newest = counts[-1]
+    then, oldest = counts[0]
+    for t, c in reversed(counts):
+        then, oldest = t, c
+        if now - t >= window_us:
+            break
+    return 0 if now == then else int((newest - oldest) * 1_000_000 / (now - then))
+
+
+def stalled(counts: deque[tuple[int, int]], driven_since_us: int | None, now_us: int) -> bool:
+    """Driven (a power set) for STALL_TIME_US and slower than STALL_SPEED_DPS over them (motor.c's rule,
+    Pybricks' stall tolerances)."""
+    return (driven_since_us is not None and now_us - driven_since_us >= STALL_TIME_US
+            and abs(speed_over(counts, STALL_TIME_US)) < STALL_SPEED_DPS)

@@ -17,7 +17,7 @@ import sys
 import tempfile
 import threading
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, NoReturn, overload
+from typing import TYPE_CHECKING, NoReturn
 
 import click
 
@@ -30,6 +30,16 @@ from hakoniwa.wire.rundir import TRAJECTORY_FILE, diagnose
 from hakoniwa.wire.timebase import CLOCK_EPOCH_S
 from testctl import paper
 from testctl.bench_options import BenchOptions, bench_options, pop_bench
+from testctl.campaign.benches import (
+    RECORDED_BENCH,
+    absolute,
+    bench_info,
+    campaign_bench,
+    campaign_benches,
+    recorded_files,
+    repeatable_bench,
+    usable_cores,
+)
 from testctl.cluster_address import ClusterAddress, cluster_address
 from testctl.hako.course import course
 from testctl.hako.patch import patch
@@ -46,7 +56,6 @@ from testctl.options import (
 from testctl.suite.cases import DEFAULT_FILE
 
 if TYPE_CHECKING:
-    from hakoniwa.wire.protocol import SyncMode
     from hakoniwa.wire.result import TestResult
     from testctl.executor import TestSpec
 
@@ -294,11 +303,14 @@ def _run(benches: int | None, scheduler: ClusterAddress | None, validate: int | 
     if options["repeats"] is None and options["noise"] == 0 and options["resume"] is None and repeatable_bench(given):
         options["repeats"] = 1  # every repetition of a set would be the very same test
     p = plan(**options, penalty_s=time_limit_s(given), objective=given.objective)
+    ctx = click.get_current_context()
+    on_command_line = {field for field in RECORDED_BENCH
+                       if ctx.get_parameter_source(field) == click.core.ParameterSource.COMMANDLINE}
     if validate is None:
         validate = (p.validate if p.validate is not None else 1 if p.config.noise == 0
                     else SMOKE_DRAWS if options["smoke"] else DEFAULT_DRAWS)
     try:
-        bench = dataclasses.replace(_campaign_bench(p.bench, given), bindings=p.config.space.bindings())
+        bench = dataclasses.replace(campaign_bench(p.bench, given, on_command_line), bindings=p.config.space.bindings())
         n = benches or campaign_benches(bench, p.config.rule.still_needed([]))
         program = check_bench(bench, benches=None if scheduler else n)
         files = recorded_files(p.bench, bench)
@@ -378,7 +390,7 @@ def _test(test_file: Path, benches: int | None, scheduler: ClusterAddress | None
     refuse_benches_with_scheduler(benches, scheduler)
     n = benches or max(1, usable_cores() // 2)
     try:
-        cases = load_suite(test_file, dataclasses.replace(base, course=_absolute(base.course), app=_absolute(base.app)))
+        cases = load_suite(test_file, dataclasses.replace(base, course=absolute(base.course), app=absolute(base.app)))
         out_dir = out or Path("runs") / f"test-{dt.datetime.now():%Y%m%d-%H%M%S}"
         for path, option in ((junit_file, "--junit"), (json_file, "--json")):
             if path is not None and path.parent.resolve() != out_dir.resolve():  # the output folder: made below
@@ -520,114 +532,3 @@ def check_bench(bench: BenchOptions, benches: int | None = 1):
         check_free(program.udp)
     program.finish_check(program.start_check())
     return program
-
-
-def bench_sync(bench: BenchOptions) -> SyncMode:
-    """How the bench's program keeps time with physics, from what --app names (not built yet: a tuned program
-    builds only with its parameters' values).
-
-    Raises:
-        ProgramError: --app names nothing that can run.
-    """
-    from athrill_sim.programs import program_recipe
-
-    return program_recipe(bench.app, athrill2=bench.athrill2, emulator=bench.emulator, sync=bench.sync,
-                          transport=bench.transport, device_config=bench.device_config).sync
-
-
-def repeatable_bench(bench: BenchOptions) -> bool:
-    """Whether the bench runs the real emulator in the repeatable mode, where a set's tests without noise
-    all give the same result."""
-    from hakoniwa.wire.protocol import SyncMode
-
-    return bench_sync(bench) == SyncMode.REPEATABLE
-
-
-def campaign_benches(bench: BenchOptions, wave: int) -> int:
-    """`hako run`'s default bench count: one per usable core, and on two cores or more at least `wave`, the
-    tests of a set that run at once (3 for 3 of 5), where results do not depend on timing. With one set
-    proposed at a time, a set's three tests on two benches ran two, then one beside an idle core: a third
-    bench runs them at once, 95 s against 100 s for the README's campaign on two cores (docs/BENCHMARKS.md).
-    On one core a second bench lost 27 %. TOPPERS' unsynchronised protocol keeps one bench per core, as
-    its results depend on the CPU each emulator gets; and one bench where a device config fixes athrill2's
-    UDP ports, which benches cannot share.
-
-    Raises:
-        ProgramError: --app names nothing that can run.
-    """
-    from athrill_sim.athrill2 import udp_link
-    from hakoniwa.wire.protocol import SyncMode
-
-    link = udp_link(bench.transport, bench.device_config)
-    if link is not None and link.fixed:
-        return 1
-    cores = usable_cores()
-    return max(cores, wave) if cores >= 2 and bench_sync(bench) != SyncMode.HAKONIWA else cores
-
-
-def usable_cores() -> int:
-    """The cores this process may run on: `taskset` and a container's cpuset say fewer than os.cpu_count().
-    `hako test` keeps half of them: a second bench did not pay for its start on the example suite (issue 23);
-    `hako run` takes them all (`campaign_benches`)."""
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # not Linux
-        return os.cpu_count() or 1
-
-
-# What the journal records of the bench: what decides results (not where athrill2 lives).
-RECORDED_BENCH = ("course", "app", "emulator", "sync", "transport", "device_config", "time_limit_s", "robot",
-                  "scenario", "objective")
-
-
-def bench_info(bench: BenchOptions) -> dict:
-    return {field: getattr(bench, field) for field in RECORDED_BENCH}
-
-
-def recorded_files(stored: dict, bench: BenchOptions) -> dict:
-    """The hashes of the bench's files, for the journal; a resume whose files are not the journal's is refused,
-    naming them (a journal from before the hashes were recorded cannot be checked)."""
-    from testctl.campaign.fingerprint import FILES_KEY, changes, fingerprint
-
-    files = fingerprint(bench, RECORDED_BENCH)
-    if FILES_KEY in stored and (changed := changes(stored[FILES_KEY], files, bench)):
-        raise click.ClickException(f"--resume: the campaign's files changed since it started ({'; '.join(changed)}); "
-                                   "its results so far were measured with the old ones: restore them, or start a "
-                                   "new campaign with another --out")
-    return files
-
-
-def _campaign_bench(stored: dict, given: BenchOptions) -> BenchOptions:
-    """The bench for a campaign: as given, with paths made absolute for workers elsewhere; a resumed campaign
-    runs on the bench its journal records, and giving another is an error."""
-    given = dataclasses.replace(given, course=_absolute(given.course), app=_absolute(given.app),
-                                robot=_absolute(given.robot), scenario=_absolute(given.scenario),
-                                device_config=_absolute(given.device_config))
-    if not stored:
-        return given
-    ctx = click.get_current_context()
-    differ = [f"--{field.removesuffix('_s').replace('_', '-')} {getattr(given, field)!r} (given) vs "
-              f"{stored.get(field)!r} (journal)"
-              for field in RECORDED_BENCH
-              if ctx.get_parameter_source(field) == click.core.ParameterSource.COMMANDLINE
-              and getattr(given, field) != stored.get(field)]
-    if differ:
-        raise click.UsageError("--resume runs on the campaign's own bench: " + "; ".join(differ))
-    recorded: dict[str, Any] = {field: stored.get(field) for field in RECORDED_BENCH}
-    return dataclasses.replace(given, **recorded)
-
-
-@overload
-def _absolute(spec: str) -> str: ...
-@overload
-def _absolute(spec: None) -> None: ...
-def _absolute(spec: str | None) -> str | None:
-    """A path made absolute for workers elsewhere; a built-in course or app name stays a name (a file of that
-    name in the working directory does not shadow it)."""
-    from athrill_sim.apps import BUILTIN, C_BUILTIN
-    from hakoniwa.physics.course import builtin_course
-
-    if spec is None or spec in BUILTIN or spec in C_BUILTIN or builtin_course(spec) is not None:
-        return spec
-    return str(Path(spec).resolve()) if Path(spec).exists() else spec
-

@@ -672,3 +672,15 @@ def test_a_spike_program_is_one_that_says_so_in_makefile_inc_or_includes_a_spike
     (tmp_path / "app.c").write_text('#include "app.h"\n')
     app = find_app(tmp_path)
     assert app.spike == spike and ("-DUSE_RASPIKE_ART" in app.defines) == spike
+
+
+def test_motor_c_measures_speed_and_stall_with_spike_hubs_constants():
+    """The native runtime computes the speed and the stall in C (motor.c), the hub on a pty with
+    spike_hub.speed_over and spike_hub.stalled: the window and the stall tolerances must be the same."""
+    from athrill_sim.native.build import RUNTIME
+
+    text = (RUNTIME / "spike" / "src" / "motor.c").read_text()
+    defined = {m[1]: int(m[2]) for m in re.finditer(r"^#define (\w+) (\d+)\b", text, re.M)}
+    assert {name: defined.get(name) for name in ("SPEED_WINDOW_US", "STALL_SPEED_DPS", "STALL_TIME_US")} == {
+        "SPEED_WINDOW_US": spike_hub.SPEED_WINDOW_US, "STALL_SPEED_DPS": spike_hub.STALL_SPEED_DPS,
+        "STALL_TIME_US": spike_hub.STALL_TIME_US}

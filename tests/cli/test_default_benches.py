@@ -10,8 +10,8 @@ from pathlib import Path
 import pytest
 
 from testctl.bench_options import BenchOptions
+from testctl.campaign.benches import campaign_benches, usable_cores
 from testctl.campaign.objective import RepetitionRule
-from testctl.hako.main import campaign_benches, usable_cores
 
 WAVE = RepetitionRule().still_needed([])  # 3 of the default 5: the tests of a set that run at once
 

@@ -20,9 +20,10 @@ from hypothesis import strategies as st
 
 from athrill_sim.third_party import RASPIKE_ART
 from hakoniwa.physics import spike_hub
-from hakoniwa.physics.raspike_hub import COLOR, FORCE, MOTOR, Hub, HubFault, PtyHub, speed_over
+from hakoniwa.physics.raspike_hub import COLOR, FORCE, MOTOR, Hub, HubFault, PtyHub
 from hakoniwa.physics.sensors import HubReadings, Sensors
 from hakoniwa.physics.slots import BATTERY_MA, BATTERY_MV
+from hakoniwa.physics.spike_hub import speed_over
 from hakoniwa.physics.world import Inertial
 from hakoniwa.wire.protocol import ColorId
 from tests.helpers.paths import PROGRAMS, SHARED, needs_shared

@@ -5,16 +5,14 @@
  * time the program read). Each clock read takes HAKO_CALL_COST_US, so that two reads differ and a loop waiting
  * on a clock sees it move.
  *
- * The POSIX timers and alarms (alarm, setitimer, timer_create, timerfd_create) are not covered: no program
- * this bench was built for uses them. Each says so in one line and fails with ENOSYS, rather than never
- * firing in silence.
+ * The POSIX timers and alarms are posix_timers.c's, apart, because RasPike-ART's asp takes these clocks and
+ * sleeps with a timer of its own (athrill_sim/native/runtime/asp).
  */
 #define _GNU_SOURCE
 #include <errno.h>
 #include <stdio.h>
 #include <string.h>
 #include <sys/time.h>
-#include <sys/timerfd.h>
 #include <unistd.h>
 
 #include "posix.h"
@@ -185,36 +183,3 @@ int clock_nanosleep(clockid_t clock, int flags, const struct timespec *req, stru
 }
 int hako_clock_nanosleep(clockid_t clock, int flags, const struct timespec *req, struct timespec *rem)
     __attribute__((alias("clock_nanosleep")));
-
-/* -- not covered -------------------------------------------------------------------------------------- */
-
-unsigned int alarm(unsigned int seconds)
-{
-    (void)seconds;
-    hako_uncovered(__func__, "the alarm never fires");
-    return 0;
-}
-
-int setitimer(__itimer_which_t which, const struct itimerval *restrict value, struct itimerval *restrict old)
-{
-    (void)which, (void)value, (void)old;
-    hako_uncovered(__func__, "it fails with ENOSYS");
-    errno = ENOSYS;
-    return -1;
-}
-
-int timer_create(clockid_t clock, struct sigevent *restrict event, timer_t *restrict timer)
-{
-    (void)clock, (void)event, (void)timer;
-    hako_uncovered(__func__, "it fails with ENOSYS");
-    errno = ENOSYS;
-    return -1;
-}
-
-int timerfd_create(int clock, int flags)
-{
-    (void)clock, (void)flags;
-    hako_uncovered(__func__, "it fails with ENOSYS");
-    errno = ENOSYS;
-    return -1;
-}

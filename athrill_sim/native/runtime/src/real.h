@@ -8,6 +8,7 @@
 
 #include <netdb.h>
 #include <poll.h>
+#include <pthread.h>
 #include <signal.h>
 #include <stdio.h>
 #include <sys/epoll.h>
@@ -25,6 +26,8 @@
     X(long, syscall, (long, ...))                                                                                      \
     X(int, sigaction, (int, const struct sigaction *, struct sigaction *))                                             \
     X(int, setitimer, (int, const struct itimerval *, struct itimerval *))                                             \
+    X(int, sigsuspend, (const sigset_t *))                                                                             \
+    X(int, pthread_cond_timedwait, (pthread_cond_t *, pthread_mutex_t *, const struct timespec *))                     \
     X(int, open, (const char *, int, ...))                                                                             \
     X(int, openat, (int, const char *, int, ...))                                                                      \
     X(FILE *, fopen, (const char *, const char *))                                                                     \

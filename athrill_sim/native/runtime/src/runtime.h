@@ -50,8 +50,9 @@ void hako_kernel_exit(void) __attribute__((noreturn));
  * workspace). */
 const char *hako_run_dir(void);
 
-/* syslog.c: lines on stderr, each written at once. */
+/* lines.c: lines on stderr, each written at once; hako_vlog and hako_log stamp them with the simulated time. */
 void hako_vline(const char *prefix, const char *format, va_list args);
+void hako_vlog(const char *format, va_list args);
 void hako_log(const char *format, ...) __attribute__((format(printf, 1, 2)));
 
 #endif /* HAKO_RUNTIME_H */
