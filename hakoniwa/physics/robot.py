@@ -16,6 +16,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 CHASSIS_BACK_M = 0.01  # the chassis box's centre sits this far behind the axle
+# The tyres' contact with the floor, stiff as a tyre on a mat is: MuJoCo's default contact (a 20 ms time
+# constant) let the wheels sink 0.4 mm and roll on a smaller radius than their counts say (issue 45,
+# scripts/bench_wheel_roll.py). 2 ms is the stiffest time constant the 1 ms physics step integrates stably
+# (MuJoCo asks for at least two steps); the impedance 0.99 makes the contact hard from its first 1 mm.
+TYRE_SOLREF = "0.002 1"
+TYRE_SOLIMP = "0.99 0.99 0.001"
 ULTRASONIC_MAX_MM = 2550  # the EV3 sensor's reading when nothing is in range (EV3RT: 255 cm); the world's
 # "no echo"
 
@@ -71,6 +77,9 @@ def robot_mjcf(x: float, y: float, yaw_deg: float, body: Body = EV3_BODY, imu: b
     r = body.wheel_radius
     half_track = body.track_width / 2
     caster = 0.012
+    # A geom's priority makes its own contact parameters those of its contacts (MuJoCo otherwise mixes the
+    # two geoms' and takes the larger condim, which gave the caster the floor's friction).
+    tyre = f' priority="1" solref="{TYRE_SOLREF}" solimp="{TYRE_SOLIMP}"'
     body_z = r
     hub = f'''
       <site name="imu" pos="-0.01 0 {hz}" size="0.006" rgba="0 1 0 1"/>''' if imu else ""
@@ -80,16 +89,16 @@ def robot_mjcf(x: float, y: float, yaw_deg: float, body: Body = EV3_BODY, imu: b
       <geom name="chassis" type="box" size="{hx} {hy} {hz}" pos="{-CHASSIS_BACK_M} 0 {hz}" mass="{body.chassis_mass}"
             rgba=".9 .5 .1 1"/>
       <geom name="caster" type="sphere" size="{caster}" pos="{-hx + 0.005} 0 {caster - body_z}" condim="1"
-            mass="0.02" rgba=".3 .3 .3 1"/>
+            priority="1" mass="0.02" rgba=".3 .3 .3 1"/>
       <site name="color_sensor" pos="{body.color_sensor_forward} 0 {-body_z + 0.01}" size="0.006" rgba="1 0 0 1"/>
       <site name="ultrasonic" pos="{body.ultrasonic_forward} 0 {hz}" size="0.008" rgba="0 0 1 1"/>{hub}
       <body name="wheel_left" pos="0 {half_track} 0">
         <joint name="wheel_left" type="hinge" axis="0 1 0" damping="0.001"/>
-        <geom name="wheel_left" type="sphere" size="{r}" mass="0.05" rgba=".1 .1 .1 1"/>
+        <geom name="wheel_left" type="sphere" size="{r}" mass="0.05"{tyre} rgba=".1 .1 .1 1"/>
       </body>
       <body name="wheel_right" pos="0 {-half_track} 0">
         <joint name="wheel_right" type="hinge" axis="0 1 0" damping="0.001"/>
-        <geom name="wheel_right" type="sphere" size="{r}" mass="0.05" rgba=".1 .1 .1 1"/>
+        <geom name="wheel_right" type="sphere" size="{r}" mass="0.05"{tyre} rgba=".1 .1 .1 1"/>
       </body>
     </body>"""
 

@@ -44,9 +44,9 @@ def test_a_run_by_the_mean_of_both_counts_stops_after_3_m_and_holds_its_speed(tm
     assert stop is not None, log
     mm, left, right = (int(g) for g in stop.groups())
     assert 3000 <= mm <= 3000 * 1.02 and left > 0 and right > 0 and abs(left - right) < 0.1 * (left + right)
-    # The bench's path length: its wheels roll a few percent short of their nominal 56 mm (docs/BENCHMARKS.md,
-    # "Wheels against their counts"), so the robot has driven a little less than its counts say.
-    assert 0.9 * 3.0 < result["distance_m"] < 3.0 * 1.02
+    # The path the robot drove: 3 m within 2%, as on the mat (issue 45). Its wheels roll on their nominal 56 mm
+    # and the caster drags nothing (docs/BENCHMARKS.md, "Wheels against their counts"): 2.804 m before that.
+    assert 3.0 * 0.98 <= result["distance_m"] <= 3.0 * 1.02
     # The speed loop on get_speed (measured deg/s) holds 400 deg/s on the first straight, within 5%.
     speeds = [(int(a), int(b), int(at)) for a, b, at in re.findall(r"speed (-?\d+) (-?\d+) at (\d+) mm", log)]
     straight = [(a, b) for a, b, at in speeds if 300 <= at <= 2000]
@@ -58,7 +58,8 @@ def test_a_run_by_the_mean_of_both_counts_stops_after_3_m_and_holds_its_speed(tm
 def test_colour_rules_on_the_hubs_hsv_and_rgb_find_the_blue_sections(tmp_path, lane):
     """The rules teams write for the hub's numbers (v < 32 black, s < 40 white, blue a hue of 200..280 with
     some saturation; or b well above r in the 10-bit RGB) see white along the edge and find both blue sections
-    where the lane has them, and nowhere else (the distance by the counts, within the wheels' few percent)."""
+    where the lane has them, and nowhere else (the distance by the counts, within a few percent: the robot
+    traces the line's edge, inside or outside each curve, not its middle)."""
     result, log = run(tmp_path, lane, "team_spike_colours", "completed")  # on past the LAP gate
     assert result["event"] == "COMPLETED", result
     for rule in ("hsv", "rgb"):

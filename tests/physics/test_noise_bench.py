@@ -6,7 +6,7 @@ from hakoniwa.wire.protocol import Event
 from testctl.noise_seed import noise_seed
 from tests.helpers.bench_fixtures import PAPER, ZERO, physics
 
-NOISE_FREE_LAP_US = 35_680_000  # the paper's gains on the oval, noise 0, with EV3RT's steer (docs/BENCHMARKS.md)
+NOISE_FREE_LAP_US = 31_960_000  # the paper's gains on the oval, noise 0, with EV3RT's steer (docs/BENCHMARKS.md)
 BAR_SEEDS = [noise_seed(1, 0, repetition) for repetition in range(5)]  # one set's five repetitions
 
 
