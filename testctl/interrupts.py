@@ -55,6 +55,7 @@ class _Stop:
         self.raised = False
         self.said = False
         self.hint = ""  # what the line adds once the command knows it (the resume command)
+        self.pid = os.getpid()  # the process whose stop this is; a child forked from it inherits the handler
 
     @property
     def status(self) -> int:
@@ -101,6 +102,13 @@ def _hard_exit(stop: _Stop) -> NoReturn:
 def _handle(signum: int, frame: FrameType | None) -> None:
     stop = _stop
     assert stop is not None
+    if os.getpid() != stop.pid:
+        # A child between fork and exec (Popen's preexec_fn, the interpreter's after-fork hooks) got the
+        # group's Ctrl-C: it ends as the program it was about to become would, by the signal and silently,
+        # not with a KeyboardInterrupt printed from the middle of Popen.
+        signal.signal(signum, signal.SIG_DFL)
+        os.kill(os.getpid(), signum)
+        return
     if signum == signal.SIGALRM:
         if stop.signum is None:
             return

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import gc
 import os
+import subprocess
 import sys
 import threading
 import time
@@ -57,6 +58,10 @@ def main(moment: str, signum: int) -> None:
                         cycle: list = []
                         cycle.append(cycle)
                     gc.collect()
+            elif moment == "forked-child":  # the group's signal lands in a child between fork and exec
+                child = subprocess.Popen([sys.executable, "-c", "print('exec reached')"],
+                                         preexec_fn=lambda: os.kill(os.getpid(), signum))
+                print("child", child.wait(), flush=True)
             elif moment == "second-signal":  # the user will not wait for a slow cleanup
                 try:
                     print(f"first at {time.time()}", flush=True)
