@@ -48,6 +48,7 @@ def asp_program(folder: Path) -> Program:
     from athrill_sim.raspike_art.build import app_files, build_asp
     from athrill_sim.raspike_art.clock import RUN_DIR_ENV, TEST_ENV, build_clock_library
     from athrill_sim.raspike_art.launch import PREFIX, asp_argv, prefix_links
+    from athrill_sim.working_folder import WorkingFolder, WorkingFolderError
 
     try:
         asp = build_asp(folder)
@@ -55,10 +56,11 @@ def asp_program(folder: Path) -> Program:
         links = prefix_links(f"../../{RASPIKE_PORT}")  # from PREFIX/dev/USB_SPIKE
         argv = asp_argv(asp, f"{{run_dir}}/{PREFIX}", (clock,), ((RUN_DIR_ENV, "{run_dir}"), (TEST_ENV, "{test}")))
         files = tuple(app_files(folder)[1])
-    except AspError as e:
+        workspace = WorkingFolder.of(folder, None)  # `make start` runs asp from the workspace
+    except (AspError, WorkingFolderError) as e:
         raise ProgramError(str(e)) from None
-    return Program(f"RasPike-ART app {folder}", SyncMode.LOCKSTEP, False, tuple(argv), in_run_dir=True,
-                   files=files, image=asp, links=tuple((f"{PREFIX}/{name}", target) for name, target in links.items()),
+    return Program(f"RasPike-ART app {folder}", SyncMode.LOCKSTEP, False, tuple(argv), files=files,
+                   working_folder=workspace, image=asp, links=tuple((f"{PREFIX}/{name}", target) for name, target in links.items()),
                    serial_hub=True)
 
 

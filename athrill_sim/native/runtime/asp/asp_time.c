@@ -45,9 +45,11 @@
 static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER; /* asp's receiving thread reads clocks too */
 static int64_t timer_due = HAKO_FOREVER; /* ITIMER_REAL's next expiry [simulated us] */
 static int64_t timer_interval; /* and its reload (0: one-shot) */
+static pthread_t main_thread; /* where asp's kernel runs, and so its tick's handler */
 
 __attribute__((constructor)) static void asp_time_start(void)
 {
+    main_thread = pthread_self();
     const char *run_dir = getenv("HAKO_RUN_DIR");
     if (run_dir == NULL)
         hako_bench_fault("HAKO_RUN_DIR is not set: asp's clock library runs only under the bench");
@@ -60,6 +62,17 @@ __attribute__((constructor)) static void asp_time_start(void)
 }
 
 bool hako_asp_is_main(void) { return gettid() == getpid(); }
+
+/* The timer fell due: its SIGALRM goes to the main thread, where asp's kernel takes its tick, also when a
+ * team's own thread moved the bench (its handler run in that thread would find no kernel context there:
+ * ASP3's time_event.c asserts sense_context()). */
+static void tick_main(void)
+{
+    if (hako_asp_is_main())
+        raise(SIGALRM);
+    else
+        pthread_kill(main_thread, SIGALRM);
+}
 
 /* Move the bench to the step `until` falls in, and the clock within it to `until` itself, as calls spend it,
  * the serial port drained at the new step unless `undrained`; true when the timer fell due on the way, which
@@ -90,7 +103,7 @@ void hako_asp_step_undrained(void)
     bool fired = run_until_drained(hako_tick() + HAKO_PHYSICS_STEP_US, false);
     pthread_mutex_unlock(&lock);
     if (fired)
-        raise(SIGALRM);
+        tick_main();
 }
 
 /* When the timer falls due, not beyond a sleep's end `limit` (whole steps, as the native runtime's waits). */
@@ -110,7 +123,7 @@ void hako_spend_call(void)
     bool fired = hako_time_spend(HAKO_CALL_COST_US) && run_until(hako_tick() + HAKO_PHYSICS_STEP_US);
     pthread_mutex_unlock(&lock);
     if (fired)
-        raise(SIGALRM);
+        tick_main();
 }
 
 int hako_block_on(const void *object, int64_t due)
@@ -122,7 +135,7 @@ int hako_block_on(const void *object, int64_t due)
         bool over = hako_now() >= due;
         pthread_mutex_unlock(&lock);
         if (fired)
-            raise(SIGALRM); /* its handler runs now unless asp has SIGALRM blocked, as in a real sleep */
+            tick_main(); /* its handler runs now unless asp has SIGALRM blocked, as in a real sleep */
         if (over)
             return 0;
     }
@@ -193,7 +206,7 @@ int sigsuspend(const sigset_t *mask)
     bool fired = run_until(timer_due);
     pthread_mutex_unlock(&lock);
     if (fired)
-        raise(SIGALRM);
+        tick_main();
     return hako_real()->sigsuspend(mask);
 }
 
@@ -231,7 +244,7 @@ static int idle_wait(pthread_cond_t *cond, pthread_mutex_t *mutex, int64_t due)
         bool fired = run_until(hako_tick() + HAKO_PHYSICS_STEP_US);
         pthread_mutex_unlock(&lock);
         if (fired)
-            raise(SIGALRM);
+            tick_main();
         pthread_mutex_lock(mutex);
         return 0;
     }
