@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from athrill_sim.kinds.kind import AppSpec, ProgramKind, RealEmulator, Recipe, given
+from athrill_sim.kinds.kind import DATA_FILE, AppSpec, ProgramKind, RealEmulator, Recipe, given
 from athrill_sim.program import Program, ProgramError
 from hakoniwa.wire.protocol import SyncMode
 from hakoniwa.wire.rundir import RASPIKE_PORT
@@ -16,6 +16,9 @@ RASPIKE_ART = "raspike-art"  # its --emulator name
 
 class RaspikeArtKind(ProgramKind):
     noun = "a RasPike-ART program (asp)"
+    # A data file reaches it as it does a native program: written into each test's copy of its workspace, asp's
+    # working directory. Rebuilding forms and image forms do not reach it yet.
+    needs_met = frozenset({DATA_FILE})
 
     def claims(self, app: AppSpec) -> bool:
         return app.emulator == RASPIKE_ART
@@ -37,8 +40,8 @@ class RaspikeArtKind(ProgramKind):
             raise BindingError(str(e)) from None
 
     def refusal(self, forms: set[str]) -> str:
-        return (f"{', '.join(sorted(forms))} parameters do not reach a RasPike-ART program yet; run it natively "
-                "(--emulator native) to tune it")
+        return (f"{', '.join(sorted(forms))} parameters do not reach a RasPike-ART program yet (row, ini and file "
+                "parameters do); run it natively (--emulator native) to tune it so")
 
 
 def asp_program(folder: Path) -> Program:
@@ -59,9 +62,9 @@ def asp_program(folder: Path) -> Program:
         workspace = WorkingFolder.of(folder, None)  # `make start` runs asp from the workspace
     except (AspError, WorkingFolderError) as e:
         raise ProgramError(str(e)) from None
+    prefix = tuple((f"{PREFIX}/{name}", target) for name, target in links.items())
     return Program(f"RasPike-ART app {folder}", SyncMode.LOCKSTEP, False, tuple(argv), files=files,
-                   working_folder=workspace, image=asp, links=tuple((f"{PREFIX}/{name}", target) for name, target in links.items()),
-                   serial_hub=True)
+                   working_folder=workspace, image=asp, links=prefix, serial_hub=True)
 
 
 RASPIKE_ART_KIND = RaspikeArtKind()
