@@ -57,6 +57,10 @@ class AthrillLauncher:
     def udp(self) -> UdpLink | None:
         return self.program.udp
 
+    @property
+    def serial_hub(self) -> bool:
+        return self.program.serial_hub
+
     def prepare(self, seq: int, unity: MappedFile) -> None:
         """The program test `seq`'s parameter values make (the program itself unless it is tuned by forms
         other than `offset`), with its data files written onto its SD card: its working folder, made now if

@@ -51,12 +51,19 @@ class Program:
     working_folder: WorkingFolder | None = None  # a scratch copy of the program's workspace per test, its cwd
     interrupted_at_end: bool = False  # a test's end sends SIGINT (Ctrl-C) before the process is stopped
     env: tuple[tuple[str, str], ...] = ()  # set in the process's environment
+    links: tuple[tuple[str, str], ...] = ()  # (name in the run directory, target): links made there once
+    serial_hub: bool = False  # it talks to a SPIKE hub over a serial port, played by the physics side
 
     def prepare(self, run_dir: Path) -> None:
         for name, text in self.config_files.items():
             (run_dir / name).write_text(text)
         if self.sdcard is not None:
             shutil.copytree(self.sdcard, run_dir / SDCARD_DIR, dirs_exist_ok=True)
+        for name, target in self.links:
+            link = run_dir / name
+            link.parent.mkdir(parents=True, exist_ok=True)
+            link.unlink(missing_ok=True)
+            link.symlink_to(target)
 
     def with_image(self, image: Path) -> Program:
         """The same program run from another copy of its image (one with other initial values)."""

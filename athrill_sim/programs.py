@@ -16,9 +16,11 @@ from athrill_sim.kinds.image import IMAGE_KIND
 from athrill_sim.kinds.kind import AppSpec, ProgramKind, RealEmulator, Recipe
 from athrill_sim.kinds.native import NATIVE
 from athrill_sim.kinds.python import PYTHON
+from athrill_sim.kinds.raspike_art import RASPIKE_ART_KIND
 from athrill_sim.program import Program, ProgramError
 
-KINDS: tuple[ProgramKind, ...] = (PYTHON, NATIVE, IMAGE_KIND, ELF)  # each --app is claimed by one, or by none
+# Each --app is claimed by one, or by none; the first that claims it makes it (--emulator raspike-art first).
+KINDS: tuple[ProgramKind, ...] = (RASPIKE_ART_KIND, PYTHON, NATIVE, IMAGE_KIND, ELF)
 
 
 def resolve_program(spec: str, *, athrill2: str | None = None, emulator: str | None = None,

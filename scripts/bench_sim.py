@@ -15,11 +15,15 @@
     handler every 100 ms) and tests/programs/spike_thread_tracer, its control written as teams write for
     RasPike-ART (a std::thread paced by sleep_until on steady_clock every 100 ms, started through a condition
     variable); the second's rate over the first's: what the threads and clocks cost.
+(f) RasPike-ART's own sample_c5_spike on etrobocon-r: its asp, built by RasPike-ART's make, under qemu-user
+    against the hub the physics side plays on a pty (`--emulator raspike-art`), and the same folder natively,
+    in alternating rounds; each test's wall time includes starting its asp (never started ahead).
 Rows that need something absent (no C compiler, no athrill2, no ../shared) print why instead of a number.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import statistics
 import subprocess
@@ -46,6 +50,8 @@ from testctl.runner import TrialRunner
 PAPER = line_trace_params(*BEST_GAINS)
 REPO = Path(__file__).resolve().parents[1]
 ASP_IMAGE = REPO.parent / "shared" / "third_party" / "athrill" / "ev3rt-ble_sample" / "asp"
+RASPIKE_ART_SAMPLE = REPO.parent / "shared" / "third_party" / "raspike-art" / "RasPike-ART" / "sdk" / "workspace" / \
+    "sample_c5_spike"
 SAMPLE_C5_SPIKE = REPO.parent / "shared" / "third_party" / "raspike" / "raspike-art-samples" / "sample_c5_spike"
 THREADED_TRACER = REPO / "tests" / "programs" / "spike_thread_tracer"
 FORCE_START = str(REPO / "tests" / "programs" / "scenarios" / "force-start.toml")
@@ -159,10 +165,10 @@ def describe(results: list) -> str:
               help="Trials of the real emulator in (d).")
 @click.option("--athrill2", default=str(REPO / "build" / "athrill" / "athrill2"), show_default=True,
               help="The real TOPPERS emulator (scripts/build_athrill2.sh builds it).")
-@click.option("--parts", default="abcde", show_default=True,
-              help="Which of the measures (a)..(e) to run, as their letters ((b) runs (a) for its ratio).")
+@click.option("--parts", default="abcdef", show_default=True,
+              help="Which of the measures (a)..(f) to run, as their letters ((b) runs (a) for its ratio).")
 @click.option("--rounds", type=click.IntRange(min=1), default=3, show_default=True,
-              help="(e): rounds of --tests trials, alternating between the two programs.")
+              help="(e), (f): rounds of --tests trials, alternating between the two programs.")
 def main(sim_seconds: float, tests: int, starts: int, real_tests: int, athrill2: str, parts: str,
          rounds: int) -> None:
     """Print simulated-seconds-per-wall-second and start costs as a table."""
@@ -173,10 +179,12 @@ def main(sim_seconds: float, tests: int, starts: int, real_tests: int, athrill2:
         if "a" in parts:
             rows += [("(a) raw MuJoCo, one mj_step call per 1 ms step", f"{a_loop:8.1f} x real time"),
                      ("(a) raw MuJoCo, batched mj_step(nstep=100)", f"{a_batched:8.1f} x real time")]
-    if parts.strip("ae"):
+    if parts.strip("aef"):
         rows += athrill_rows(parts, a_batched, tests, starts, real_tests, athrill2)
     if "e" in parts:
         rows += spike_rows(tests, rounds)
+    if "f" in parts:
+        rows += asp_rows(tests, rounds)
     width = max(len(name) for name, _ in rows)
     for name, value in rows:
         print(f"{name:<{width}} : {value}")
@@ -242,21 +250,45 @@ def spike_rows(tests: int, rounds: int) -> list[tuple[str, str]]:
     missing = [label for label, bench in spike.items() if not Path(bench.app).is_dir()]
     if missing:
         return [(f"(e) HackSPi trial, {label}", f"skipped: no {spike[label].app} (../shared)") for label in missing]
-    sim = dict.fromkeys(spike, 0.0)
-    wall = dict.fromkeys(spike, 0.0)
-    seen: dict[str, list] = {label: [] for label in spike}
+    rates = alternating_rates(spike, tests, rounds, "(e) HackSPi trial")
+    return [*((name, value) for name, value, _ in rates.values()),
+            ("(e) threaded tracer / sample_c5_spike trial rate",
+             f"{rates['spike_thread_tracer'][2] / rates['sample_c5_spike'][2]:8.2f}")]
+
+
+def asp_rows(tests: int, rounds: int) -> list[tuple[str, str]]:
+    """(f): RasPike-ART's sample_c5_spike as its asp against the pty hub, and natively, alternating."""
+    if not RASPIKE_ART_SAMPLE.is_dir():
+        return [("(f) RasPike-ART's asp, sample_c5_spike", f"skipped: no {RASPIKE_ART_SAMPLE} (../shared)")]
+    native = BenchOptions(app=str(RASPIKE_ART_SAMPLE), robot="hackspi", scenario=FORCE_START, course="etrobocon-r")
+    benches = {"asp under qemu (--emulator raspike-art)": dataclasses.replace(native, emulator="raspike-art"),
+               "native": native}
+    try:
+        benches["asp under qemu (--emulator raspike-art)"].program()  # built once, before any timing
+    except ProgramError as e:
+        return [("(f) RasPike-ART's asp, sample_c5_spike", f"skipped: {e}")]
+    rates = alternating_rates(benches, tests, rounds, "(f) RasPike-ART's sample_c5_spike")
+    asp_rate, native_rate = (rate for *_, rate in rates.values())
+    return [*((name, value) for name, value, _ in rates.values()),
+            ("(f) asp under qemu / native trial rate", f"{asp_rate / native_rate:8.2f}")]
+
+
+def alternating_rates(benches: dict[str, BenchOptions], tests: int, rounds: int,
+                      title: str) -> dict[str, tuple[str, str, float]]:
+    """Each bench's trial rate over `rounds` rounds of `tests`, the benches alternating so that a change of
+    the machine's load falls on all: by label, its row (name, value) and its rate."""
+    sim = dict.fromkeys(benches, 0.0)
+    wall = dict.fromkeys(benches, 0.0)
+    seen: dict[str, list] = {label: [] for label in benches}
     for _ in range(rounds):
-        for label, bench in spike.items():
+        for label, bench in benches.items():
             one_rate, results = trial_rate(bench, tests)
             wall[label] += sum(r.wall_s for r in results)
             sim[label] += one_rate * sum(r.wall_s for r in results)
             seen[label] += results
-    rates = {label: sim[label] / wall[label] for label in spike}
-    rows = [(f"(e) HackSPi trial, {label}, {rounds} x {tests} tests",
-             f"{rates[label]:8.1f} x real time ({describe(seen[label])})") for label in spike]
-    rows.append(("(e) threaded tracer / sample_c5_spike trial rate",
-                 f"{rates['spike_thread_tracer'] / rates['sample_c5_spike']:8.2f}"))
-    return rows
+    rates = {label: sim[label] / wall[label] for label in benches}
+    return {label: (f"{title}, {label}, {rounds} x {tests} tests",
+                    f"{rates[label]:8.1f} x real time ({describe(seen[label])})", rates[label]) for label in benches}
 
 
 if __name__ == "__main__":

@@ -36,9 +36,9 @@ def main(run_dir: Path, controller: tuple[str, ...], view_speed: float | None, *
     $HAKO_TIME_LIMIT_S."""
     options = BenchOptions(**bench)
     try:
+        world_course, robot, scenario = load_bench(options)  # before a build: its errors take no time
         program = options.program()
         check = program.start_check()
-        world_course, robot, scenario = load_bench(options)
         lock = RunDirLock(run_dir)
         lock.acquire()
     except OSError as e:

@@ -18,7 +18,9 @@ from athrill_sim.program import Program
 from hakoniwa.wire.protocol import SyncMode
 from hakoniwa.wire.vdev_udp import UdpLink
 
-EMULATORS = ("native", "athrill2")  # what a C program runs on: compiled for this machine, or the real emulator
+# What a C program runs on: compiled for this machine, the real emulator, or (a RasPike-ART workspace) the robot's
+# own asp under qemu-user.
+EMULATORS = ("native", "athrill2", "raspike-art")
 # What a parameter form needs of a program (`athrill_sim.forms.form.Form.needs`), and so of its kind:
 REBUILD = "rebuild"  # its value is built in: the program is rebuilt from its sources for each value
 IMAGE = "image"  # its value is set in the program's image (a global's initial value)

@@ -22,22 +22,33 @@ SYSROOT = Path("/usr/aarch64-linux-gnu")  # Debian's aarch64 libc (libc6-arm64-c
 SERIAL = "dev/USB_SPIKE"  # vdev_com_usb.c 27
 
 
-def prefix_folder(folder: Path, device: str) -> Path:
-    """`folder` made qemu's prefix for one run: the aarch64 libraries, and the hub's pty `device` as
-    /dev/USB_SPIKE."""
+PREFIX = "asp-root"  # qemu's prefix for asp's tests, in the run directory
+
+
+def prefix_links(device: str) -> dict[str, str]:
+    """qemu's prefix for a run as links (name in the prefix folder, target): the aarch64 libraries, and the
+    hub's pty `device` as /dev/USB_SPIKE."""
     if not (SYSROOT / "lib").is_dir():
         raise AspError(f"no aarch64 libraries at {SYSROOT}: {INSTALL_CROSS.split(': ', 1)[1]}")
-    (folder / "dev").mkdir(parents=True, exist_ok=True)
-    (folder / "lib").symlink_to(SYSROOT / "lib")
-    (folder / SERIAL).symlink_to(device)
+    return {"lib": str(SYSROOT / "lib"), SERIAL: device}
+
+
+def prefix_folder(folder: Path, device: str) -> Path:
+    """`folder` made qemu's prefix for one run (`prefix_links`)."""
+    for name, target in prefix_links(device).items():
+        (folder / name).parent.mkdir(parents=True, exist_ok=True)
+        (folder / name).symlink_to(target)
     return folder
 
 
-def asp_argv(asp: Path, prefix: Path) -> list[str]:
+def asp_argv(asp: Path, prefix: Path | str, preload: tuple[Path, ...] = (),
+             env: tuple[tuple[str, str], ...] = ()) -> list[str]:
     """The command that starts `asp` as RasPike-ART's `make start` does (its setjmp preloaded, its device
-    config), under qemu-user with `prefix`."""
+    config), under qemu-user with `prefix`, with `preload` preloaded after the setjmp and `env` set."""
     qemu = shutil.which(QEMU)
     if qemu is None:
         raise AspError(f"no {QEMU}: {INSTALL_CROSS.split(': ', 1)[1]}")
-    return [qemu, "-L", str(prefix), "-E", f"LD_PRELOAD={asp.parent / SETJMP.name}", str(asp), "-d",
+    libraries = ":".join(str(f) for f in (asp.parent / SETJMP.name, *preload))
+    return [qemu, "-L", str(prefix), "-E", f"LD_PRELOAD={libraries}",
+            *(a for name, value in env for a in ("-E", f"{name}={value}")), str(asp), "-d",
             str(asp.parent / DEVICE_CONFIG.name)]

@@ -34,6 +34,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from hakoniwa.physics import spike_hub
+from hakoniwa.physics.robot import Wiring
+from hakoniwa.physics.robots import HUB_PORTS, SPIKE, Robot
 from hakoniwa.physics.sensors import Sensors
 from hakoniwa.physics.slots import BATTERY_MA, BATTERY_MV
 from hakoniwa.wire import rundir
@@ -98,6 +100,14 @@ class Motor:
     driven_since_us: int | None = None
     counts: deque[tuple[int, int]] = field(
         default_factory=lambda: deque(maxlen=spike_hub.STALL_TIME_US // STATUS_PERIOD_US + 1))
+
+
+def hub_kinds(wiring: Wiring, robot: Robot) -> dict[int, int]:
+    """What is plugged into each port of `robot`'s hub: its wheels' motors (on `wiring`'s ports) and its
+    sensors."""
+    kinds = {wiring.left: MOTOR, wiring.right: MOTOR}
+    kinds.update((HUB_PORTS[SPIKE].index(port), ROBOT_KINDS[kind]) for port, kind in robot.sensors)
+    return kinds
 
 
 def frame(cmd: int, port: int, data: bytes = b"") -> bytes:

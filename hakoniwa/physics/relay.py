@@ -22,6 +22,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Protocol
 
+from hakoniwa.physics.sensors import Sensors
 from hakoniwa.physics.slots import Slots
 from hakoniwa.wire.packets import MAX_DATAGRAM, PacketError, decode_tx, rx_packet, store_tx
 from hakoniwa.wire.vdev_udp import UDP_DEVICE_CONFIG, LinkError, UdpLink, bind_fixed, bind_pair, check_free
@@ -35,8 +36,16 @@ class Transport(Protocol):
     def launching(self) -> None:
         """Just before this test's Athrill starts; OSError if it cannot (the bench's fault)."""
 
+    def publishing(self, readings: Sensors, now_us: int) -> None:
+        """The loop is about to publish the snapshot `readings` of `now_us`: a device the physics side plays
+        answers first (`hub_relay.HubRelay`)."""
+
     def published(self) -> None:
         """The loop has published a snapshot and its unity time into `unity_mmap.bin`."""
+
+    def answered(self, now_us: int) -> None:
+        """Athrill has answered the snapshot of `now_us`: what it asked of a device the physics side plays goes
+        where its commands are taken from (`athrill_mmap.bin`)."""
 
     def receive(self) -> None:
         """Bring what Athrill has sent into `athrill_mmap.bin`."""
@@ -56,7 +65,13 @@ class MappedFiles:
     def launching(self) -> None:
         pass
 
+    def publishing(self, readings: Sensors, now_us: int) -> None:
+        pass
+
     def published(self) -> None:
+        pass
+
+    def answered(self, now_us: int) -> None:
         pass
 
     def receive(self) -> None:
@@ -103,6 +118,12 @@ class UdpRelay:
             self._drain()  # the last test's Athrill is dead: what it sent is all here, and stale
         self._heard = False
         self._dropped = 0
+
+    def publishing(self, readings: Sensors, now_us: int) -> None:
+        pass
+
+    def answered(self, now_us: int) -> None:
+        pass
 
     def published(self) -> None:
         if self._sock is not None:
@@ -152,8 +173,3 @@ class UdpRelay:
             self._sock.close()
             self._sock = None
 
-
-def open_transport(udp: UdpLink | None, slots: Slots, run_dir: Path, log: Callable[[str], None]) -> Transport:
-    """The transport of a program whose UDP link is `udp` (None: the mapped files); LinkError (one line) for a
-    port in use."""
-    return MappedFiles() if udp is None else UdpRelay(udp, slots, run_dir, log)

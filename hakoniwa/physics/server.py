@@ -32,9 +32,11 @@ from pathlib import Path
 
 from hakoniwa.physics.course import Course
 from hakoniwa.physics.environment import Environment
+from hakoniwa.physics.hub_relay import HubRelay
 from hakoniwa.physics.lcd import draw_screen, forget_screen
 from hakoniwa.physics.noise import NoiseDraw
-from hakoniwa.physics.relay import open_transport
+from hakoniwa.physics.raspike_hub import hub_kinds
+from hakoniwa.physics.relay import MappedFiles, Transport, UdpRelay
 from hakoniwa.physics.replay import REPLAY_FILE, write_replay
 from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
 from hakoniwa.physics.scenario import Scenario
@@ -73,13 +75,23 @@ class PhysicsServer:
         (self.run_dir / SERIAL_INPUT).write_text(scenario.serial_lines())
         self.slots = Slots(self.run_dir)
         self._log = open(self.run_dir / PHYSICS_LOG, "a")
-        self.transport = open_transport(launcher.udp, self.slots, self.run_dir, self._note)
+        self.transport = self._transport(robot)
         self.answer_before_start = 0
         self.tests_run = 0
         self._max_diff_us = 0
         self._athrill_proc: subprocess.Popen | None = None
         self._ceiling = WallCeiling(self.env.task.time_limit_us)  # each test's own, from its start
         self._controller_gone = threading.Event()
+
+    def _transport(self, robot: Robot) -> Transport:
+        """How the program's devices reach the world: the mapped files, athrill2's UDP packets relayed into
+        them, or the hub a program talks to over serial, played on a pty (`hub_relay`). LinkError (one line)
+        for a UDP port in use."""
+        if self.launcher.serial_hub:
+            return HubRelay(self.slots, self.run_dir, hub_kinds(self.course.wiring, robot))
+        if self.launcher.udp is not None:
+            return UdpRelay(self.launcher.udp, self.slots, self.run_dir, self._note)
+        return MappedFiles()
 
     # -- what the sync loops use (`hakoniwa.physics.sync.SyncServer`, with the attributes above) ----------
     @property
@@ -109,10 +121,13 @@ class PhysicsServer:
 
     def publish_sensors(self) -> None:
         now = self.env.now_us
-        self.slots.publish(self.env.read_sensors(), unity_time_us(self.launcher.sync, now), snapshot_end_us(now))
+        readings = self.env.read_sensors()
+        self.transport.publishing(readings, now)
+        self.slots.publish(readings, unity_time_us(self.launcher.sync, now), snapshot_end_us(now))
         self.transport.published()
 
     def apply_actuators(self) -> None:
+        self.transport.answered(self.env.now_us)
         commands = self.slots.take_commands()
         self.env.drive(commands.powers, commands.directions)
         for port in commands.reset_angle_ports:

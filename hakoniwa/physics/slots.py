@@ -132,6 +132,13 @@ class Slots:
         return Commands(words[:MOTOR_PORTS], words[_DIRECTION_WORD:_DIRECTION_WORD + MOTOR_PORTS], resets, gyro,
                         a.read_i32(Tx.COMPLETED) == 1)
 
+    def relay_commands(self, powers: tuple[int, ...], directions: tuple[int, ...]) -> None:
+        """What a program asked of a hub the physics side plays (RasPike-ART's asp never writes TX), written
+        where Athrill's commands are taken from, so that the loop takes both alike."""
+        a = self.athrill
+        a.write_i32s(Tx.MOTOR_POWER, list(powers[:MOTOR_PORTS]))
+        a.write_i32s(Tx.SPIKE_DIRECTION, list(directions[:MOTOR_PORTS]))
+
     def report(self, r: TestResult) -> None:
         """The test's result, for the controller (its sync mode and objective were written at the start)."""
         u = self.unity

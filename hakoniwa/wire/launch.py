@@ -33,6 +33,12 @@ class Launcher(Protocol):
     def udp(self) -> UdpLink | None:
         """athrill2's UDP endpoints for a program run over UDP; None where the mapped files carry everything."""
 
+    @property
+    def serial_hub(self) -> bool:
+        """The program reaches a SPIKE hub over a serial port (RasPike-ART's asp), not through the mapped
+        files: the physics side plays the hub on a pseudo-terminal linked at the run directory's
+        `rundir.RASPIKE_PORT`."""
+
     def prepare(self, seq: int, unity: MappedFile) -> None:
         """Make the program test `seq`'s parameter values (in `unity`'s parameter area) ask for, with its data
         files written, before the test is announced.

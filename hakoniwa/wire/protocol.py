@@ -217,6 +217,7 @@ class BenchCause(enum.IntEnum):
     PHYSICS_KILLED = 4  # the physics process died mid-test
     TIME_STALLED = 5  # simulated time stopped (the emulator's clock), or crept past the test's wall-clock ceiling
     ATHRILL_KILLED = 6  # Athrill killed by SIGKILL: by the machine (the OOM killer) or a person, not by its program
+    HUB_FAILED = 7  # the serial link to the hub the physics side plays failed (RasPike-ART's asp: docs/REAL-ATHRILL.md)
 
     @property
     def words(self) -> str:
@@ -224,7 +225,7 @@ class BenchCause(enum.IntEnum):
                 BenchCause.ATHRILL_FAILED: "athrill could not run", BenchCause.FILE_DAMAGED: "mapped file damaged",
                 BenchCause.PHYSICS_KILLED: "physics process killed",
                 BenchCause.TIME_STALLED: "simulated time stalled",
-                BenchCause.ATHRILL_KILLED: "athrill killed"}[self]
+                BenchCause.ATHRILL_KILLED: "athrill killed", BenchCause.HUB_FAILED: "hub link failed"}[self]
 
 
 class SyncMode(enum.IntEnum):

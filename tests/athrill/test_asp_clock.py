@@ -128,10 +128,8 @@ def run_sample(asp: Path, library: Path, folder: Path) -> tuple[list[int], int |
     hub = PtyHub(Hub(KINDS))
     physics = FakePhysics(folder / "run")
     counts = SerialCounts(physics.run_dir)
-    argv = asp_argv(asp, prefix_folder(folder / "prefix", hub.device))
-    preload = argv.index("-E") + 1
-    argv[preload] += f":{library}"
-    argv[preload + 1:preload + 1] = ["-E", f"{RUN_DIR_ENV}={physics.run_dir}"]
+    argv = asp_argv(asp, prefix_folder(folder / "prefix", hub.device), (library,),
+                    ((RUN_DIR_ENV, str(physics.run_dir)),))
     proc = subprocess.Popen(argv, cwd=folder, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     wakes: list[int] = []
     pressed_at = None

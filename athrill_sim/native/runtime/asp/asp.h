@@ -19,4 +19,8 @@ void hako_asp_step_undrained(void);
  * before any task runs at that step. Nothing to wait for before asp opens the port. */
 void hako_serial_drain(void);
 
+/* Whether so many of the hub's bytes are held back from the receiving thread (not yet drained) that the pty
+ * could fill: a move drains then even where it would otherwise owe the drain to the next idle point. */
+bool hako_serial_backlog(void);
+
 #endif /* HAKO_ASP_H */

@@ -13,6 +13,10 @@
  *   while it waits with everything read, that the thread is idle, which hako_serial_drain waits for;
  * - read, in the main thread (the handshake, raspike_protocol.c 136-160, before the kernel starts): when all
  *   the hub sent is read, the bench moves a step, as the hub answers only between steps.
+ * The receiving thread reads only what a drain released: a step the bench moved through a clock read's cost
+ * (asp_time.c) is drained at the next idle point, not where the read was, since the main thread may hold
+ * libraspike-art's port mutex there (raspike_timedwait_ack reads time(0) under dev->mutex), which the
+ * receiving thread needs to take the bytes in. Held back, they are taken at the same point in every run.
  * The port is the one RasPike-ART opens (vdev_com_usb.c 27); it is found by its path at open.
  */
 #define _GNU_SOURCE
@@ -38,10 +42,14 @@
  * bench: generous, since qemu and a busy machine stand between them [s]. */
 #define DELIVERY_LIMIT_S 20.0
 #define READ_NAP_MS 1
+/* Bytes held back from the receiving thread past which a move drains even from a clock read: a program that
+ * polls a clock for long must not fill the pty (about 4 KiB), whose writes would then block the hub. */
+#define BACKLOG_MAX 2048
 
 static int serial_fd = -1;
 static volatile uint64_t *counts; /* the run's HAKO_RASPIKE_SERIAL, mapped */
 static _Atomic uint64_t received; /* bytes of the hub read so far */
+static _Atomic uint64_t released; /* bytes of the hub the receiving thread may read: as of the last drain */
 static atomic_bool reader_idle; /* the receiving thread waits in read with everything read */
 
 static uint64_t hub_sent(void)
@@ -103,12 +111,17 @@ ssize_t read(int fd, void *buf, size_t size)
         return hako_real()->read(fd, buf, size);
     bool main_thread = hako_asp_is_main();
     for (;;) {
-        uint64_t owed = hub_sent() - received;
+        /* Main may have read past `released` a moment before raising it (the handshake, with the receiving
+         * thread already started): nothing is owed then, never a wrapped-around difference. */
+        uint64_t avail = main_thread ? hub_sent() : released, done = received;
+        uint64_t owed = avail > done ? avail - done : 0;
         if (owed > 0) {
             await_bytes(fd);
             ssize_t got = hako_real()->read(fd, buf, size < owed ? size : owed);
             if (got > 0)
                 received += (uint64_t)got;
+            if (main_thread && received > released)
+                released = received;
             return got;
         }
         if (main_thread) {
@@ -117,18 +130,21 @@ ssize_t read(int fd, void *buf, size_t size)
         }
         reader_idle = true;
         struct pollfd p = {fd, POLLIN, 0};
-        while (hub_sent() == received)
+        while (released <= received)
             hako_real()->poll(&p, 1, READ_NAP_MS); /* the bytes come before their count */
         reader_idle = false;
     }
 }
 
+bool hako_serial_backlog(void) { return counts != NULL && hub_sent() - released > BACKLOG_MAX; }
+
 void hako_serial_drain(void)
 {
     if (counts == NULL)
         return;
+    released = hub_sent();
     double limit = hako_wall_s() + DELIVERY_LIMIT_S;
-    while (!(reader_idle && received == hub_sent())) {
+    while (!(reader_idle && received == released)) {
         if (hako_wall_s() > limit)
             hako_bench_fault("asp's receiving thread did not take in the hub's bytes in %.0f s", DELIVERY_LIMIT_S);
         hako_wall_nap(20e-6);

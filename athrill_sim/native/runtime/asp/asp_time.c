@@ -17,13 +17,15 @@
  *   status with a port's new mode, 387-414), are idle too: a deadline is on the simulated clock, and while no
  *   answer comes (ANSWER_SLICE_NS of wall time) the bench moves on a step, since the Pi sends its commands
  *   only when a status arrives (raspike_protocol.c 333) and the hub sends one every 10 ms; SIGALRM is raised
- *   when the timer falls due, as the robot's tick interrupts that wait. Each move of the bench drains asp's
- *   serial port (asp_serial.c), so an answer of the hub is in before the next wait begins; the wall slice is
- *   for a team's own threads.
- * Only asp's main thread, where its kernel and its tasks run, moves the bench or spends time: the receiving
- * thread runs in wall time, and its clock reads and waits cannot make one run differ from the next.
+ *   when the timer falls due, as the robot's tick interrupts that wait. A move of the bench at such an idle
+ *   point drains asp's serial port (asp_serial.c), so an answer of the hub is in before the next wait begins;
+ *   the wall slice is for a team's own threads.
+ * asp's main thread, where its kernel and its tasks run, spends time and moves the bench: the receiving thread
+ * runs in wall time, and its clock reads and waits cannot make one run differ from the next. A team's own
+ * thread (std::thread) that sleeps moves the bench too, and its runs are not the same twice (DESIGN-NOTES).
  * Every clock read spends HAKO_CALL_COST_US, as in the native runtime; a step used up that way moves the
- * bench on by one step, so that a loop polling a clock sees time pass.
+ * bench on by one step, so that a loop polling a clock sees time pass, and owes its drain to the next idle
+ * point (the caller may hold the port's mutex, which the receiving thread needs to take the bytes in).
  *
  * The bench's run directory and test come from the environment (HAKO_RUN_DIR, HAKO_TEST), set with qemu's -E:
  * asp's own command line is RasPike-ART's. Without HAKO_RUN_DIR it is a bench fault, in one line.
@@ -32,6 +34,7 @@
 #include <errno.h>
 #include <pthread.h>
 #include <signal.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <sys/time.h>
 #include <unistd.h>
@@ -45,9 +48,15 @@
 static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER; /* asp's receiving thread reads clocks too */
 static int64_t timer_due = HAKO_FOREVER; /* ITIMER_REAL's next expiry [simulated us] */
 static int64_t timer_interval; /* and its reload (0: one-shot) */
+static pthread_t main_thread; /* where asp's kernel runs, and so its tick's handler */
+static bool drain_owed; /* the bench moved with no drain since the last: owed at the next idle point */
 
 __attribute__((constructor)) static void asp_time_start(void)
 {
+    main_thread = pthread_self();
+    /* Line by line, as on the team's terminal (`make start`): the bench's pipe would hold a program's lines in
+     * stdio's buffer, and lose them when the test ends and asp is stopped. */
+    setvbuf(stdout, NULL, _IOLBF, 0);
     const char *run_dir = getenv("HAKO_RUN_DIR");
     if (run_dir == NULL)
         hako_bench_fault("HAKO_RUN_DIR is not set: asp's clock library runs only under the bench");
@@ -61,9 +70,20 @@ __attribute__((constructor)) static void asp_time_start(void)
 
 bool hako_asp_is_main(void) { return gettid() == getpid(); }
 
+/* The timer fell due: its SIGALRM goes to the main thread, where asp's kernel takes its tick, also when a
+ * team's own thread moved the bench (its handler run in that thread would find no kernel context there:
+ * ASP3's time_event.c asserts sense_context()). */
+static void tick_main(void)
+{
+    if (hako_asp_is_main())
+        raise(SIGALRM);
+    else
+        pthread_kill(main_thread, SIGALRM);
+}
+
 /* Move the bench to the step `until` falls in, and the clock within it to `until` itself, as calls spend it,
- * the serial port drained at the new step unless `undrained`; true when the timer fell due on the way, which
- * is then reloaded or stopped. The caller holds the lock. */
+ * the serial port drained (also for a move that owed it) if `drained`; true when the timer fell due on the
+ * way, which is then reloaded or stopped. The caller holds the lock. */
 static bool run_until_drained(int64_t until, bool drained)
 {
     int64_t step = until == HAKO_FOREVER ? HAKO_FOREVER : until - until % HAKO_PHYSICS_STEP_US;
@@ -71,8 +91,11 @@ static bool run_until_drained(int64_t until, bool drained)
         hako_publish(hako_now(), step);
         hako_wait_snapshot(step);
         hako_time_set_tick(step);
-        if (drained)
-            hako_serial_drain();
+        drain_owed = true;
+    }
+    if (drained && drain_owed) {
+        hako_serial_drain();
+        drain_owed = false;
     }
     if (until > hako_now())
         hako_time_spend(until - hako_now()); /* less than a step: never used up */
@@ -90,7 +113,7 @@ void hako_asp_step_undrained(void)
     bool fired = run_until_drained(hako_tick() + HAKO_PHYSICS_STEP_US, false);
     pthread_mutex_unlock(&lock);
     if (fired)
-        raise(SIGALRM);
+        tick_main();
 }
 
 /* When the timer falls due, not beyond a sleep's end `limit` (whole steps, as the native runtime's waits). */
@@ -102,15 +125,18 @@ static int64_t next_due(int64_t limit)
 
 /* -- what posix_time.c's clocks and sleeps ask of a kernel -------------------------------------------- */
 
+/* A clock read's cost; a step used up moves the bench, owing its drain to the next idle point (asp_serial.c):
+ * the caller may hold the port's mutex, which the receiving thread needs. */
 void hako_spend_call(void)
 {
     if (!hako_asp_is_main())
         return;
     pthread_mutex_lock(&lock);
-    bool fired = hako_time_spend(HAKO_CALL_COST_US) && run_until(hako_tick() + HAKO_PHYSICS_STEP_US);
+    bool fired = hako_time_spend(HAKO_CALL_COST_US) &&
+                 run_until_drained(hako_tick() + HAKO_PHYSICS_STEP_US, hako_serial_backlog());
     pthread_mutex_unlock(&lock);
     if (fired)
-        raise(SIGALRM);
+        tick_main();
 }
 
 int hako_block_on(const void *object, int64_t due)
@@ -122,7 +148,7 @@ int hako_block_on(const void *object, int64_t due)
         bool over = hako_now() >= due;
         pthread_mutex_unlock(&lock);
         if (fired)
-            raise(SIGALRM); /* its handler runs now unless asp has SIGALRM blocked, as in a real sleep */
+            tick_main(); /* its handler runs now unless asp has SIGALRM blocked, as in a real sleep */
         if (over)
             return 0;
     }
@@ -193,7 +219,7 @@ int sigsuspend(const sigset_t *mask)
     bool fired = run_until(timer_due);
     pthread_mutex_unlock(&lock);
     if (fired)
-        raise(SIGALRM);
+        tick_main();
     return hako_real()->sigsuspend(mask);
 }
 
@@ -203,38 +229,45 @@ int sigsuspend(const sigset_t *mask)
  * for a team's own threads. asp's receiving thread cannot signal within it, since it takes in the hub's bytes
  * only while the bench moves (hako_serial_drain). */
 #define ANSWER_SLICE_NS 2000000L
+#define OTHER_SLICE_S 3600 /* a thread other than the main one, waiting with no deadline [s of wall time] */
 
-/* Wait for another thread's signal until simulated time `due`. In the main thread, when none comes within the
- * slice, the bench moves a step with the caller's mutex released (the receiving thread may need it to take in
- * the step's bytes, and the robot's tick interrupts such a wait too), and the wait returns 0, a wake-up POSIX
- * allows: the caller's predicate loop sees what the step brought, at the step it came in. */
+/* Wait for another thread's signal until simulated time `due`, for a slice of wall time at most. A slice that
+ * ends with no signal is a wake-up POSIX allows (0), never a wait begun again here: glibc may let a waiter
+ * whose slice ran out take a signal all the same, and only the caller's predicate loop can see it (begun again,
+ * RasPike-ART's vdev thread missed mpthread_start_proc's signal and asp hung at its start, one run in ten). In
+ * the main thread the bench then moves a step, with the caller's mutex released (the receiving thread may need
+ * it to take in the step's bytes, and the robot's tick interrupts such a wait too): the caller sees what the
+ * step brought, at the step it came in. Another thread waits in wall time, as the main thread moves the bench
+ * and its deadline passes; with no deadline, nothing but a signal ends its wait, so its slice is long. */
 static int idle_wait(pthread_cond_t *cond, pthread_mutex_t *mutex, int64_t due)
 {
+    bool main_thread = hako_asp_is_main();
     hako_spend_call();
-    for (;;) {
-        if (hako_now() >= due)
-            return ETIMEDOUT;
-        struct timespec wall;
-        hako_real()->clock_gettime(CLOCK_REALTIME, &wall);
+    if (hako_now() >= due)
+        return ETIMEDOUT;
+    struct timespec wall;
+    hako_real()->clock_gettime(CLOCK_REALTIME, &wall);
+    if (!main_thread && due == HAKO_FOREVER)
+        wall.tv_sec += OTHER_SLICE_S;
+    else
         wall.tv_nsec += ANSWER_SLICE_NS;
-        if (wall.tv_nsec >= 1000000000L) {
-            wall.tv_sec++;
-            wall.tv_nsec -= 1000000000L;
-        }
-        int result = hako_real()->pthread_cond_timedwait(cond, mutex, &wall);
-        if (result != ETIMEDOUT)
-            return result;
-        if (!hako_asp_is_main())
-            continue; /* the main thread moves the bench: this one's deadline passes as it does */
+    if (wall.tv_nsec >= 1000000000L) {
+        wall.tv_sec++;
+        wall.tv_nsec -= 1000000000L;
+    }
+    int result = hako_real()->pthread_cond_timedwait(cond, mutex, &wall);
+    if (result != ETIMEDOUT)
+        return result;
+    if (main_thread) {
         pthread_mutex_unlock(mutex);
         pthread_mutex_lock(&lock);
         bool fired = run_until(hako_tick() + HAKO_PHYSICS_STEP_US);
         pthread_mutex_unlock(&lock);
         if (fired)
-            raise(SIGALRM);
+            tick_main();
         pthread_mutex_lock(mutex);
-        return 0;
     }
+    return 0;
 }
 
 int pthread_cond_timedwait(pthread_cond_t *restrict cond, pthread_mutex_t *restrict mutex,

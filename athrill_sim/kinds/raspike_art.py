@@ -1,0 +1,70 @@
+"""A team's RasPike-ART workspace folder (`--emulator raspike-art`): built by RasPike-ART's own make into the
+aarch64 `asp` the robot runs (`athrill_sim.raspike_art`), started afresh for each test under qemu-user, on the
+bench's clock, with the physics side playing its SPIKE hub on a pseudo-terminal."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from athrill_sim.kinds.kind import DATA_FILE, AppSpec, ProgramKind, RealEmulator, Recipe, given
+from athrill_sim.program import Program, ProgramError
+from hakoniwa.wire.protocol import SyncMode
+from hakoniwa.wire.rundir import RASPIKE_PORT
+
+RASPIKE_ART = "raspike-art"  # its --emulator name
+
+
+class RaspikeArtKind(ProgramKind):
+    noun = "a RasPike-ART program (asp)"
+    # A data file reaches it as it does a native program: written into each test's copy of its workspace, asp's
+    # working directory. Rebuilding forms and image forms do not reach it yet.
+    needs_met = frozenset({DATA_FILE})
+
+    def claims(self, app: AppSpec) -> bool:
+        return app.emulator == RASPIKE_ART
+
+    def recipe(self, app: AppSpec, real: RealEmulator) -> Recipe:
+        if not app.path.is_dir():
+            raise ProgramError(f"--app {app.spec}: --emulator raspike-art runs a RasPike-ART workspace folder "
+                               "(app.c or app.cpp, app.cfg, Makefile.inc), not a file")
+        return Recipe(self, app.path, lambda folder, _flags: asp_program(given(folder)))
+
+    def files(self, path: Path) -> tuple[Path, ...]:
+        from athrill_sim.forms.form import BindingError
+        from athrill_sim.raspike_art import AspError
+        from athrill_sim.raspike_art.build import app_files
+
+        try:
+            return tuple(app_files(path)[1])
+        except AspError as e:
+            raise BindingError(str(e)) from None
+
+    def refusal(self, forms: set[str]) -> str:
+        return (f"{', '.join(sorted(forms))} parameters do not reach a RasPike-ART program yet (row, ini and file "
+                "parameters do); run it natively (--emulator native) to tune it so")
+
+
+def asp_program(folder: Path) -> Program:
+    """`folder`'s asp, built now (or found in the cache), with the clock library that puts it on the bench's
+    time; each test's asp reaches the hub at the run directory's RASPIKE_PORT through qemu's prefix."""
+    from athrill_sim.raspike_art import AspError
+    from athrill_sim.raspike_art.build import app_files, build_asp
+    from athrill_sim.raspike_art.clock import RUN_DIR_ENV, TEST_ENV, build_clock_library
+    from athrill_sim.raspike_art.launch import PREFIX, asp_argv, prefix_links
+    from athrill_sim.working_folder import WorkingFolder, WorkingFolderError
+
+    try:
+        asp = build_asp(folder)
+        clock = build_clock_library()
+        links = prefix_links(f"../../{RASPIKE_PORT}")  # from PREFIX/dev/USB_SPIKE
+        argv = asp_argv(asp, f"{{run_dir}}/{PREFIX}", (clock,), ((RUN_DIR_ENV, "{run_dir}"), (TEST_ENV, "{test}")))
+        files = tuple(app_files(folder)[1])
+        workspace = WorkingFolder.of(folder, None)  # `make start` runs asp from the workspace
+    except (AspError, WorkingFolderError) as e:
+        raise ProgramError(str(e)) from None
+    prefix = tuple((f"{PREFIX}/{name}", target) for name, target in links.items())
+    return Program(f"RasPike-ART app {folder}", SyncMode.LOCKSTEP, False, tuple(argv), files=files,
+                   working_folder=workspace, image=asp, links=prefix, serial_hub=True)
+
+
+RASPIKE_ART_KIND = RaspikeArtKind()
