@@ -115,13 +115,18 @@ def patched_copy(image: Path, values: dict[int, bytes], out: Path) -> None:
     out.write_bytes(bytes(data))
 
 
+BUILD_ID = ".note.gnu.build-id"
+
+
 def loaded_bytes(image: Path) -> bytes:
     """Everything the loader maps of `image` (its allocated sections), in order: two builds that agree here
-    run alike, whatever their symbol tables, build paths or debug information say."""
+    run alike, whatever their symbol tables, build paths or debug information say. The build ID is left out:
+    a hash of the whole output, debug information and recorded compiler switches included (Debian's
+    aarch64 linker writes one), it tells builds apart, not programs."""
     with open(image, "rb") as f:
         elf = ELFFile(f)
         return b"".join(s.name.encode() + b"\0" + (s.data() if s["sh_type"] != "SHT_NOBITS" else b"")
-                        for s in elf.iter_sections() if s["sh_flags"] & SHF_ALLOC)
+                        for s in elf.iter_sections() if s["sh_flags"] & SHF_ALLOC and s.name != BUILD_ID)
 
 
 def _named(symtab: SymbolTableSection, name: str, prefix: str) -> list[tuple[int, Symbol]]:

@@ -100,9 +100,11 @@ _OPTIONS = [
     _Option("app", "--app", "Robot program: a built-in name (line_trace, line_trace_c), a Python "
             "module:function, an EV3RT C or C++ program (app.c, app.cpp or its workspace folder), or a v850 ELF "
             "image (run in the real athrill2)."),
-    _Option("emulator", "--emulator", "What an EV3RT C or C++ program runs on: native (compiled for this machine) or "
-            "athrill2 (built into a v850 image with the EV3RT SDK and run in the real TOPPERS emulator) "
-            "[default: native; a v850 image always runs in athrill2].", click.Choice(EMULATORS)),
+    _Option("emulator", "--emulator", "What an EV3RT C or C++ program runs on: native (compiled for this machine), "
+            "athrill2 (built into a v850 image with the EV3RT SDK and run in the real TOPPERS emulator) or "
+            "raspike-art (a RasPike-ART workspace folder built by RasPike-ART's make into the robot's own asp, run "
+            "under qemu-user against the SPIKE hub the bench plays; --robot hackspi) [default: native; a v850 image "
+            "always runs in athrill2].", click.Choice(EMULATORS)),
     _Option("athrill2", "--athrill2", "The TOPPERS athrill2 emulator for the real emulator [default: on PATH, "
             f"else {REPEATABLE_DIR}/athrill2]."),
     _Option("sync", "--sync", "How the real emulator keeps time with physics: repeatable (athrill2 built with "

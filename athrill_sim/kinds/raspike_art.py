@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from athrill_sim.kinds.kind import DATA_FILE, AppSpec, ProgramKind, RealEmulator, Recipe, given
+from athrill_sim.kinds.kind import DATA_FILE, REBUILD, AppSpec, ProgramKind, RealEmulator, Recipe, given
 from athrill_sim.program import Program, ProgramError
 from hakoniwa.wire.protocol import SyncMode
 from hakoniwa.wire.rundir import RASPIKE_PORT
@@ -17,8 +17,9 @@ RASPIKE_ART = "raspike-art"  # its --emulator name
 class RaspikeArtKind(ProgramKind):
     noun = "a RasPike-ART program (asp)"
     # A data file reaches it as it does a native program: written into each test's copy of its workspace, asp's
-    # working directory. Rebuilding forms and image forms do not reach it yet.
-    needs_met = frozenset({DATA_FILE})
+    # working directory; a rebuilding form's value is a build of its own by RasPike-ART's make (cached). Image
+    # forms (a global's initial value in asp) do not reach it yet.
+    needs_met = frozenset({DATA_FILE, REBUILD})
 
     def claims(self, app: AppSpec) -> bool:
         return app.emulator == RASPIKE_ART
@@ -27,7 +28,7 @@ class RaspikeArtKind(ProgramKind):
         if not app.path.is_dir():
             raise ProgramError(f"--app {app.spec}: --emulator raspike-art runs a RasPike-ART workspace folder "
                                "(app.c or app.cpp, app.cfg, Makefile.inc), not a file")
-        return Recipe(self, app.path, lambda folder, _flags: asp_program(given(folder)))
+        return Recipe(self, app.path, lambda folder, flags: asp_program(given(folder), flags))
 
     def files(self, path: Path) -> tuple[Path, ...]:
         from athrill_sim.forms.form import BindingError
@@ -40,13 +41,14 @@ class RaspikeArtKind(ProgramKind):
             raise BindingError(str(e)) from None
 
     def refusal(self, forms: set[str]) -> str:
-        return (f"{', '.join(sorted(forms))} parameters do not reach a RasPike-ART program yet (row, ini and file "
-                "parameters do); run it natively (--emulator native) to tune it so")
+        return (f"{', '.join(sorted(forms))} parameters do not reach a RasPike-ART program yet (row, ini, file, "
+                "define and source parameters do); run it natively (--emulator native) to tune it so")
 
 
-def asp_program(folder: Path) -> Program:
-    """`folder`'s asp, built now (or found in the cache), with the clock library that puts it on the bench's
-    time; each test's asp reaches the hub at the run directory's RASPIKE_PORT through qemu's prefix."""
+def asp_program(folder: Path, flags: tuple[str, ...] = ()) -> Program:
+    """`folder`'s asp, built now with the extra compiler `flags` (or found in the cache), with the clock
+    library that puts it on the bench's time; each test's asp reaches the hub at the run directory's
+    RASPIKE_PORT through qemu's prefix."""
     from athrill_sim.raspike_art import AspError
     from athrill_sim.raspike_art.build import app_files, build_asp
     from athrill_sim.raspike_art.clock import RUN_DIR_ENV, TEST_ENV, build_clock_library
@@ -54,7 +56,7 @@ def asp_program(folder: Path) -> Program:
     from athrill_sim.working_folder import WorkingFolder, WorkingFolderError
 
     try:
-        asp = build_asp(folder)
+        asp = build_asp(folder, flags=flags)
         clock = build_clock_library()
         links = prefix_links(f"../../{RASPIKE_PORT}")  # from PREFIX/dev/USB_SPIKE
         argv = asp_argv(asp, f"{{run_dir}}/{PREFIX}", (clock,), ((RUN_DIR_ENV, "{run_dir}"), (TEST_ENV, "{test}")))

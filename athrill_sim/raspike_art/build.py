@@ -12,8 +12,9 @@ Two things of the build are not the team's, and both are done to the scratch cop
 - libraspike-art's `build/Makefile.common` calls `gcc` by name, so a folder whose `gcc` is the aarch64 cross
   compiler comes first on PATH (the kernel and the app take `GCC_TARGET`, as RasPike-ART's make offers).
 
-The product is the aarch64 `asp` and, beside it, the `libssetjmp.so` that RasPike-ART's `make start`
-preloads (`sdk/common/setjmp/aarch64`) and the device config it passes (`sdk/common/
+A tuned program's -D definitions (`define` parameters) come in as COPTS from the environment, each value a
+build of its own in the cache. The product is the aarch64 `asp` and, beside it, the `libssetjmp.so` that
+RasPike-ART's `make start` preloads (`sdk/common/setjmp/aarch64`) and the device config it passes (`sdk/common/
 device_config_raspike-art.txt`): what a run needs (`launch.py`). The cache key is the team's source files by
 their paths in its folder, every file of the RasPike-ART folder, this module, the make command and the cross
 compiler's identity.
@@ -108,22 +109,26 @@ def app_files(app: Path) -> tuple[Path, list[Path]]:
     return root, files
 
 
-def build_asp(app: Path, *, sdk: Path | None = None, announce: Callable[[str], None] | None = None) -> Path:
+def build_asp(app: Path, *, sdk: Path | None = None, announce: Callable[[str], None] | None = None,
+              flags: tuple[str, ...] = ()) -> Path:
     """The aarch64 `asp` of the team's workspace folder `app`, built now unless cached (`libssetjmp.so`
-    beside it); `announce` hears what is being built before a build starts (it takes half a minute)."""
+    beside it), with the extra compiler `flags` (a tuned program's -D definitions); `announce` hears what is
+    being built before a build starts (it takes half a minute)."""
     root, files = app_files(Path(app))
     tools = find_tools(sdk)
-    entry = cache_root() / "raspike-art" / cache_key(root, files, tools)
+    entry = cache_root() / "raspike-art" / cache_key(root, files, tools, flags)
     if (entry / ASP).is_file():
         return entry / ASP
     if announce is not None:
         announce(f"building {root} with RasPike-ART at {tools.raspike_art} and {tools.gcc}")
-    return cached_build(entry, ASP, lambda scratch: _build(root, files, tools, scratch))
+    return cached_build(entry, ASP, lambda scratch: _build(root, files, tools, scratch, flags))
 
 
-def cache_key(root: Path, files: list[Path], tools: Tools) -> str:
+def cache_key(root: Path, files: list[Path], tools: Tools, flags: tuple[str, ...] = ()) -> str:
     key = CacheKey()
     add = key.add
+    if flags:
+        add("flags", "\0".join(flags).encode())
     try:
         version = subprocess.run([str(tools.gcc), "--version"], capture_output=True, text=True, timeout=60,
                                  env={**os.environ, "LC_ALL": "C"}).stdout
@@ -139,7 +144,7 @@ def cache_key(root: Path, files: list[Path], tools: Tools) -> str:
     return key.name()
 
 
-def _build(root: Path, files: list[Path], tools: Tools, scratch: Path) -> None:
+def _build(root: Path, files: list[Path], tools: Tools, scratch: Path, flags: tuple[str, ...]) -> None:
     tree = writable_copy(tools.raspike_art, scratch)
     configure = tree / "configure.rb"
     text = configure.read_text(encoding="utf-8")
@@ -155,7 +160,12 @@ def _build(root: Path, files: list[Path], tools: Tools, scratch: Path) -> None:
     shims = scratch / "bin"  # libraspike-art's Makefile.common says `gcc`
     shims.mkdir()
     (shims / "gcc").symlink_to(tools.gcc)
-    run_make(MAKE, workspace, shims, {}, scratch / BUILD_LOG, ASP, root, staged_sources(root, files, False))
+    # COPTS from the environment is where RasPike-ART's Makefile.img starts its own (`COPTS := -g @(COPTS)
+    # $(COPTS)`), and reaches the C and the C++ compiles alike; on make's command line it would replace them.
+    # SOURCE_DATE_EPOCH makes ASP3's banner (__DATE__, __TIME__) the same in every build, so that two builds of
+    # the same sources are the same program (a `define` that changes nothing is then seen to).
+    extra = {"SOURCE_DATE_EPOCH": "0", **({"COPTS": " ".join(flags)} if flags else {})}
+    run_make(MAKE, workspace, shims, extra, scratch / BUILD_LOG, ASP, root, staged_sources(root, files, False))
     (workspace / ASP).rename(scratch / ASP)
     for beside in (SETJMP, DEVICE_CONFIG):
         shutil.copyfile(tree / beside, scratch / beside.name)

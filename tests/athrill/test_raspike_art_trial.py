@@ -171,3 +171,21 @@ def test_a_row_of_the_command_file_is_tuned_in_asp(tmp_path):
     row = (out / "run" / WORKSPACE_DIR / COMMAND_TRACER.name / "gains.csv").read_text().splitlines()[-1].split(",")
     assert [float(v) for v in row[2:4]] == pytest.approx([best["params"]["Kp"], best["params"]["Kd"]], rel=1e-6)
     assert "gains.csv" in (out / "best.patch").read_text()
+
+
+@pytest.mark.slow
+def test_a_define_is_a_build_of_its_own_in_asp(tmp_path):
+    """A `define` parameter under --emulator raspike-art: each value is RasPike-ART's make with -D, so two
+    values of the edge's brightness drive two different laps (`hako test`, one run each)."""
+    need_raspike_art()
+    cases = tmp_path / "hako-tests.toml"
+    common = (f'app = "{COMMAND_TRACER}"\nemulator = "raspike-art"\nrobot = "hackspi"\ncourse = "etrobocon-r"\n'
+              f'scenario = "{FORCE_START}"\nspace = "{PROGRAMS / "raspike_define.toml"}"\nseeds = [0]\n'
+              'noise = 0\nexpect = ["GOAL"]\n')
+    cases.write_text("".join(f"[case.target-{v}]\n{common}params = {{ target = {v} }}\n\n" for v in (21, 29)))
+    results = tmp_path / "results.json"
+    r = hako("test", str(cases), "--out", str(tmp_path / "out"), "--json", str(results))
+    assert r.returncode == 0, r.stdout + r.stderr
+    cases_run = json.loads(results.read_text())["cases"]
+    laps = {case["name"]: [run["goal_time_us"] for run in case["runs"]] for case in cases_run}
+    assert laps["target-21"] != laps["target-29"], laps

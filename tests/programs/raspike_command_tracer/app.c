@@ -1,6 +1,7 @@
 /*
  * HackSPi's line tracer as a RasPike-ART team writes one in C, for the bench's tests: its gains are a row of a
- * command file read relative to the workspace (`make start` runs asp from there), a cyclic task traces the
+ * command file read relative to the workspace (`make start` runs asp from there) and its edge's brightness a
+ * #define (TARGET) behind #ifndef, a cyclic task traces the
  * left edge every 10 ms with a PD on the brightness, the distance is the mean of both wheel counts (the left
  * motor is mirrored, so it is set up counter-clockwise), and the colour is read in one mode only, RGB, as
  * teams do who know that each switch of the sensor's mode waits for the hub (libraspike-art's
@@ -21,6 +22,9 @@
 #define COMMAND_FILE "./raspike_command_tracer/gains.csv"
 #define WHITE 40 /* HackSPi's sensor: ET Robocon's sample_c5_spike calibration */
 #define BLACK 10
+#ifndef TARGET
+#define TARGET ((WHITE + BLACK) / 2) /* the brightness of the edge it traces */
+#endif
 #define WHEEL_MM_PER_DEG (56.0 * M_PI / 360.0)
 
 static pup_motor_t *left_motor, *right_motor;
@@ -76,7 +80,7 @@ void main_task(intptr_t unused)
 void tracer_task(intptr_t unused)
 {
     pup_color_rgb_t rgb = pup_color_sensor_rgb(color_sensor);
-    int error = (WHITE + BLACK) / 2 - brightness(rgb);
+    int error = TARGET - brightness(rgb);
     int steer = (int)(kp * error + kd * (error - last_error));
     last_error = error;
     pup_motor_set_power(left_motor, power + steer);
