@@ -42,6 +42,7 @@ from athrill_sim.v850.build import (
     writable_copy,
 )
 from athrill_sim.v850.toolchain import INSTALL_RUBY, SHARED, chosen_folder
+from hakoniwa.wire.protocol import RASPIKE_VERSION
 
 RASPIKE_ART_ENV = "RASPIKE_ART"
 DEFAULT_FOLDER = SHARED / "raspike-art" / "RasPike-ART"
@@ -51,6 +52,7 @@ CROSS_TOOLS = (CROSS_GCC, f"{TARGET}-g++")
 INSTALL_CROSS = ("no aarch64 cross compiler (RasPike-ART's asp is built for aarch64 and runs under qemu-user): "
                  "apt-get install gcc-aarch64-linux-gnu g++-aarch64-linux-gnu qemu-user (Debian's packages)")
 MAKE = ("make", f"img={APP_NAME}", f"GCC_TARGET={TARGET}")
+EXPECTED_VERSION = Path("libraspike-art/src/expected_spike_version")  # the hub protocol its asp checks for
 ASP = "asp"
 SETJMP = Path("sdk/common/setjmp/aarch64/libssetjmp.so")  # what RasPike-ART's `make start` preloads
 DEVICE_CONFIG = Path("sdk/common/device_config_raspike-art.txt")  # what `make start` passes with -d
@@ -71,11 +73,21 @@ class Tools:
 
 
 def find_raspike_art(given: Path | None) -> Path:
-    """The RasPike-ART folder: --sdk, else $RASPIKE_ART, else ../shared/third_party/raspike-art/RasPike-ART."""
+    """The RasPike-ART folder: --sdk, else $RASPIKE_ART, else ../shared/third_party/raspike-art/RasPike-ART;
+    one whose libraspike-art expects another version of the hub than the bench plays is refused in one line
+    (its asp would print "SPIKE version mismatched" and stop at the handshake of every test)."""
     folder, origin = chosen_folder(given, RASPIKE_ART_ENV, DEFAULT_FOLDER)
-    if all((folder / mark).exists() for mark in MARKS):
-        return folder.resolve()
-    raise AspError(f"no RasPike-ART at {folder} ({origin}); {RASPIKE_ART.source()}")
+    if not all((folder / mark).exists() for mark in MARKS):
+        raise AspError(f"no RasPike-ART at {folder} ({origin}); {RASPIKE_ART.source()}")
+    expected = folder / EXPECTED_VERSION
+    if expected.is_file():  # older libraspike-art has none, and no check at the handshake either
+        wanted = expected.read_text(encoding="utf-8", errors="replace").strip()
+        plays = ".".join(map(str, RASPIKE_VERSION))
+        if wanted != plays:
+            raise AspError(f"RasPike-ART at {folder}: its libraspike-art expects the hub's protocol {wanted} "
+                           f"({EXPECTED_VERSION}); the bench's hub speaks {plays} (libraspike-art 28f3f38, the 2025 "
+                           "season's): build with a RasPike-ART of that libraspike-art")
+    return folder.resolve()
 
 
 def find_tools(given: Path | None) -> Tools:

@@ -40,8 +40,8 @@ from hakoniwa.physics.sensors import Sensors
 from hakoniwa.physics.slots import BATTERY_MA, BATTERY_MV
 from hakoniwa.wire import rundir
 from hakoniwa.wire.errors import HakoError
+from hakoniwa.wire.protocol import RASPIKE_VERSION
 
-VERSION = (0, 0, 6)  # libraspike-art 28f3f38 src/expected_spike_version
 INIT, INIT_MAGIC = 0xAE, 0xCE  # raspike_protocol_com.h 7-10: RP_CMD_INIT, RP_CMD_INIT_MAGIC
 START = 0xEA  # RP_CMD_START: every frame's first byte
 PORT_NONE = 255  # RP_PORT_NONE: the hub itself
@@ -137,7 +137,7 @@ class Hub:
                 return b""
             del self._pending[:at + 2]
             self.shook_hands = True
-            out += bytes((INIT, INIT_MAGIC, *VERSION))  # 884-890
+            out += bytes((INIT, INIT_MAGIC, *RASPIKE_VERSION))  # 884-890
         while self._pending:
             if self._pending[0] != START:
                 raise HubFault(f"the program sent a malformed frame: byte 0x{self._pending[0]:02x} where a frame "

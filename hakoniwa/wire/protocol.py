@@ -168,6 +168,10 @@ class Tx:
 ETROBOC_EXT = (480, 512)  # body bytes of both files that ET Robocon's extension owns
 COURSE_BLOCK_POSITIONS = 10  # BLACK1, BLACK2, RED1, RED2, YELLOW1, YELLOW2, BLUE1, BLUE2, GREEN1, GREEN2
 MOTOR_PORTS = 4
+# RasPike-ART's protocol the hub the physics side plays speaks (hakoniwa/physics/raspike_hub.py): what
+# libraspike-art 28f3f38, the 2025 season's, expects (its src/expected_spike_version). asp built against another
+# stops at the handshake, so `hako build --raspike-art` checks it first.
+RASPIKE_VERSION = (0, 0, 6)
 PARAM_END = PACKET_SIZE
 NEVER_WAKES = (1 << 63) - 1
 TOUCH_PRESSED = 4095

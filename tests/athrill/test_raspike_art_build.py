@@ -14,11 +14,14 @@ from athrill_sim.raspike_art.build import (
     ASP,
     DEFAULT_FOLDER,
     DEVICE_CONFIG,
+    EXPECTED_VERSION,
+    MARKS,
     SETJMP,
     Tools,
     app_files,
     build_asp,
     cache_key,
+    find_raspike_art,
     find_tools,
 )
 from athrill_sim.third_party import RASPIKE_ART
@@ -119,3 +122,17 @@ def test_a_compile_error_names_the_teams_own_file(tmp_path, monkeypatch):
     (app / "app.c").write_text("#include <stdint.h>\nvoid main_task(intptr_t x) { undeclared_thing = 1; }\n")
     with pytest.raises(ImageError, match=str(app / "app.c")):
         build_asp(app)
+
+
+def test_a_raspike_art_that_expects_another_hub_is_refused_in_one_line(tmp_path):
+    """Its asp would print "SPIKE version mismatched" and stop at every test's handshake: said before a build."""
+    tree = tmp_path / "RasPike-ART"
+    for mark in MARKS:
+        (tree / mark).parent.mkdir(parents=True, exist_ok=True)
+        (tree / mark).write_text("")
+    (tree / EXPECTED_VERSION).parent.mkdir(parents=True)
+    (tree / EXPECTED_VERSION).write_text("0.1.0\n")
+    r = hako("build", "--raspike-art", "--sdk", str(tree), str(workspace(tmp_path / "app")))
+    one_line_error(r, "expects the hub's protocol 0.1.0", "speaks 0.0.6")
+    (tree / EXPECTED_VERSION).write_text("0.0.6\n")
+    assert find_raspike_art(tree) == tree.resolve()
