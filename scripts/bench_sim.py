@@ -36,8 +36,10 @@ from pathlib import Path
 import click
 import mujoco
 
+from athrill_sim.kinds.kind import RASPIKE_ART_EMULATOR
 from athrill_sim.program import MOCK_ARGV, Program, ProgramError
 from athrill_sim.programs import resolve_program
+from athrill_sim.raspike_art.build import DEFAULT_FOLDER
 from athrill_sim.zygote import Zygote
 from hakoniwa.physics.course import load_course
 from hakoniwa.physics.sync import HAKONIWA_START_US
@@ -50,8 +52,7 @@ from testctl.runner import TrialRunner
 PAPER = line_trace_params(*BEST_GAINS)
 REPO = Path(__file__).resolve().parents[1]
 ASP_IMAGE = REPO.parent / "shared" / "third_party" / "athrill" / "ev3rt-ble_sample" / "asp"
-RASPIKE_ART_SAMPLE = REPO.parent / "shared" / "third_party" / "raspike-art" / "RasPike-ART" / "sdk" / "workspace" / \
-    "sample_c5_spike"
+RASPIKE_ART_SAMPLE = DEFAULT_FOLDER / "sdk" / "workspace" / "sample_c5_spike"  # RasPike-ART's own
 SAMPLE_C5_SPIKE = REPO.parent / "shared" / "third_party" / "raspike" / "raspike-art-samples" / "sample_c5_spike"
 THREADED_TRACER = REPO / "tests" / "programs" / "spike_thread_tracer"
 FORCE_START = str(REPO / "tests" / "programs" / "scenarios" / "force-start.toml")
@@ -261,7 +262,7 @@ def asp_rows(tests: int, rounds: int) -> list[tuple[str, str]]:
     if not RASPIKE_ART_SAMPLE.is_dir():
         return [("(f) RasPike-ART's asp, sample_c5_spike", f"skipped: no {RASPIKE_ART_SAMPLE} (../shared)")]
     native = BenchOptions(app=str(RASPIKE_ART_SAMPLE), robot="hackspi", scenario=FORCE_START, course="etrobocon-r")
-    benches = {"asp under qemu (--emulator raspike-art)": dataclasses.replace(native, emulator="raspike-art"),
+    benches = {"asp under qemu (--emulator raspike-art)": dataclasses.replace(native, emulator=RASPIKE_ART_EMULATOR),
                "native": native}
     try:
         benches["asp under qemu (--emulator raspike-art)"].program()  # built once, before any timing

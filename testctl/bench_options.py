@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 import click
 
 from athrill_sim.athrill2 import REAL_SYNCS, REPEATABLE_DIR, TRANSPORTS
-from athrill_sim.kinds.kind import EMULATORS
+from athrill_sim.kinds.kind import EMULATORS, RASPIKE_ART_EMULATOR
 from hakoniwa.conventions import SECONDS, option_group
 from hakoniwa.wire.protocol import Objective
 from hakoniwa.wire.vdev_udp import UDP_DEVICE_CONFIG
@@ -150,12 +150,11 @@ def pop_bench(kwargs: dict) -> BenchOptions:
 def load_bench(options: BenchOptions) -> tuple[Course, Robot, Scenario]:
     """The world the bench serves (`hakoniwa.physics.bench.load_world`): its errors are one line each, also
     for a robot the program cannot drive (asp talks to a SPIKE hub)."""
-    from athrill_sim.kinds.raspike_art import RASPIKE_ART
     from hakoniwa.physics.bench import load_world
     from hakoniwa.physics.robots import RobotError
 
     course, robot, scenario = load_world(options.course, options.robot, options.scenario, options.time_limit_s)
-    if options.emulator == RASPIKE_ART and not robot.spike:
-        raise RobotError(f"--emulator {RASPIKE_ART}: asp drives a SPIKE hub; give a SPIKE robot (--robot hackspi, "
-                         "basic, or a robot file with a SPIKE hub)")
+    if options.emulator == RASPIKE_ART_EMULATOR and not robot.spike:
+        raise RobotError(f"--emulator {RASPIKE_ART_EMULATOR}: asp drives a SPIKE hub; give a SPIKE robot (--robot "
+                         "hackspi, basic, or a robot file with a SPIKE hub)")
     return course, robot, scenario

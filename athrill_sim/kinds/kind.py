@@ -18,9 +18,9 @@ from athrill_sim.program import Program
 from hakoniwa.wire.protocol import SyncMode
 from hakoniwa.wire.vdev_udp import UdpLink
 
-# What a C program runs on: compiled for this machine, the real emulator, or (a RasPike-ART workspace) the robot's
-# own asp under qemu-user.
-EMULATORS = ("native", "athrill2", "raspike-art")
+RASPIKE_ART_EMULATOR = "raspike-art"  # a RasPike-ART workspace run as the robot's own asp under qemu-user
+# What a C program runs on: compiled for this machine, the real emulator, or the robot's own asp.
+EMULATORS = ("native", "athrill2", RASPIKE_ART_EMULATOR)
 # What a parameter form needs of a program (`athrill_sim.forms.form.Form.needs`), and so of its kind:
 REBUILD = "rebuild"  # its value is built in: the program is rebuilt from its sources for each value
 IMAGE = "image"  # its value is set in the program's image (a global's initial value)

@@ -6,12 +6,19 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from athrill_sim.kinds.kind import DATA_FILE, REBUILD, AppSpec, ProgramKind, RealEmulator, Recipe, given
+from athrill_sim.kinds.kind import (
+    DATA_FILE,
+    RASPIKE_ART_EMULATOR,
+    REBUILD,
+    AppSpec,
+    ProgramKind,
+    RealEmulator,
+    Recipe,
+    given,
+)
 from athrill_sim.program import Program, ProgramError
 from hakoniwa.wire.protocol import SyncMode
 from hakoniwa.wire.rundir import RASPIKE_PORT
-
-RASPIKE_ART = "raspike-art"  # its --emulator name
 
 
 class RaspikeArtKind(ProgramKind):
@@ -22,7 +29,7 @@ class RaspikeArtKind(ProgramKind):
     needs_met = frozenset({DATA_FILE, REBUILD})
 
     def claims(self, app: AppSpec) -> bool:
-        return app.emulator == RASPIKE_ART
+        return app.emulator == RASPIKE_ART_EMULATOR
 
     def recipe(self, app: AppSpec, real: RealEmulator) -> Recipe:
         if not app.path.is_dir():

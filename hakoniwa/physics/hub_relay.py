@@ -37,51 +37,50 @@ class HubRelay(MappedFiles):
         self.slots = slots
         self.run_dir = run_dir
         self.kinds = kinds
-        self._hub: PtyHub | None = None
-        self._counts: SerialCounts | None = None
+        self._link: tuple[PtyHub, SerialCounts] | None = None  # this test's hub and the run's byte counts
 
     def launching(self) -> None:
         """A fresh hub on a fresh pty for this test's asp, and both byte counts at zero."""
         self.ended()
         try:
-            self._hub = PtyHub(Hub(self.kinds))
-            self._counts = SerialCounts(self.run_dir)
+            pty = PtyHub(Hub(self.kinds))
+            self._link = pty, SerialCounts(self.run_dir)
             link = self.run_dir / RASPIKE_PORT
             link.unlink(missing_ok=True)
-            link.symlink_to(self._hub.device)
+            link.symlink_to(pty.device)
         except OSError as e:
             raise OSError(f"cannot play the SPIKE hub on a pseudo-terminal: {e}") from e
 
     def publishing(self, readings: Sensors, now_us: int) -> None:
-        hub, counts = self._hub, self._counts
-        if hub is None or counts is None:
+        if self._link is None:
             return
-        try:
-            counts.publish(hub.exchange(readings, now_us, counts.program_sent))
-        except HubFault as e:
-            raise AthrillCrash(CrashKind.BENCH, 0, str(e), BenchCause.HUB_FAILED) from None
-        if not hub.hub.shook_hands and now_us >= HANDSHAKE_BY_US:
+        pty, counts = self._link
+        counts.publish(self._exchange(pty, counts, readings, now_us))
+        if not pty.hub.shook_hands and now_us >= HANDSHAKE_BY_US:
             raise AthrillCrash(CrashKind.BENCH, 0, f"the program did not open the hub's serial port in "
                                f"{HANDSHAKE_BY_US // US_PER_S} s of simulated time", BenchCause.HUB_FAILED)
-        self.slots.relay_commands(*hub.hub.powers(MOTOR_PORTS))
 
     def answered(self, now_us: int) -> None:
-        hub, counts = self._hub, self._counts
-        if hub is None or counts is None:
-            return
+        if self._link is not None:
+            self._exchange(*self._link, None, now_us)  # its count goes out with the next snapshot
+
+    def _exchange(self, pty: PtyHub, counts: SerialCounts, readings: Sensors | None, now_us: int) -> int:
+        """The hub takes in what asp counted as sent and answers it (`PtyHub.exchange`), and what it was asked
+        of the motors goes where the loop takes commands from; the bytes the hub has sent. A link it cannot
+        keep ends the test as the bench's fault."""
         try:
-            hub.exchange(None, now_us, counts.program_sent)
+            sent = pty.exchange(readings, now_us, counts.program_sent)
         except HubFault as e:
             raise AthrillCrash(CrashKind.BENCH, 0, str(e), BenchCause.HUB_FAILED) from None
-        self.slots.relay_commands(*hub.hub.powers(MOTOR_PORTS))
+        self.slots.relay_commands(*pty.hub.powers(MOTOR_PORTS))
+        return sent
 
     def ended(self) -> None:
-        if self._hub is not None:
-            self._hub.close()
-            self._hub = None
-        if self._counts is not None:
-            self._counts.close()
-            self._counts = None
+        if self._link is not None:
+            pty, counts = self._link
+            pty.close()
+            counts.close()
+            self._link = None
 
     def close(self) -> None:
         self.ended()
