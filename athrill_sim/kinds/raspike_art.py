@@ -33,8 +33,9 @@ class RaspikeArtKind(ProgramKind):
 
     def recipe(self, app: AppSpec, real: RealEmulator) -> Recipe:
         if not app.path.is_dir():
-            raise ProgramError(f"--app {app.spec}: --emulator raspike-art runs a RasPike-ART workspace folder "
-                               "(app.c or app.cpp, app.cfg, Makefile.inc), not a file")
+            what = "a file" if app.path.exists() else "no such folder"
+            raise ProgramError(f"--app {app.spec}: {what}; --emulator raspike-art runs a RasPike-ART workspace "
+                               "folder (app.c or app.cpp, app.cfg, Makefile.inc)")
         return Recipe(self, app.path, lambda folder, flags: asp_program(given(folder), flags))
 
     def files(self, path: Path) -> tuple[Path, ...]:
