@@ -1,7 +1,7 @@
 /*
  * Threads as a team's program starts them from a task under RasPike-ART's asp, for the baton of asp's clock
  * library (athrill_sim/native/runtime/asp/asp_threads.c): once the kernel's timer is set (asp's kernel
- * starts), the main thread starts three: A sleeps 3 ms five times, B 5 ms three times and signals C after
+ * starts), the main thread starts three: A sleeps 3 ms seven times, B 7 ms three times and signals C after
  * each, C waits on a condition variable for B's third; each notes which it is and the simulated time, floored
  * to the step, under a mutex; then the main thread joins them and prints the notes in their order, and
  * sleeps until the test ends. Built for aarch64 and run under qemu-user (tests/athrill/test_asp_clock.py).
@@ -34,7 +34,7 @@ static void note(const char *who) { snprintf(notes[note_count++], sizeof notes[0
 static void *a(void *arg)
 {
     (void)arg;
-    for (int i = 0; i < 5; i++) {
+    for (int i = 0; i < 7; i++) {
         usleep(3000);
         pthread_mutex_lock(&mutex);
         note("A");
@@ -47,7 +47,7 @@ static void *b(void *arg)
 {
     (void)arg;
     for (int i = 0; i < 3; i++) {
-        usleep(5000);
+        usleep(7000);
         pthread_mutex_lock(&mutex);
         note("B");
         b_count++;

@@ -20,6 +20,14 @@ void hako_asp_step_undrained(void);
  * before any task runs at that step. Nothing to wait for before asp opens the port. */
 void hako_serial_drain(void);
 
+/* The bench moves on: what asp has sent so far goes with its answer, and the hub answers it at the next step. */
+void hako_serial_published(void);
+
+/* The earliest the hub may send asp something: the next step if asp has sent it bytes since the bench last
+ * moved (it answers them then), otherwise its next status, which it publishes (HAKO_RASPIKE_HUB_NEXT_STATUS);
+ * the next step before asp opens the port. */
+int64_t hako_serial_hub_sends(void);
+
 /* Whether so many of the hub's bytes are held back from the receiving thread (not yet drained) that the pty
  * could fill: a move drains then even where it would otherwise owe the drain to the next idle point. */
 bool hako_serial_backlog(void);

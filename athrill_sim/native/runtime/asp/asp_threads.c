@@ -114,16 +114,21 @@ static bool may_run(int p)
     return false;
 }
 
-/* The time the bench moves to when no player may run: the earliest any waits for, and the kernel's timer. */
+/* The time the bench moves to when no player may run: the earliest any waits for, and the kernel's timer. A
+ * wait for a signal goes no further than the next time the hub may send (the receiving thread signals what it
+ * brings). */
 static int64_t next_move(void)
 {
     int64_t step = hako_tick() + HAKO_PHYSICS_STEP_US, until = hako_asp_timer_due();
+    int64_t hub_sends = hako_serial_hub_sends();
     for (int p = 0; p < player_count; p++) {
         const struct hako_wait *w = &players[p].wait;
         if (players[p].state != WAITING)
             continue;
         int64_t due = w->kind == HAKO_WAIT_TIME ? hako_whole_steps(w->due) : w->due;
-        if (w->kind == HAKO_WAIT_SIGNAL || w->kind == HAKO_WAIT_MUTEX)
+        if (w->kind == HAKO_WAIT_SIGNAL)
+            due = due < hub_sends ? due : hub_sends;
+        else if (w->kind == HAKO_WAIT_MUTEX) /* held by the receiving thread, which lets go within a move */
             due = due < step ? due : step;
         else if (w->kind != HAKO_WAIT_TIME)
             continue;

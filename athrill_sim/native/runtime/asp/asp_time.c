@@ -72,6 +72,7 @@ bool hako_asp_move(int64_t until, bool drained)
 {
     int64_t step = until == HAKO_FOREVER ? HAKO_FOREVER : until - until % HAKO_PHYSICS_STEP_US;
     if (step > hako_tick()) {
+        hako_serial_published();
         hako_publish(hako_now(), step);
         hako_wait_snapshot(step);
         hako_time_set_tick(step);

@@ -46,7 +46,7 @@ typedef struct {
     bool stalled;
 } spike_motor_reading;
 
-/* The hub's status as the program reads it, as of the last STATUS_PERIOD_US instant (status.c). */
+/* The hub's status as the program reads it, as of the last HAKO_RASPIKE_STATUS_PERIOD_US instant (status.c). */
 typedef struct {
     spike_motor_reading motors[HAKO_MOTOR_PORTS];
     pup_color_rgb_t rgb;

@@ -1,15 +1,14 @@
 /*
- * The hub's status as RasPike-ART delivers it: every STATUS_PERIOD_US the hub sends each port's readings
- * (raspike.c, notify_status and update_port_devices), and libraspike-art's getters return the last status
- * received (raspike_internal.h, GET_AND_RET_SENSOR_COMMON and DELAYED_SENSOR_COMMON). Here the status is
- * taken at each multiple of STATUS_PERIOD_US, from that instant's snapshot: what SPIKE-RT's drivers answer,
- * which the physics process computes as the hub (hakoniwa/physics/spike_hub.py), and the speed and stall
- * that pbio measures (motor.c). The kernel wakes at every such instant while the program will run again.
+ * The hub's status as RasPike-ART delivers it: every HAKO_RASPIKE_STATUS_PERIOD_US (raspike.cfg 11) the hub
+ * sends each port's readings (raspike.c, notify_status and update_port_devices), and libraspike-art's getters
+ * return the last status received (raspike_internal.h, GET_AND_RET_SENSOR_COMMON and DELAYED_SENSOR_COMMON).
+ * Here the status is taken at each multiple of that period, from that instant's snapshot: what SPIKE-RT's
+ * drivers answer, which the physics process computes as the hub (hakoniwa/physics/spike_hub.py), and the speed
+ * and stall that pbio measures (motor.c). The kernel wakes at every such instant while the program will run again.
  */
 #include "../../src/devices.h"
 #include "spike.h"
 
-#define STATUS_PERIOD_US 10000 /* raspike.c: the hub's main loop sends a status every 10 ms */
 #define MOTORS ((int)HAKO_MOTOR_PORTS)
 
 static spike_hub_status status;
@@ -51,7 +50,7 @@ static void serve_hub(void)
     spike_motors_serve(now);
     if (now >= next_status) {
         take_status(now);
-        next_status = (now / STATUS_PERIOD_US + 1) * STATUS_PERIOD_US;
+        next_status = (now / HAKO_RASPIKE_STATUS_PERIOD_US + 1) * HAKO_RASPIKE_STATUS_PERIOD_US;
     }
 }
 
