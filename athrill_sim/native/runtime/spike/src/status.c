@@ -13,6 +13,7 @@
 
 static spike_hub_status status;
 static int64_t next_status; /* the next instant a status comes */
+static enum spike_reading carried[SPIKE_PORTS]; /* what the status carries for each colour port (0: none yet) */
 
 const spike_hub_status *spike_status(void) { return &status; }
 
@@ -52,6 +53,20 @@ static void serve_hub(void)
         take_status(now);
         next_status = (now / HAKO_RASPIKE_STATUS_PERIOD_US + 1) * HAKO_RASPIKE_STATUS_PERIOD_US;
     }
+}
+
+/* libraspike-art reads a colour sensor from the status (DELAYED_SENSOR_COMMON, raspike_internal.h 47-52), and one
+ * of another reading than the status carries it asks the hub for (raspike_port_com_change_if_needed,
+ * raspike_protocol.c 401-414): after the handshake its commands are buffered (176) until the next status comes
+ * in (333), the hub takes the new reading up at its following status (raspike.c 325-330), and the call waits
+ * for that one: 10 to 20 ms. After the sensor is set up the status carries none (the hub's port cmd is 0), so
+ * the first reading waits too. Where no task runs (a handler) the call cannot wait, and reads at once. */
+void spike_status_await(const pup_device_t *pdev, enum spike_reading reading)
+{
+    if (pdev == NULL || pdev->port_id >= SPIKE_PORTS || carried[pdev->port_id] == reading)
+        return;
+    hako_block_on(&carried[pdev->port_id], next_status + HAKO_RASPIKE_STATUS_PERIOD_US);
+    carried[pdev->port_id] = reading;
 }
 
 /* The next status: a wake only while the program will run again. */
