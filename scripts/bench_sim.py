@@ -15,7 +15,8 @@
     handler every 100 ms) and tests/programs/spike_thread_tracer, its control written as teams write for
     RasPike-ART (a std::thread paced by sleep_until on steady_clock every 100 ms, started through a condition
     variable); the second's rate over the first's: what the threads and clocks cost.
-(f) RasPike-ART's own sample_c5_spike on etrobocon-r: its asp, built by RasPike-ART's make, under qemu-user
+(f) RasPike-ART's own sample_c5_spike, then tests/programs/team_spike_threads (its control, gyro and logger in
+    std::threads of its own), on etrobocon-r: each program's asp, built by RasPike-ART's make, under qemu-user
     against the hub the physics side plays on a pty (`--emulator raspike-art`), and the same folder natively,
     in alternating rounds; each test's wall time includes starting its asp (never started ahead).
 Rows that need something absent (no C compiler, no athrill2, no ../shared) print why instead of a number.
@@ -55,6 +56,7 @@ ASP_IMAGE = REPO.parent / "shared" / "third_party" / "athrill" / "ev3rt-ble_samp
 RASPIKE_ART_SAMPLE = DEFAULT_FOLDER / "sdk" / "workspace" / "sample_c5_spike"  # RasPike-ART's own
 SAMPLE_C5_SPIKE = REPO.parent / "shared" / "third_party" / "raspike" / "raspike-art-samples" / "sample_c5_spike"
 THREADED_TRACER = REPO / "tests" / "programs" / "spike_thread_tracer"
+TEAM_THREADS = REPO / "tests" / "programs" / "team_spike_threads"  # a team's std::threads, built by RasPike-ART too
 FORCE_START = str(REPO / "tests" / "programs" / "scenarios" / "force-start.toml")
 START_TIMEOUT_S = 60.0
 
@@ -258,20 +260,25 @@ def spike_rows(tests: int, rounds: int) -> list[tuple[str, str]]:
 
 
 def asp_rows(tests: int, rounds: int) -> list[tuple[str, str]]:
-    """(f): RasPike-ART's sample_c5_spike as its asp against the pty hub, and natively, alternating."""
+    """(f): RasPike-ART's sample_c5_spike and team_spike_threads, each as its asp against the pty hub and
+    natively, alternating."""
     if not RASPIKE_ART_SAMPLE.is_dir():
         return [("(f) RasPike-ART's asp, sample_c5_spike", f"skipped: no {RASPIKE_ART_SAMPLE} (../shared)")]
-    native = BenchOptions(app=str(RASPIKE_ART_SAMPLE), robot="hackspi", scenario=FORCE_START, course="etrobocon-r")
-    benches = {"asp under qemu (--emulator raspike-art)": dataclasses.replace(native, emulator=RASPIKE_ART_EMULATOR),
-               "native": native}
-    try:
-        benches["asp under qemu (--emulator raspike-art)"].program()  # built once, before any timing
-    except ProgramError as e:
-        return [("(f) RasPike-ART's asp, sample_c5_spike", f"skipped: {e}")]
-    rates = alternating_rates(benches, tests, rounds, "(f) RasPike-ART's sample_c5_spike")
-    asp_rate, native_rate = (rate for *_, rate in rates.values())
-    return [*((name, value) for name, value, _ in rates.values()),
-            ("(f) asp under qemu / native trial rate", f"{asp_rate / native_rate:8.2f}")]
+    rows: list[tuple[str, str]] = []
+    for title, app in (("RasPike-ART's sample_c5_spike", RASPIKE_ART_SAMPLE), ("team_spike_threads", TEAM_THREADS)):
+        native = BenchOptions(app=str(app), robot="hackspi", scenario=FORCE_START, course="etrobocon-r")
+        asp = dataclasses.replace(native, emulator=RASPIKE_ART_EMULATOR)
+        try:
+            asp.program()  # built once, before any timing
+        except ProgramError as e:
+            rows.append((f"(f) {title}, asp", f"skipped: {e}"))
+            continue
+        rates = alternating_rates({"asp under qemu (--emulator raspike-art)": asp, "native": native}, tests, rounds,
+                                  f"(f) {title}")
+        asp_rate, native_rate = (rate for *_, rate in rates.values())
+        rows += [*((name, value) for name, value, _ in rates.values()),
+                 (f"(f) {title}: asp under qemu / native trial rate", f"{asp_rate / native_rate:8.2f}")]
+    return rows
 
 
 def alternating_rates(benches: dict[str, BenchOptions], tests: int, rounds: int,

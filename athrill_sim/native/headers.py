@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from athrill_sim import kernel as mock_kernel
 from hakoniwa.wire import rundir, waiting
-from hakoniwa.wire.protocol import c_header
+from hakoniwa.wire.protocol import RASPIKE_STATUS_PERIOD_US, c_header
 from hakoniwa.wire.timebase import BUTTON_POLL_US, CALL_COST_US, CLOCK_EPOCH_S, PHYSICS_STEP_US
 
 LAYOUT_HEADER = "hako_layout.h"
@@ -24,7 +24,9 @@ def timing_header() -> str:
         "CHECK_EVERY_S": waiting.CHECK_EVERY_S,
         "RASPIKE_HUB_SENT": rundir.RASPIKE_HUB_SENT,
         "RASPIKE_PROGRAM_SENT": rundir.RASPIKE_PROGRAM_SENT,
+        "RASPIKE_HUB_NEXT_STATUS": rundir.RASPIKE_HUB_NEXT_STATUS,
         "RASPIKE_SERIAL_SIZE": rundir.RASPIKE_SERIAL_SIZE,
+        "RASPIKE_STATUS_PERIOD_US": RASPIKE_STATUS_PERIOD_US,
     }
     files = {"LCD_LOG": rundir.LCD_LOG, "SERIAL_LOG": rundir.SERIAL_LOG.replace("{port}", "%s"),
              "SERIAL_INPUT": rundir.SERIAL_INPUT, "SDCARD_DIR": rundir.SDCARD_DIR,

@@ -55,7 +55,7 @@ class HubRelay(MappedFiles):
         if self._link is None:
             return
         pty, counts = self._link
-        counts.publish(self._exchange(pty, counts, readings, now_us))
+        counts.publish(self._exchange(pty, counts, readings, now_us), pty.next_status_us)
         if not pty.hub.shook_hands and now_us >= HANDSHAKE_BY_US:
             raise AthrillCrash(CrashKind.BENCH, 0, f"the program did not open the hub's serial port in "
                                f"{HANDSHAKE_BY_US // US_PER_S} s of simulated time", BenchCause.HUB_FAILED)

@@ -40,13 +40,12 @@ from hakoniwa.physics.sensors import Sensors
 from hakoniwa.physics.slots import BATTERY_MA, BATTERY_MV
 from hakoniwa.wire import rundir
 from hakoniwa.wire.errors import HakoError
-from hakoniwa.wire.protocol import RASPIKE_VERSION
+from hakoniwa.wire.protocol import NEVER_WAKES, RASPIKE_STATUS_PERIOD_US, RASPIKE_VERSION
 
 INIT, INIT_MAGIC = 0xAE, 0xCE  # raspike_protocol_com.h 7-10: RP_CMD_INIT, RP_CMD_INIT_MAGIC
 START = 0xEA  # RP_CMD_START: every frame's first byte
 PORT_NONE = 255  # RP_PORT_NONE: the hub itself
 PORTS = 6  # RP_MAX_DEVICES: A..F as 0..5 (raspike_protocol_com.h 175-179)
-STATUS_PERIOD_US = 10_000  # raspike.cfg 11: the status every 10 ms
 DELIVERY_LIMIT_S = 20.0  # how long asp's counted bytes may take to arrive through qemu and the pty (wall time)
 
 # Command types (the top three bits: raspike_protocol_com.h 12-21) and commands (29-135).
@@ -99,7 +98,7 @@ class Motor:
     rezero: bool = False  # the count is zeroed at the next status (a reset, or a set-up that resets)
     driven_since_us: int | None = None
     counts: deque[tuple[int, int]] = field(
-        default_factory=lambda: deque(maxlen=spike_hub.STALL_TIME_US // STATUS_PERIOD_US + 1))
+        default_factory=lambda: deque(maxlen=spike_hub.STALL_TIME_US // RASPIKE_STATUS_PERIOD_US + 1))
 
 
 def hub_kinds(wiring: Wiring, robot: Robot) -> dict[int, int]:
@@ -342,6 +341,11 @@ class PtyHub:
         self._after(readings, now_us)
         return self.sent
 
+    @property
+    def next_status_us(self) -> int:
+        """When the hub sends its next status: at the first snapshot after the handshake, then every 10 ms."""
+        return self._next_status_us if self.hub.shook_hands else NEVER_WAKES
+
     def _take(self, data: bytes) -> None:
         self.received += len(data)
         self._write(self.hub.feed(data))
@@ -352,7 +356,7 @@ class PtyHub:
             self._slave = None
         if self.hub.shook_hands and readings is not None and now_us >= self._next_status_us:
             self._write(self.hub.status(readings, now_us))
-            self._next_status_us = (now_us // STATUS_PERIOD_US + 1) * STATUS_PERIOD_US
+            self._next_status_us = (now_us // RASPIKE_STATUS_PERIOD_US + 1) * RASPIKE_STATUS_PERIOD_US
 
     def _write(self, data: bytes) -> None:
         self.sent += len(data)
@@ -380,7 +384,10 @@ class SerialCounts:
     def program_sent(self) -> int:
         return int(struct.unpack_from("<Q", self._map, rundir.RASPIKE_PROGRAM_SENT)[0])
 
-    def publish(self, hub_sent: int) -> None:
+    def publish(self, hub_sent: int, next_status_us: int) -> None:
+        """The hub's count, and when it sends its next status: asp's clock library moves the bench no further
+        than that while a thread of asp's waits for what the hub brings (asp_threads.c)."""
+        struct.pack_into("<q", self._map, rundir.RASPIKE_HUB_NEXT_STATUS, next_status_us)
         struct.pack_into("<Q", self._map, rundir.RASPIKE_HUB_SENT, hub_sent)
 
     def close(self) -> None:

@@ -172,6 +172,7 @@ MOTOR_PORTS = 4
 # libraspike-art 28f3f38, the 2025 season's, expects (its src/expected_spike_version). asp built against another
 # stops at the handshake, so `hako build --raspike-art` checks it first.
 RASPIKE_VERSION = (0, 0, 6)
+RASPIKE_STATUS_PERIOD_US = 10_000  # raspike.cfg 11: the hub sends the status of every port every 10 ms
 PARAM_END = PACKET_SIZE
 NEVER_WAKES = (1 << 63) - 1
 TOUCH_PRESSED = 4095

@@ -30,7 +30,8 @@ SERIAL_INPUT = "serial-input.txt"  # the scenario's [[serial]] input: "<at_us> <
 # bytes the hub (the physics side) and asp have each sent over the pty so far, two little-endian u64 at these
 # offsets, so that each side waits for exactly what the other sent (docs/DESIGN-NOTES.md, RasPike-ART).
 RASPIKE_SERIAL = "raspike-serial.bin"
-RASPIKE_HUB_SENT, RASPIKE_PROGRAM_SENT, RASPIKE_SERIAL_SIZE = 0, 8, 16
+# the hub's count, asp's count, and when the hub sends its next status [simulated us] (NEVER_WAKES: not yet)
+RASPIKE_HUB_SENT, RASPIKE_PROGRAM_SENT, RASPIKE_HUB_NEXT_STATUS, RASPIKE_SERIAL_SIZE = 0, 8, 16, 24
 RASPIKE_PORT = "raspike-port"  # a link to the pty on which the physics side plays asp's hub, made anew each test
 SDCARD_DIR = "sdcard"  # the folder standing in for the SD card: the program's working directory
 # A native program's working folder, a scratch copy of its workspace per test (athrill_sim/working_folder.py): the

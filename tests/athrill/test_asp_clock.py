@@ -42,7 +42,7 @@ def start(exe: Path, library: Path, run_dir: Path, test: int | None = None) -> s
                              str(exe)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
 
-def test_the_library_exports_only_the_calls_it_puts_on_simulated_time(probe: tuple[Path, Path]) -> None:
+def test_the_library_exports_only_the_calls_it_puts_on_simulated_time_or_the_baton(probe: tuple[Path, Path]) -> None:
     _, library = probe
     assert library.name == LIBRARY
     nm = shutil.which("aarch64-linux-gnu-nm") or pytest.skip("needs aarch64-linux-gnu-nm (binutils)")
@@ -50,7 +50,8 @@ def test_the_library_exports_only_the_calls_it_puts_on_simulated_time(probe: tup
     names = {line.split()[-1] for line in out.stdout.splitlines()}
     assert names == {"clock_gettime", "gettimeofday", "time", "clock", "sleep", "usleep", "nanosleep",
                      "clock_nanosleep", "getitimer", "setitimer", "sigsuspend", "pthread_cond_timedwait",
-                     "pthread_cond_wait", "open", "read", "write"}
+                     "pthread_cond_wait", "pthread_cond_clockwait", "pthread_cond_signal", "pthread_cond_broadcast",
+                     "pthread_mutex_lock", "pthread_create", "pthread_join", "open", "read", "write"}
 
 
 def test_timer_clock_and_sleeps_follow_the_bench(probe: tuple[Path, Path], tmp_path: Path) -> None:
@@ -140,7 +141,8 @@ def run_sample(asp: Path, library: Path, folder: Path) -> tuple[list[int], int |
                 pressed_at = wakes[-1] + 500_000  # the program waits on the force sensor: press it later
             now = wakes[-1]
             pressed = pressed_at is not None and now >= pressed_at
-            counts.publish(hub.exchange(readings(hub.hub, pressed=pressed), now, counts.program_sent))
+            counts.publish(hub.exchange(readings(hub.hub, pressed=pressed), now, counts.program_sent),
+                           hub.next_status_us)
             physics.answer(now)
             if hub.hub.powers(4)[0] != (0, 0, 0, 0):
                 break
@@ -175,3 +177,37 @@ def test_raspike_arts_own_sample_runs_on_the_bench_clock(probe: tuple[Path, Path
     assert pressed_at is not None, "asp never configured the force sensor on D"
     assert wakes[-1] > pressed_at
     assert run_sample(asp, library, tmp_path / "second") == (wakes, pressed_at)
+
+
+THREADS_PROBE = Path(__file__).parent.parent / "programs" / "asp_threads_probe" / "probe.c"
+
+
+def run_threads_probe(library: Path, exe: Path, run_dir: Path) -> tuple[list[str], list[int]]:
+    physics = FakePhysics(run_dir)
+    proc = start(exe, library, physics.run_dir)
+    try:
+        wakes = physics.wakes(proc, until_us=100_000)  # its last sleep(1000), once the threads are joined
+    finally:
+        proc.kill()
+        out, err = proc.communicate(timeout=30)
+        physics.close()
+    return out.splitlines(), wakes
+
+
+def test_threads_a_task_starts_run_one_at_a_time_on_the_bench_clock(probe: tuple[Path, Path],
+                                                                    tmp_path: Path) -> None:
+    """The baton (asp_threads.c): a team's threads sleep on the simulated clock, counted from the tick in whole
+    steps as the native runtime's (posix_time.c), a condition variable wakes its waiter, and at one instant they
+    run in a fixed order: at 21 ms A and B both wake; A's sleep moved the bench there, and the baton goes from
+    A on in the order they were started: B, then C (which B's signal woke), then A. The same twice."""
+    _, library = probe
+    exe = tmp_path / "threads"
+    subprocess.run([CROSS_GCC, "-O2", "-o", str(exe), str(THREADS_PROBE)], check=True, timeout=120)
+    lines, wakes = run_threads_probe(library, exe, tmp_path / "first")
+    assert lines == ["A 3000", "A 6000", "B 7000", "A 9000", "A 12000", "B 14000", "A 15000", "A 18000", "B 21000",
+                     "C 21000", "A 21000", "joined 21000"]
+    # while C waits for a signal the bench moves a step at a time: with no hub on a port (asp_serial.c), what
+    # asp's receiving thread might signal could come at any step; once C is joined, the main thread's sleep
+    # goes straight to its end
+    assert wakes == [*range(1000, 22_000, 1000), 1_000_021_000]
+    assert run_threads_probe(library, exe, tmp_path / "second") == (lines, wakes)

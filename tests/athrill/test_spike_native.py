@@ -508,17 +508,68 @@ def test_readings_are_the_hubs_status_of_the_last_10_ms(tmp_path):
     """The hub sends its status every 10 ms (the hub's raspike.cfg 11: APP_NOTIFY_CYC, 10*1000, activating the
     task that calls notify_status, raspike.c 923), and libraspike-art's getters return the last one received
     (raspike_internal.h: GET_AND_RET_SENSOR_COMMON, DELAYED_SENSOR_COMMON). A program polling every 1 ms, while
-    the reflection and the count change at every physics step, reads each status ten times."""
+    the reflection and the count change at every physics step, reads each status ten times. Its first reading
+    waits for the status that carries the reflection: the one at 20 ms (test below)."""
     exe = build(tmp_path / "app", STATUS_APP)
     bench = FakePhysics(tmp_path / "run")
     proc = bench.start(exe)
-    while (wake := bench.next_wake(proc)) <= 40_000:
+    while (wake := bench.next_wake(proc)) <= 60_000:
         ms = wake // 1000
         bench.unity.write_i32(Rx.COLOR0_REFLECT, ms)
         bench.unity.write_i32(Rx.MOTOR_ANGLE, ms)
         bench.answer(wake)
     got = results(finish(proc))
-    assert got == [(ms // 10 * 10) * 1001 for ms in range(35)], got
+    assert got == [(ms // 10 * 10) * 1001 for ms in range(20, 55)], got
+
+
+MODES_APP = r"""
+#include "spikeapi.h"
+#include "spike/pup/colorsensor.h"
+static void at(const char *what)
+{
+    SYSTIM now;
+    get_tim(&now);
+    syslog(LOG_NOTICE, "%s = %d", what, (int)(now / 1000));
+}
+void main_task(intptr_t unused)
+{
+    pup_device_t *color = pup_color_sensor_get_device(PBIO_PORT_ID_E);
+    pup_color_sensor_reflection(color);
+    at("reflection");
+    pup_color_sensor_rgb(color);
+    at("rgb");
+    pup_color_sensor_rgb(color);
+    at("rgb again");
+    dly_tsk(5000);
+    pup_color_sensor_hsv(color, true);
+    at("hsv");
+    pup_color_sensor_hsv(color, false);
+    at("hsv, surface false");
+    pup_color_sensor_color(color, false);
+    pup_color_sensor_color(color, true);
+    at("colour, either surface");
+    slp_tsk();
+}
+"""
+
+
+def test_a_reading_of_another_kind_waits_for_the_status_that_carries_it(tmp_path):
+    """libraspike-art reads the colour sensor from the status, which carries one reading a port at a time
+    (raspike_internal.h 47-52); another reading it asks the hub for and waits until a status carries it
+    (raspike_protocol.c 401-414). Its commands wait in a buffer from the handshake on (176) until the next status
+    comes in (333), and the hub takes the new reading up at its following status (raspike.c 325-330): a switch
+    asked for at a status instant is answered 20 ms later, one asked for 5 ms after it 15 ms later. The same
+    reading again, or `color` for the other surface (libraspike-art asks RP_CMD_ID_COL_COL for both), does not
+    wait; HSV for the other surface does. As under --emulator raspike-art (tests/athrill/test_raspike_art_trial.py)."""
+    exe = build(tmp_path / "app", MODES_APP)
+    bench = FakePhysics(tmp_path / "run")
+    proc = bench.start(exe)
+    bench.wakes(proc, until_us=200_000)
+    log = finish(proc)
+    got = {line.split("] ", 1)[1].rsplit(" = ", 1)[0]: int(line.rsplit(" = ", 1)[1])
+           for line in log.splitlines() if " = " in line}
+    assert got == {"reflection": 20, "rgb": 40, "rgb again": 40, "hsv": 60, "hsv, surface false": 80,
+                   "colour, either surface": 100}, log
 
 
 SAMPLE = "sample_c5_spike"
@@ -566,9 +617,10 @@ def test_sample_c5_spike_waits_for_the_force_sensor_then_traces(tmp_path, where)
     assert "Press force sensor to start" in out and "Start Line Trace!!" in out
     assert bench.athrill.read_i32s(Tx.MOTOR_RESET_ANGLE, 4) == (1, 1, 0, 0)  # pup_motor_setup(.., true)
     # The tracer runs at the press (200 ms) and every 100 ms after, and the hub's status wakes the program
-    # every 10 ms (status.c): what the tracer wrote is what the program has published at the next wake.
+    # every 10 ms (status.c): what the tracer wrote is what the program has published at the next wake. Its
+    # first reading waits for the status that carries the reflection, at 220 ms (status.c, spike_status_await).
     assert sorted(seen) == list(range(210_000, 700_001, 10_000))
-    for at, reflection in ((200_000, 20), (300_000, 12), (400_000, 25), (500_000, 38), (600_000, 0)):
+    for at, reflection in ((220_000, 20), (300_000, 12), (400_000, 25), (500_000, 38), (600_000, 0)):
         assert seen[at + 10_000][:2] == sample_powers(reflection), at
     assert bench.athrill.read_i32s(Tx.MOTOR_BRAKE, 4) == (0, 0, 0, 0)  # no power was 0
 

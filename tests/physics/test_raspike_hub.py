@@ -26,7 +26,7 @@ from hakoniwa.physics.slots import BATTERY_MA, BATTERY_MV
 from hakoniwa.physics.spike_hub import speed_over
 from hakoniwa.physics.world import Inertial
 from hakoniwa.wire import rundir
-from hakoniwa.wire.protocol import ColorId
+from hakoniwa.wire.protocol import NEVER_WAKES, RASPIKE_STATUS_PERIOD_US, ColorId
 from tests.helpers.paths import PROGRAMS, SHARED, needs_shared
 
 LIBRASPIKE_ART = SHARED / "third_party" / "raspike-art" / "RasPike-ART" / "libraspike-art"
@@ -257,8 +257,8 @@ def test_a_pi_that_expects_another_version_stops_at_the_handshake(tmp_path):
 
 def test_in_the_lockstep_the_hub_takes_exactly_what_the_program_counted_and_counts_its_own(tmp_path):
     """What asp_serial.c relies on: between two steps the hub reads the bytes asp says it sent, however the
-    pty delivers them, answers them, and says how many it sent in all; the counts lie where the generated
-    header tells asp they do (rundir.RASPIKE_SERIAL)."""
+    pty delivers them, answers them, and says how many it sent in all and when it sends its next status; the
+    counts lie where the generated header tells asp they do (rundir.RASPIKE_SERIAL)."""
     hub = PtyHub(Hub(KINDS))
     counts = SerialCounts(tmp_path)
     fd = os.open(hub.device, os.O_RDWR | os.O_NOCTTY)
@@ -267,14 +267,16 @@ def test_in_the_lockstep_the_hub_takes_exactly_what_the_program_counted_and_coun
         os.write(fd, b"\xce")  # two writes, one count
         raw = (tmp_path / rundir.RASPIKE_SERIAL).read_bytes()
         assert len(raw) == rundir.RASPIKE_SERIAL_SIZE and counts.program_sent == 0
+        assert hub.next_status_us == NEVER_WAKES  # none before the handshake
         with (tmp_path / rundir.RASPIKE_SERIAL).open("r+b") as f:  # as asp's write does
             f.seek(rundir.RASPIKE_PROGRAM_SENT)
             f.write(struct.pack("<Q", 2))
         sent = hub.exchange(readings(hub.hub), 0, counts.program_sent)
         assert sent == 5 + 4 + 128  # the version (raspike.c 858-890), then the first status
-        counts.publish(sent)
+        counts.publish(sent, hub.next_status_us)
         raw = (tmp_path / rundir.RASPIKE_SERIAL).read_bytes()
         assert struct.unpack_from("<Q", raw, rundir.RASPIKE_HUB_SENT) == (sent,)
+        assert struct.unpack_from("<q", raw, rundir.RASPIKE_HUB_NEXT_STATUS) == (RASPIKE_STATUS_PERIOD_US,)
         got = b""
         while len(got) < sent:
             got += os.read(fd, sent - len(got))

@@ -51,6 +51,7 @@ static volatile uint64_t *counts; /* the run's HAKO_RASPIKE_SERIAL, mapped */
 static _Atomic uint64_t received; /* bytes of the hub read so far */
 static _Atomic uint64_t released; /* bytes of the hub the receiving thread may read: as of the last drain */
 static atomic_bool reader_idle; /* the receiving thread waits in read with everything read */
+static uint64_t sent_at_publish; /* asp's count as of the bench's last move */
 
 static uint64_t hub_sent(void)
 {
@@ -134,6 +135,27 @@ ssize_t read(int fd, void *buf, size_t size)
             hako_real()->poll(&p, 1, READ_NAP_MS); /* the bytes come before their count */
         reader_idle = false;
     }
+}
+
+static uint64_t program_sent(void)
+{
+    return __atomic_load_n(&counts[HAKO_RASPIKE_PROGRAM_SENT / sizeof(uint64_t)], __ATOMIC_ACQUIRE);
+}
+
+void hako_serial_published(void)
+{
+    if (counts != NULL)
+        sent_at_publish = program_sent();
+}
+
+int64_t hako_serial_hub_sends(void)
+{
+    int64_t step = hako_tick() + HAKO_PHYSICS_STEP_US;
+    if (counts == NULL || program_sent() != sent_at_publish)
+        return step;
+    int64_t status =
+        __atomic_load_n((const int64_t *)&counts[HAKO_RASPIKE_HUB_NEXT_STATUS / sizeof(uint64_t)], __ATOMIC_ACQUIRE);
+    return status > step ? status : step;
 }
 
 bool hako_serial_backlog(void) { return counts != NULL && hub_sent() - released > BACKLOG_MAX; }

@@ -11,21 +11,21 @@
  *   (as calls spend time within a step), and SIGALRM is raised so that the real sigsuspend delivers it at
  *   once. Not rounded up to the next step: ASP3 asks for its events a microsecond late (a 10 ms tick is
  *   10 ms and 1 us away), which rounded up would make every period a step longer;
- * - a sleep runs the bench up to its end, raising SIGALRM at each time the timer falls due on the way;
- * - pthread_cond_timedwait and pthread_cond_wait, with which libraspike-art waits for what its receiving
- *   thread hands over (an acknowledgement, raspike_protocol.c 359-384, with a deadline of time(0) + 3 s; a
- *   status with a port's new mode, 387-414), are idle too: a deadline is on the simulated clock, and while no
- *   answer comes (ANSWER_SLICE_NS of wall time) the bench moves on a step, since the Pi sends its commands
- *   only when a status arrives (raspike_protocol.c 333) and the hub sends one every 10 ms; SIGALRM is raised
- *   when the timer falls due, as the robot's tick interrupts that wait. A move of the bench at such an idle
- *   point drains asp's serial port (asp_serial.c), so an answer of the hub is in before the next wait begins;
- *   the wall slice is for a team's own threads.
- * asp's main thread, where its kernel and its tasks run, spends time and moves the bench: the receiving thread
- * runs in wall time, and its clock reads and waits cannot make one run differ from the next. A team's own
- * thread (std::thread) that sleeps moves the bench too, and its runs are not the same twice (DESIGN-NOTES).
+ * - a sleep waits until its end, SIGALRM raised each time the timer falls due on the way;
+ * - pthread_cond_timedwait, pthread_cond_clockwait and pthread_cond_wait, with which libraspike-art waits for
+ *   what its receiving thread hands over (an acknowledgement, raspike_protocol.c 359-384, with a deadline of
+ *   time(0) + 3 s; a status with a port's new mode, 387-414), and a team's threads for each other, wait for a
+ *   signal with a deadline on the simulated clock; while none comes the bench moves a step at a time, since
+ *   the Pi sends its commands only when a status arrives (raspike_protocol.c 333) and the hub sends one every
+ *   10 ms; SIGALRM is raised when the timer falls due, as the robot's tick interrupts that wait. A move of the
+ *   bench at such a wait drains asp's serial port (asp_serial.c), so an answer of the hub is in before any
+ *   thread runs at that step.
+ * Who waits, and who moves the bench when all wait, is the baton's (asp_threads.c): asp's main thread, where
+ * its kernel and its tasks run, and the threads its tasks start. asp's receiving thread runs in wall time
+ * within the moves, and its clock reads and waits cannot make one run differ from the next.
  * Every clock read spends HAKO_CALL_COST_US, as in the native runtime; a step used up that way moves the
- * bench on by one step, so that a loop polling a clock sees time pass, and owes its drain to the next idle
- * point (the caller may hold the port's mutex, which the receiving thread needs to take the bytes in).
+ * bench on by one step, so that a loop polling a clock sees time pass, and owes its drain to the next wait
+ * (the caller may hold the port's mutex, which the receiving thread needs to take the bytes in).
  *
  * The bench's run directory and test come from the environment (HAKO_RUN_DIR, HAKO_TEST), set with qemu's -E:
  * asp's own command line is RasPike-ART's. Without HAKO_RUN_DIR it is a bench fault, in one line.
@@ -45,15 +45,13 @@
 
 #define US_PER_S 1000000LL
 
-static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER; /* asp's receiving thread reads clocks too */
 static int64_t timer_due = HAKO_FOREVER; /* ITIMER_REAL's next expiry [simulated us] */
 static int64_t timer_interval; /* and its reload (0: one-shot) */
-static pthread_t main_thread; /* where asp's kernel runs, and so its tick's handler */
-static bool drain_owed; /* the bench moved with no drain since the last: owed at the next idle point */
+static bool drain_owed; /* the bench moved with no drain since the last: owed at the next wait */
 
 __attribute__((constructor)) static void asp_time_start(void)
 {
-    main_thread = pthread_self();
+    hako_asp_players_start();
     /* Line by line, as on the team's terminal (`make start`): the bench's pipe would hold a program's lines in
      * stdio's buffer, and lose them when the test ends and asp is stopped. */
     setvbuf(stdout, NULL, _IOLBF, 0);
@@ -70,24 +68,11 @@ __attribute__((constructor)) static void asp_time_start(void)
 
 bool hako_asp_is_main(void) { return gettid() == getpid(); }
 
-/* The timer fell due: its SIGALRM goes to the main thread, where asp's kernel takes its tick, also when a
- * team's own thread moved the bench (its handler run in that thread would find no kernel context there:
- * ASP3's time_event.c asserts sense_context()). */
-static void tick_main(void)
-{
-    if (hako_asp_is_main())
-        raise(SIGALRM);
-    else
-        pthread_kill(main_thread, SIGALRM);
-}
-
-/* Move the bench to the step `until` falls in, and the clock within it to `until` itself, as calls spend it,
- * the serial port drained (also for a move that owed it) if `drained`; true when the timer fell due on the
- * way, which is then reloaded or stopped. The caller holds the lock. */
-static bool run_until_drained(int64_t until, bool drained)
+bool hako_asp_move(int64_t until, bool drained)
 {
     int64_t step = until == HAKO_FOREVER ? HAKO_FOREVER : until - until % HAKO_PHYSICS_STEP_US;
     if (step > hako_tick()) {
+        hako_serial_published();
         hako_publish(hako_now(), step);
         hako_wait_snapshot(step);
         hako_time_set_tick(step);
@@ -105,53 +90,46 @@ static bool run_until_drained(int64_t until, bool drained)
     return true;
 }
 
-static bool run_until(int64_t until) { return run_until_drained(until, true); }
+int64_t hako_asp_timer_due(void) { return timer_due; }
 
 void hako_asp_step_undrained(void)
 {
-    pthread_mutex_lock(&lock);
-    bool fired = run_until_drained(hako_tick() + HAKO_PHYSICS_STEP_US, false);
-    pthread_mutex_unlock(&lock);
+    hako_asp_lock();
+    bool fired = hako_asp_move(hako_tick() + HAKO_PHYSICS_STEP_US, false);
+    hako_asp_unlock();
     if (fired)
-        tick_main();
-}
-
-/* When the timer falls due, not beyond a sleep's end `limit` (whole steps, as the native runtime's waits). */
-static int64_t next_due(int64_t limit)
-{
-    int64_t end = limit == HAKO_FOREVER ? HAKO_FOREVER : hako_whole_steps(limit);
-    return timer_due < end ? timer_due : end;
+        raise(SIGALRM); /* the main thread's, before any other player starts */
 }
 
 /* -- what posix_time.c's clocks and sleeps ask of a kernel -------------------------------------------- */
 
-/* A clock read's cost; a step used up moves the bench, owing its drain to the next idle point (asp_serial.c):
- * the caller may hold the port's mutex, which the receiving thread needs. */
+/* A clock read's cost; a step used up moves the bench, owing its drain to the next wait (asp_serial.c): the
+ * caller may hold the port's mutex, which the receiving thread needs. */
 void hako_spend_call(void)
 {
-    if (!hako_asp_is_main())
+    if (!hako_asp_player())
         return;
-    pthread_mutex_lock(&lock);
-    bool fired = hako_time_spend(HAKO_CALL_COST_US) &&
-                 run_until_drained(hako_tick() + HAKO_PHYSICS_STEP_US, hako_serial_backlog());
-    pthread_mutex_unlock(&lock);
-    if (fired)
-        tick_main();
+    hako_asp_lock();
+    bool used = hako_time_spend(HAKO_CALL_COST_US);
+    bool fired = used && hako_asp_move(hako_tick() + HAKO_PHYSICS_STEP_US, hako_serial_backlog());
+    hako_asp_unlock();
+    if (used)
+        hako_asp_spent_step(fired);
 }
+
+#define OTHER_NAP_S 100e-6 /* how often a thread other than the players looks whether its sleep is over */
 
 int hako_block_on(const void *object, int64_t due)
 {
     (void)object; /* only sleeps wait here: nothing but their time ends them */
-    for (;;) {
-        pthread_mutex_lock(&lock);
-        bool fired = run_until(next_due(due));
-        bool over = hako_now() >= due;
-        pthread_mutex_unlock(&lock);
-        if (fired)
-            tick_main(); /* its handler runs now unless asp has SIGALRM blocked, as in a real sleep */
-        if (over)
-            return 0;
+    if (!hako_asp_player()) {
+        while (hako_now() < due) /* the players move the bench (read without the lock, which a move holds) */
+            hako_wall_nap(OTHER_NAP_S);
+        return 0;
     }
+    while (hako_now() < due) /* a wait of the main thread also ends at the kernel's tick, delivered */
+        hako_asp_wait(&(struct hako_wait){HAKO_WAIT_TIME, due, NULL, 0});
+    return 0;
 }
 
 void hako_yield(void) { hako_spend_call(); }
@@ -184,9 +162,9 @@ int getitimer(__itimer_which_t which, struct itimerval *value)
         errno = ENOSYS;
         return -1;
     }
-    pthread_mutex_lock(&lock);
+    hako_asp_lock();
     current(value);
-    pthread_mutex_unlock(&lock);
+    hako_asp_unlock();
     return 0;
 }
 
@@ -202,78 +180,73 @@ int setitimer(__itimer_which_t which, const struct itimerval *restrict value, st
         errno = EINVAL;
         return -1;
     }
-    pthread_mutex_lock(&lock);
+    hako_asp_lock();
+    hako_asp_kernel_started(); /* target_timer_initialize: asp's tasks start */
     if (old != NULL)
         current(old);
     bool armed = first > 0 && first != HAKO_FOREVER;
     timer_due = armed ? hako_now() + first : HAKO_FOREVER;
     timer_interval = armed && interval != HAKO_FOREVER ? interval : 0;
-    pthread_mutex_unlock(&lock);
+    hako_asp_unlock();
     return 0;
 }
 
 /* asp's idle loop: the bench runs to the timer; its SIGALRM, pending, is what the real sigsuspend delivers. */
 int sigsuspend(const sigset_t *mask)
 {
-    pthread_mutex_lock(&lock);
-    bool fired = run_until(timer_due);
-    pthread_mutex_unlock(&lock);
-    if (fired)
-        tick_main();
+    if (hako_asp_is_main())
+        hako_asp_wait(&(struct hako_wait){HAKO_WAIT_TICK, HAKO_FOREVER, NULL, 0});
     return hako_real()->sigsuspend(mask);
 }
 
-/* -- waits for asp's other thread ------------------------------------------------------------------- */
+/* -- condition waits ------------------------------------------------------------------------------------ */
 
-/* The time a signal of another thread is awaited each step, in wall time [ns], before the bench moves on:
- * for a team's own threads. asp's receiving thread cannot signal within it, since it takes in the hub's bytes
- * only while the bench moves (hako_serial_drain). */
-#define ANSWER_SLICE_NS 2000000L
-#define OTHER_SLICE_S 3600 /* a thread other than the main one, waiting with no deadline [s of wall time] */
+/* The time a thread other than the players waits for a signal at a time, in wall time [ns], before its caller
+ * looks at its deadline on the simulated clock again; with no deadline, nothing but a signal ends its wait. */
+#define OTHER_SLICE_NS 2000000L
+#define OTHER_FOREVER_S 3600
 
-/* Wait for another thread's signal until simulated time `due`, for a slice of wall time at most. A slice that
- * ends with no signal is a wake-up POSIX allows (0), never a wait begun again here: glibc may let a waiter
- * whose slice ran out take a signal all the same, and only the caller's predicate loop can see it (begun again,
- * RasPike-ART's vdev thread missed mpthread_start_proc's signal and asp hung at its start, one run in ten). In
- * the main thread the bench then moves a step, with the caller's mutex released (the receiving thread may need
- * it to take in the step's bytes, and the robot's tick interrupts such a wait too): the caller sees what the
- * step brought, at the step it came in. Another thread waits in wall time, as the main thread moves the bench
- * and its deadline passes; with no deadline, nothing but a signal ends its wait, so its slice is long. */
+/* Wait for a signal of `cond` until simulated time `due`. A player's wait that ends with no signal (the
+ * kernel's tick in the main thread) is a wake-up POSIX allows (0), and the caller's loop looks at its
+ * predicate; its mutex is taken again as a player takes one (asp_threads.c). */
 static int idle_wait(pthread_cond_t *cond, pthread_mutex_t *mutex, int64_t due)
 {
-    bool main_thread = hako_asp_is_main();
     hako_spend_call();
+    if (!hako_asp_player()) {
+        if (hako_now() >= due)
+            return ETIMEDOUT;
+        struct timespec wall;
+        hako_real()->clock_gettime(CLOCK_REALTIME, &wall);
+        if (due == HAKO_FOREVER)
+            wall.tv_sec += OTHER_FOREVER_S;
+        else
+            wall.tv_nsec += OTHER_SLICE_NS;
+        if (wall.tv_nsec >= 1000000000L) {
+            wall.tv_sec++;
+            wall.tv_nsec -= 1000000000L;
+        }
+        int result = hako_real()->pthread_cond_timedwait(cond, mutex, &wall);
+        return result == ETIMEDOUT ? 0 : result;
+    }
     if (hako_now() >= due)
         return ETIMEDOUT;
-    struct timespec wall;
-    hako_real()->clock_gettime(CLOCK_REALTIME, &wall);
-    if (!main_thread && due == HAKO_FOREVER)
-        wall.tv_sec += OTHER_SLICE_S;
-    else
-        wall.tv_nsec += ANSWER_SLICE_NS;
-    if (wall.tv_nsec >= 1000000000L) {
-        wall.tv_sec++;
-        wall.tv_nsec -= 1000000000L;
-    }
-    int result = hako_real()->pthread_cond_timedwait(cond, mutex, &wall);
-    if (result != ETIMEDOUT)
-        return result;
-    if (main_thread) {
-        pthread_mutex_unlock(mutex);
-        pthread_mutex_lock(&lock);
-        bool fired = run_until(hako_tick() + HAKO_PHYSICS_STEP_US);
-        pthread_mutex_unlock(&lock);
-        if (fired)
-            tick_main();
-        pthread_mutex_lock(mutex);
-    }
-    return 0;
+    struct hako_wait wait = {HAKO_WAIT_SIGNAL, due, cond, hako_asp_signals(cond)};
+    pthread_mutex_unlock(mutex);
+    hako_asp_wait(&wait);
+    pthread_mutex_lock(mutex);
+    return hako_now() >= due ? ETIMEDOUT : 0;
 }
 
 int pthread_cond_timedwait(pthread_cond_t *restrict cond, pthread_mutex_t *restrict mutex,
                            const struct timespec *restrict at)
 {
     return idle_wait(cond, mutex, hako_clock_time_us(CLOCK_REALTIME, at)); /* the condattr's default clock */
+}
+
+int pthread_cond_clockwait(pthread_cond_t *restrict cond, pthread_mutex_t *restrict mutex, clockid_t clock,
+                           const struct timespec *restrict at)
+{
+    return idle_wait(cond, mutex, hako_clock_time_us(clock, at));
 }
 
 int pthread_cond_wait(pthread_cond_t *restrict cond, pthread_mutex_t *restrict mutex)

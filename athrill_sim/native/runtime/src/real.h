@@ -28,6 +28,12 @@
     X(int, setitimer, (int, const struct itimerval *, struct itimerval *))                                             \
     X(int, sigsuspend, (const sigset_t *))                                                                             \
     X(int, pthread_cond_timedwait, (pthread_cond_t *, pthread_mutex_t *, const struct timespec *))                     \
+    X(int, pthread_cond_wait, (pthread_cond_t *, pthread_mutex_t *))                                                   \
+    X(int, pthread_cond_signal, (pthread_cond_t *))                                                                    \
+    X(int, pthread_cond_broadcast, (pthread_cond_t *))                                                                 \
+    X(int, pthread_mutex_lock, (pthread_mutex_t *))                                                                    \
+    X(int, pthread_create, (pthread_t *, const pthread_attr_t *, void *(*)(void *), void *))                           \
+    X(int, pthread_join, (pthread_t, void **))                                                                         \
     X(int, open, (const char *, int, ...))                                                                             \
     X(int, openat, (int, const char *, int, ...))                                                                      \
     X(ssize_t, read, (int, void *, size_t))                                                                            \

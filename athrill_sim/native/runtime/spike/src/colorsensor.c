@@ -5,7 +5,8 @@
  * the 10-bit RGB and its reflection in ET Robocon's SDK slots (RX COLOR0_RGB, COLOR0_REFLECT, COLOR0_AMBIENT),
  * hsv(surface = true) in the SDK's HSV slots (RX SPIKE_HSV), hsv(surface = false) and the colour in ours (RX
  * SPIKE_SHSV, SPIKE_COLOR). `color` ignores `surface`, as libraspike-art does (it always asks the hub for
- * RP_CMD_ID_COL_COL, surface true). The device is never looked at, so a NULL one reads as well as any. The
+ * RP_CMD_ID_COL_COL, surface true). A reading of another kind than the last waits for the hub to switch, as
+ * under libraspike-art (status.c); a NULL device reads at once, as well as any. The
  * lights change nothing the bench measures: each light call is a line in the log.
  */
 #include <stddef.h>
@@ -15,40 +16,30 @@
 
 pup_device_t *pup_color_sensor_get_device(pbio_port_id_t port) { return spike_take_port(port, DEVICE_COLOR, __func__); }
 
-pup_color_rgb_t pup_color_sensor_rgb(pup_device_t *pdev)
+/* A reading takes a call's time (sim_time.h), and waits while the hub switches to it (status.c). */
+static const spike_hub_status *read_as(const pup_device_t *pdev, enum spike_reading reading)
 {
-    hako_spend_call(); /* a device read takes time (sim_time.h) */
-    (void)pdev;
-    return spike_status()->rgb;
+    hako_spend_call();
+    spike_status_await(pdev, reading);
+    return spike_status();
 }
+
+pup_color_rgb_t pup_color_sensor_rgb(pup_device_t *pdev) { return read_as(pdev, READING_RGB)->rgb; }
 
 pup_color_hsv_t pup_color_sensor_hsv(pup_device_t *pdev, bool surface)
 {
-    (void)pdev;
-    hako_spend_call(); /* a device read takes time (sim_time.h) */
-    return surface ? spike_status()->hsv : spike_status()->ambient_hsv;
+    return surface ? read_as(pdev, READING_HSV)->hsv : read_as(pdev, READING_HSV_SUR_OFF)->ambient_hsv;
 }
 
 pup_color_hsv_t pup_color_sensor_color(pup_device_t *pdev, bool surface)
 {
-    (void)pdev, (void)surface;
-    hako_spend_call(); /* a device read takes time (sim_time.h) */
-    return spike_status()->color;
+    (void)surface;
+    return read_as(pdev, READING_COLOR)->color;
 }
 
-int32_t pup_color_sensor_reflection(pup_device_t *pdev)
-{
-    hako_spend_call(); /* a device read takes time (sim_time.h) */
-    (void)pdev;
-    return spike_status()->reflection;
-}
+int32_t pup_color_sensor_reflection(pup_device_t *pdev) { return read_as(pdev, READING_REFLECTION)->reflection; }
 
-int32_t pup_color_sensor_ambient(pup_device_t *pdev)
-{
-    hako_spend_call(); /* a device read takes time (sim_time.h) */
-    (void)pdev;
-    return spike_status()->ambient;
-}
+int32_t pup_color_sensor_ambient(pup_device_t *pdev) { return read_as(pdev, READING_AMBIENT)->ambient; }
 
 pbio_error_t pup_color_sensor_light_set(pup_device_t *pdev, int32_t bv1, int32_t bv2, int32_t bv3)
 {

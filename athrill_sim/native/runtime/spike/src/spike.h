@@ -46,7 +46,7 @@ typedef struct {
     bool stalled;
 } spike_motor_reading;
 
-/* The hub's status as the program reads it, as of the last STATUS_PERIOD_US instant (status.c). */
+/* The hub's status as the program reads it, as of the last HAKO_RASPIKE_STATUS_PERIOD_US instant (status.c). */
 typedef struct {
     spike_motor_reading motors[HAKO_MOTOR_PORTS];
     pup_color_rgb_t rgb;
@@ -56,6 +56,20 @@ typedef struct {
 
 /* status.c: the status last delivered; a count reset shows in it at once, as libraspike-art clears it. */
 const spike_hub_status *spike_status(void);
+
+/* The readings of a colour sensor, one of which the hub's status carries for its port at a time: libraspike-art's
+ * commands (raspike_protocol_com.h), `color` for both surfaces as libraspike-art asks. */
+enum spike_reading {
+    READING_RGB = 1,
+    READING_COLOR,
+    READING_HSV,
+    READING_HSV_SUR_OFF,
+    READING_REFLECTION,
+    READING_AMBIENT
+};
+
+/* status.c: wait, as libraspike-art does, until the status carries `reading` for the device's port. */
+void spike_status_await(const pup_device_t *pdev, enum spike_reading reading);
 void spike_status_count_reset(int index);
 
 /* motor.c: the motors' powers to zero (the hub shutting down); pbio's sampling and regulation at each

@@ -1,19 +1,19 @@
 /*
- * The hub's status as RasPike-ART delivers it: every STATUS_PERIOD_US the hub sends each port's readings
- * (raspike.c, notify_status and update_port_devices), and libraspike-art's getters return the last status
- * received (raspike_internal.h, GET_AND_RET_SENSOR_COMMON and DELAYED_SENSOR_COMMON). Here the status is
- * taken at each multiple of STATUS_PERIOD_US, from that instant's snapshot: what SPIKE-RT's drivers answer,
- * which the physics process computes as the hub (hakoniwa/physics/spike_hub.py), and the speed and stall
- * that pbio measures (motor.c). The kernel wakes at every such instant while the program will run again.
+ * The hub's status as RasPike-ART delivers it: every HAKO_RASPIKE_STATUS_PERIOD_US (raspike.cfg 11) the hub
+ * sends each port's readings (raspike.c, notify_status and update_port_devices), and libraspike-art's getters
+ * return the last status received (raspike_internal.h, GET_AND_RET_SENSOR_COMMON and DELAYED_SENSOR_COMMON).
+ * Here the status is taken at each multiple of that period, from that instant's snapshot: what SPIKE-RT's
+ * drivers answer, which the physics process computes as the hub (hakoniwa/physics/spike_hub.py), and the speed
+ * and stall that pbio measures (motor.c). The kernel wakes at every such instant while the program will run again.
  */
 #include "../../src/devices.h"
 #include "spike.h"
 
-#define STATUS_PERIOD_US 10000 /* raspike.c: the hub's main loop sends a status every 10 ms */
 #define MOTORS ((int)HAKO_MOTOR_PORTS)
 
 static spike_hub_status status;
 static int64_t next_status; /* the next instant a status comes */
+static enum spike_reading carried[SPIKE_PORTS]; /* what the status carries for each colour port (0: none yet) */
 
 const spike_hub_status *spike_status(void) { return &status; }
 
@@ -51,8 +51,22 @@ static void serve_hub(void)
     spike_motors_serve(now);
     if (now >= next_status) {
         take_status(now);
-        next_status = (now / STATUS_PERIOD_US + 1) * STATUS_PERIOD_US;
+        next_status = (now / HAKO_RASPIKE_STATUS_PERIOD_US + 1) * HAKO_RASPIKE_STATUS_PERIOD_US;
     }
+}
+
+/* libraspike-art reads a colour sensor from the status (DELAYED_SENSOR_COMMON, raspike_internal.h 47-52), and one
+ * of another reading than the status carries it asks the hub for (raspike_port_com_change_if_needed,
+ * raspike_protocol.c 401-414): after the handshake its commands are buffered (176) until the next status comes
+ * in (333), the hub takes the new reading up at its following status (raspike.c 325-330), and the call waits
+ * for that one: 10 to 20 ms. After the sensor is set up the status carries none (the hub's port cmd is 0), so
+ * the first reading waits too. Where no task runs (a handler) the call cannot wait, and reads at once. */
+void spike_status_await(const pup_device_t *pdev, enum spike_reading reading)
+{
+    if (pdev == NULL || pdev->port_id >= SPIKE_PORTS || carried[pdev->port_id] == reading)
+        return;
+    hako_block_on(&carried[pdev->port_id], next_status + HAKO_RASPIKE_STATUS_PERIOD_US);
+    carried[pdev->port_id] = reading;
 }
 
 /* The next status: a wake only while the program will run again. */
