@@ -53,10 +53,13 @@ static _Atomic uint64_t released; /* bytes of the hub the receiving thread may r
 static atomic_bool reader_idle; /* the receiving thread waits in read with everything read */
 static uint64_t sent_at_publish; /* asp's count as of the bench's last move */
 
-static uint64_t hub_sent(void)
+/* A word of the run's HAKO_RASPIKE_SERIAL, at its byte offset. */
+static uint64_t shared_word(size_t offset)
 {
-    return __atomic_load_n(&counts[HAKO_RASPIKE_HUB_SENT / sizeof(uint64_t)], __ATOMIC_ACQUIRE);
+    return __atomic_load_n(&counts[offset / sizeof(uint64_t)], __ATOMIC_ACQUIRE);
 }
+
+static uint64_t hub_sent(void) { return shared_word(HAKO_RASPIKE_HUB_SENT); }
 
 static void map_counts(void)
 {
@@ -137,10 +140,7 @@ ssize_t read(int fd, void *buf, size_t size)
     }
 }
 
-static uint64_t program_sent(void)
-{
-    return __atomic_load_n(&counts[HAKO_RASPIKE_PROGRAM_SENT / sizeof(uint64_t)], __ATOMIC_ACQUIRE);
-}
+static uint64_t program_sent(void) { return shared_word(HAKO_RASPIKE_PROGRAM_SENT); }
 
 void hako_serial_published(void)
 {
@@ -153,8 +153,7 @@ int64_t hako_serial_hub_sends(void)
     int64_t step = hako_tick() + HAKO_PHYSICS_STEP_US;
     if (counts == NULL || program_sent() != sent_at_publish)
         return step;
-    int64_t status =
-        __atomic_load_n((const int64_t *)&counts[HAKO_RASPIKE_HUB_NEXT_STATUS / sizeof(uint64_t)], __ATOMIC_ACQUIRE);
+    int64_t status = (int64_t)shared_word(HAKO_RASPIKE_HUB_NEXT_STATUS);
     return status > step ? status : step;
 }
 

@@ -125,13 +125,20 @@ static int64_t next_move(void)
         const struct hako_wait *w = &players[p].wait;
         if (players[p].state != WAITING)
             continue;
-        int64_t due = w->kind == HAKO_WAIT_TIME ? hako_whole_steps(w->due) : w->due;
-        if (w->kind == HAKO_WAIT_SIGNAL)
-            due = due < hub_sends ? due : hub_sends;
-        else if (w->kind == HAKO_WAIT_MUTEX) /* held by the receiving thread, which lets go within a move */
-            due = due < step ? due : step;
-        else if (w->kind != HAKO_WAIT_TIME)
+        int64_t due;
+        switch (w->kind) {
+        case HAKO_WAIT_TIME:
+            due = hako_whole_steps(w->due);
+            break;
+        case HAKO_WAIT_SIGNAL:
+            due = w->due < hub_sends ? w->due : hub_sends;
+            break;
+        case HAKO_WAIT_MUTEX: /* held by the receiving thread, which lets go within a move */
+            due = step;
+            break;
+        default: /* the tick is the timer's, a join another player's end */
             continue;
+        }
         until = due < until ? due : until;
     }
     return until;
@@ -149,7 +156,7 @@ static void hand_on(int from)
                 next = (from + i) % player_count;
         if (next >= 0) {
             holder = next;
-            pthread_cond_broadcast(&turn);
+            hako_real()->pthread_cond_broadcast(&turn); /* the baton's own: no player waits on it */
             return;
         }
         if (hako_asp_move(next_move(), true))

@@ -15,11 +15,11 @@
  * - pthread_cond_timedwait, pthread_cond_clockwait and pthread_cond_wait, with which libraspike-art waits for
  *   what its receiving thread hands over (an acknowledgement, raspike_protocol.c 359-384, with a deadline of
  *   time(0) + 3 s; a status with a port's new mode, 387-414), and a team's threads for each other, wait for a
- *   signal with a deadline on the simulated clock; while none comes the bench moves a step at a time, since
- *   the Pi sends its commands only when a status arrives (raspike_protocol.c 333) and the hub sends one every
- *   10 ms; SIGALRM is raised when the timer falls due, as the robot's tick interrupts that wait. A move of the
- *   bench at such a wait drains asp's serial port (asp_serial.c), so an answer of the hub is in before any
- *   thread runs at that step.
+ *   signal with a deadline on the simulated clock; while none comes the bench moves no further than the hub
+ *   may next send (an answer at the step after asp wrote to it, else its next status: asp_serial.c), since the
+ *   Pi sends its commands only when a status arrives (raspike_protocol.c 333); SIGALRM is raised when the
+ *   timer falls due, as the robot's tick interrupts that wait. A move of the bench at such a wait drains asp's
+ *   serial port (asp_serial.c), so an answer of the hub is in before any thread runs at that step.
  * Who waits, and who moves the bench when all wait, is the baton's (asp_threads.c): asp's main thread, where
  * its kernel and its tasks run, and the threads its tasks start. asp's receiving thread runs in wall time
  * within the moves, and its clock reads and waits cannot make one run differ from the next.
@@ -202,7 +202,11 @@ int sigsuspend(const sigset_t *mask)
 /* -- condition waits ------------------------------------------------------------------------------------ */
 
 /* The time a thread other than the players waits for a signal at a time, in wall time [ns], before its caller
- * looks at its deadline on the simulated clock again; with no deadline, nothing but a signal ends its wait. */
+ * looks at its deadline on the simulated clock again; with no deadline, nothing but a signal ends its wait. A
+ * slice that ends with no signal is a wake-up POSIX allows (0), never a wait begun again here: glibc may let a
+ * waiter whose slice ran out take a signal all the same, and only the caller's predicate loop can see it (begun
+ * again, RasPike-ART's vdev thread missed mpthread_start_proc's signal and asp hung at its start, one run in
+ * ten). */
 #define OTHER_SLICE_NS 2000000L
 #define OTHER_FOREVER_S 3600
 

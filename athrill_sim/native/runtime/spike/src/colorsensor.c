@@ -6,8 +6,8 @@
  * hsv(surface = true) in the SDK's HSV slots (RX SPIKE_HSV), hsv(surface = false) and the colour in ours (RX
  * SPIKE_SHSV, SPIKE_COLOR). `color` ignores `surface`, as libraspike-art does (it always asks the hub for
  * RP_CMD_ID_COL_COL, surface true). A reading of another kind than the last waits for the hub to switch, as
- * under libraspike-art (status.c); a NULL device reads at once, as well as any. The
- * lights change nothing the bench measures: each light call is a line in the log.
+ * under libraspike-art (status.c); a NULL device reads at once, as well as any. The lights change nothing the
+ * bench measures: each light call is a line in the log.
  */
 #include <stddef.h>
 

@@ -56,6 +56,7 @@ typedef struct {
 
 /* status.c: the status last delivered; a count reset shows in it at once, as libraspike-art clears it. */
 const spike_hub_status *spike_status(void);
+void spike_status_count_reset(int index);
 
 /* The readings of a colour sensor, one of which the hub's status carries for its port at a time: libraspike-art's
  * commands (raspike_protocol_com.h), `color` for both surfaces as libraspike-art asks. */
@@ -70,7 +71,6 @@ enum spike_reading {
 
 /* status.c: wait, as libraspike-art does, until the status carries `reading` for the device's port. */
 void spike_status_await(const pup_device_t *pdev, enum spike_reading reading);
-void spike_status_count_reset(int index);
 
 /* motor.c: the motors' powers to zero (the hub shutting down); pbio's sampling and regulation at each
  * snapshot; a motor port's reading for the status. */
