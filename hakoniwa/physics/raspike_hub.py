@@ -30,6 +30,7 @@ import select
 import struct
 import time
 from collections import deque
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -99,6 +100,9 @@ class Motor:
     driven_since_us: int | None = None
     counts: deque[tuple[int, int]] = field(
         default_factory=lambda: deque(maxlen=spike_hub.STALL_TIME_US // RASPIKE_STATUS_PERIOD_US + 1))
+
+
+_IDLE = Motor()  # a port without a motor, as `Hub.powers` reports it: never changed
 
 
 def hub_kinds(wiring: Wiring, robot: Robot) -> dict[int, int]:
@@ -217,7 +221,7 @@ class Hub:
     def powers(self, motor_ports: int) -> tuple[tuple[int, ...], tuple[int, ...]]:
         """Each motor port's power (the program's direction) and set-up direction, for the physics side's
         `SensorModel.drive`, ports 0 .. motor_ports - 1."""
-        motors = [self.motors.get(p, Motor()) for p in range(motor_ports)]
+        motors = [self.motors.get(p, _IDLE) for p in range(motor_ports)]  # at every answer: no Motor made
         return tuple(m.power for m in motors), tuple(m.direction for m in motors)
 
     def status(self, s: Sensors, now_us: int) -> bytes:
@@ -309,9 +313,9 @@ class PtyHub:
                 os.close(fd)
         self._slave = None
 
-    def pump(self, readings: Sensors | None, now_us: int) -> None:
-        """Answer what the program sent; at each multiple of 10 ms after the handshake, send a status of
-        `readings` (raspike.c starts its notify cycle once the handshake is done, 905)."""
+    def pump(self, read: Callable[[], Sensors] | None, now_us: int) -> None:
+        """Answer what the program sent; at each multiple of 10 ms after the handshake, send a status of the
+        readings `read()` takes then (raspike.c starts its notify cycle once the handshake is done, 905)."""
         try:
             while True:
                 data = os.read(self.master, 4096)
@@ -322,9 +326,9 @@ class PtyHub:
             pass
         except OSError as e:  # EIO: every copy of the program's end is closed
             raise HubFault(f"the program's serial port closed ({e.strerror})") from None
-        self._after(readings, now_us)
+        self._after(read, now_us)
 
-    def exchange(self, readings: Sensors | None, now_us: int, program_sent: int) -> int:
+    def exchange(self, read: Callable[[], Sensors] | None, now_us: int, program_sent: int) -> int:
         """`pump` in the lockstep, between two steps: read exactly the bytes the program says it sent so far
         (`program_sent`, asp_serial.c's count), answer them, send the status when due; the count of bytes the
         hub has sent, which the program waits for before its tasks run at the step."""
@@ -338,7 +342,7 @@ class PtyHub:
                 continue
             except OSError as e:
                 raise HubFault(f"the program's serial port closed ({e.strerror})") from None
-        self._after(readings, now_us)
+        self._after(read, now_us)
         return self.sent
 
     @property
@@ -350,12 +354,12 @@ class PtyHub:
         self.received += len(data)
         self._write(self.hub.feed(data))
 
-    def _after(self, readings: Sensors | None, now_us: int) -> None:
+    def _after(self, read: Callable[[], Sensors] | None, now_us: int) -> None:
         if self.hub.shook_hands and self._slave is not None:  # the program has its end open: ours may go, so
             os.close(self._slave)  # that its closing reads as EIO here
             self._slave = None
-        if self.hub.shook_hands and readings is not None and now_us >= self._next_status_us:
-            self._write(self.hub.status(readings, now_us))
+        if self.hub.shook_hands and read is not None and now_us >= self._next_status_us:
+            self._write(self.hub.status(read(), now_us))
             self._next_status_us = (now_us // RASPIKE_STATUS_PERIOD_US + 1) * RASPIKE_STATUS_PERIOD_US
 
     def _write(self, data: bytes) -> None:

@@ -9,8 +9,8 @@
  * bench (asp_time.c) and puts the player after the others that may run, as the native kernel preempts a task
  * there. It goes to the next player (in the order they were started) that may run; the kernel's tick comes
  * first, as an interrupt would. When none may run, the one that would hand it on moves the bench to the
- * earliest time any of them waits for (at most a step while one waits for a signal: asp's receiving thread
- * signals what the hub sent at any step, when the bench moves and takes its bytes in), and looks again.
+ * earliest time any of them waits for (no further than the hub's next sending while one waits for a signal
+ * that asp's receiving thread may give, when the bench moves and takes the hub's bytes in), and looks again.
  *
  * asp's receiving thread (RasPike-ART's vdev thread, started by a constructor before asp's kernel) is not a
  * player: it runs in wall time, only while the bench moves (asp_serial.c), so what it does is part of a move.
@@ -59,10 +59,15 @@ static bool tick_pending; /* the timer fell due: SIGALRM is owed to the main thr
 static bool kernel_started;
 static __thread int self = -1; /* the calling thread's slot; -1: not a player */
 
-static struct {
+/* Each condition's signals, and who has signalled it: a condition only players signal cannot be signalled
+ * during a move, so a wait for it does not hold moves to the hub's sendings. */
+struct signals {
     _Atomic(const void *) cond;
     _Atomic uint64_t count;
-} signalled[SIGNALLED_MAX];
+    atomic_bool by_player;
+    atomic_bool by_other; /* by a thread that is not a player: asp's receiving thread, within a move */
+};
+static struct signals signalled[SIGNALLED_MAX];
 
 void hako_asp_lock(void) { hako_real()->pthread_mutex_lock(&lock); }
 void hako_asp_unlock(void) { pthread_mutex_unlock(&lock); }
@@ -71,20 +76,35 @@ void hako_asp_players_start(void) { self = MAIN; }
 void hako_asp_kernel_started(void) { kernel_started = true; }
 bool hako_asp_player(void) { return self >= 0; }
 
-/* The count of `cond`'s signals; its slot is taken at the first use. */
-static _Atomic uint64_t *signals_of(const void *cond)
+/* `cond`'s signals; its slot is taken at the first use. */
+static struct signals *signals_of(const void *cond)
 {
     size_t start = ((uintptr_t)cond >> 3) % SIGNALLED_MAX;
     for (size_t i = 0; i < SIGNALLED_MAX; i++) {
         size_t k = (start + i) % SIGNALLED_MAX;
         const void *found = NULL;
         if (atomic_compare_exchange_strong(&signalled[k].cond, &found, cond) || found == cond)
-            return &signalled[k].count;
+            return &signalled[k];
     }
     hako_bench_fault("asp signals more than %d condition variables", SIGNALLED_MAX);
 }
 
-uint64_t hako_asp_signals(const void *cond) { return atomic_load(signals_of(cond)); }
+uint64_t hako_asp_signals(const void *cond) { return atomic_load(&signals_of(cond)->count); }
+
+static void count_signal(const void *cond)
+{
+    struct signals *it = signals_of(cond);
+    atomic_store(self >= 0 ? &it->by_player : &it->by_other, true);
+    atomic_fetch_add(&it->count, 1);
+}
+
+/* Whether only players have signalled `cond`, as far as the program has run: a condition nothing has signalled
+ * yet may be the receiving thread's. */
+static bool players_signal(const void *cond)
+{
+    const struct signals *it = signals_of(cond);
+    return atomic_load(&it->by_player) && !atomic_load(&it->by_other);
+}
 
 static bool mutex_free(const pthread_mutex_t *m) { return __atomic_load_n(&m->__data.__lock, __ATOMIC_ACQUIRE) == 0; }
 
@@ -116,7 +136,7 @@ static bool may_run(int p)
 
 /* The time the bench moves to when no player may run: the earliest any waits for, and the kernel's timer. A
  * wait for a signal goes no further than the next time the hub may send (the receiving thread signals what it
- * brings). */
+ * brings), unless only players signal that condition. */
 static int64_t next_move(void)
 {
     int64_t step = hako_tick() + HAKO_PHYSICS_STEP_US, until = hako_asp_timer_due();
@@ -131,7 +151,7 @@ static int64_t next_move(void)
             due = hako_whole_steps(w->due);
             break;
         case HAKO_WAIT_SIGNAL:
-            due = w->due < hub_sends ? w->due : hub_sends;
+            due = w->due < hub_sends || players_signal(w->object) ? w->due : hub_sends;
             break;
         case HAKO_WAIT_MUTEX: /* held by the receiving thread, which lets go within a move */
             due = step;
@@ -302,12 +322,12 @@ int pthread_mutex_lock(pthread_mutex_t *m)
 
 int pthread_cond_signal(pthread_cond_t *cond)
 {
-    atomic_fetch_add(signals_of(cond), 1);
+    count_signal(cond);
     return hako_real()->pthread_cond_signal(cond);
 }
 
 int pthread_cond_broadcast(pthread_cond_t *cond)
 {
-    atomic_fetch_add(signals_of(cond), 1);
+    count_signal(cond);
     return hako_real()->pthread_cond_broadcast(cond);
 }
