@@ -39,10 +39,12 @@ class HubRelay(MappedFiles):
         self.run_dir = run_dir
         self.kinds = kinds
         self._link: tuple[PtyHub, SerialCounts] | None = None  # this test's hub and the run's byte counts
+        self._relayed: tuple[tuple[int, ...], tuple[int, ...]] | None = None  # the motors as last written to TX
 
     def launching(self) -> None:
         """A fresh hub on a fresh pty for this test's asp, and both byte counts at zero."""
         self.ended()
+        self._relayed = None
         try:
             pty = PtyHub(Hub(self.kinds))
             self._link = pty, SerialCounts(self.run_dir)
@@ -75,7 +77,10 @@ class HubRelay(MappedFiles):
             sent = pty.exchange(read, now_us, counts.program_sent)
         except HubFault as e:
             raise AthrillCrash(CrashKind.BENCH, 0, str(e), BenchCause.HUB_FAILED) from None
-        self.slots.relay_commands(*pty.hub.powers(MOTOR_PORTS))
+        motors = pty.hub.powers(MOTOR_PORTS)
+        if motors != self._relayed:  # twice a stop: written only when they change
+            self.slots.relay_commands(*motors)
+            self._relayed = motors
         return sent
 
     def ended(self) -> None:

@@ -128,9 +128,11 @@ class Hub:
         self.shook_hands = False
         self.shut_down = False
         self._pending = bytearray()
+        self._powers: tuple[tuple[int, ...], tuple[int, ...]] | None = None  # `powers`, until a command comes
 
     def feed(self, data: bytes) -> bytes:
         """The hub's answers to what the Pi sent (the handshake's reply, acknowledgements)."""
+        self._powers = None  # only a command changes a motor's power or direction
         self._pending += data
         out = bytearray()
         if not self.shook_hands:
@@ -221,8 +223,10 @@ class Hub:
     def powers(self, motor_ports: int) -> tuple[tuple[int, ...], tuple[int, ...]]:
         """Each motor port's power (the program's direction) and set-up direction, for the physics side's
         `SensorModel.drive`, ports 0 .. motor_ports - 1."""
-        motors = [self.motors.get(p, _IDLE) for p in range(motor_ports)]  # at every answer: no Motor made
-        return tuple(m.power for m in motors), tuple(m.direction for m in motors)
+        if self._powers is None or len(self._powers[0]) != motor_ports:  # asked twice a stop: kept till a command
+            motors = [self.motors.get(p, _IDLE) for p in range(motor_ports)]
+            self._powers = tuple(m.power for m in motors), tuple(m.direction for m in motors)
+        return self._powers
 
     def status(self, s: Sensors, now_us: int) -> bytes:
         """The status frame raspike.c's notify task sends (802-809) from the readings `s` at `now_us`, then

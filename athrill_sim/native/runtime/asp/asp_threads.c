@@ -48,10 +48,10 @@ struct player {
     enum state state;
     pthread_t thread;
     struct hako_wait wait; /* what it waits for, while WAITING */
+    pthread_cond_t turn; /* signalled when the baton comes to it (zeroed: glibc's PTHREAD_COND_INITIALIZER) */
 };
 
 static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
-static pthread_cond_t turn = PTHREAD_COND_INITIALIZER; /* broadcast when the baton changes hands */
 static struct player players[PLAYERS_MAX] = {{.state = RUNNING}};
 static int player_count = 1; /* slots used, MAIN's among them */
 static int holder = MAIN;
@@ -176,7 +176,9 @@ static void hand_on(int from)
                 next = (from + i) % player_count;
         if (next >= 0) {
             holder = next;
-            hako_real()->pthread_cond_broadcast(&turn); /* the baton's own: no player waits on it */
+            /* the baton's own condition, to its one waiter: waking every player at each hand-off cost a
+             * futex round trip through qemu for each */
+            hako_real()->pthread_cond_signal(&players[next].turn);
             return;
         }
         if (hako_asp_move(next_move(), true))
@@ -187,7 +189,7 @@ static void hand_on(int from)
 static void await_turn(void)
 {
     while (holder != self)
-        hako_real()->pthread_cond_wait(&turn, &lock);
+        hako_real()->pthread_cond_wait(&players[self].turn, &lock);
 }
 
 /* SIGALRM, if owed, now that the main thread holds the baton and not the lock. */
