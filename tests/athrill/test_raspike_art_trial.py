@@ -147,6 +147,28 @@ def threads_trial(emulator: str) -> dict:
 
 
 @pytest.mark.slow
+def test_a_program_that_computes_without_a_call_moves_the_bench_and_ends_at_its_time_limit(tmp_path):
+    """tests/programs/raspike_spin waits for the force sensor in a busy loop (libraspike-art's reading is a load,
+    no call the bench sees), then drives and ends in `while (1) {}`. Its CPU time moves the bench
+    (asp/asp_spin.c): it sees the press when it comes, drives, and the test ends at its time limit, not as a
+    program that went silent."""
+    need_raspike_art()
+    scenario = tmp_path / "press.toml"
+    scenario.write_text('[[press]]\nsensor = "force"\nat_s = 2.5\nfor_s = 0.2\n')
+    run = tmp_path / "run"
+    r = hako("trial", "--app", str(PROGRAMS / "raspike_spin"), "--emulator", "raspike-art", "--robot", "hackspi",
+             "--course", "etrobocon-r", "--scenario", str(scenario), "--noise", "0", "--time-limit", "5", "--json",
+             "--run-dir", str(run))
+    assert r.returncode == 0, r.stderr
+    result = json.loads(r.stdout)
+    assert result["event"] == "TIME_OVER" and result["distance_m"] > 0.1, result
+    pressed = [line for line in (run / ATHRILL_LOG).read_text().splitlines() if line.startswith("pressed after")]
+    assert pressed, "the busy wait never saw the press"
+    spun_ms = int(pressed[0].split()[2])
+    assert 1350 <= spun_ms <= 1650, pressed  # from the end of its set-up (about 1.05 s) to the press at 2.5 s
+
+
+@pytest.mark.slow
 def test_a_team_program_with_its_own_threads_laps_under_asp_as_natively_and_the_same_twice():
     """team_spike_threads paces its control in a std::thread of its own, integrates the gyro in another and
     logs from a third through a condition variable, all started from its main task: under asp they take the

@@ -181,7 +181,7 @@ static bool reader_came_back(uint32_t seen)
     return false;
 }
 
-void hako_serial_drain(void)
+void hako_serial_release(void)
 {
     if (counts == NULL)
         return;
@@ -191,6 +191,13 @@ void hako_serial_drain(void)
         atomic_fetch_add(&releases, 1);
         hako_wall_wake((uint32_t *)&releases);
     }
+}
+
+void hako_serial_drain(void)
+{
+    if (counts == NULL)
+        return;
+    hako_serial_release();
     double limit = hako_wall_s() + DELIVERY_LIMIT_S;
     for (;;) {
         uint32_t seen = atomic_load(&idles);

@@ -52,7 +52,7 @@ struct player {
 };
 
 static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
-static struct player players[PLAYERS_MAX] = {{.state = RUNNING}};
+static struct player players[PLAYERS_MAX] = {{.state = RUNNING}}; /* MAIN's thread: hako_asp_players_start */
 static int player_count = 1; /* slots used, MAIN's among them */
 static int holder = MAIN;
 static bool tick_pending; /* the timer fell due: SIGALRM is owed to the main thread */
@@ -72,8 +72,18 @@ static struct signals signalled[SIGNALLED_MAX];
 void hako_asp_lock(void) { hako_real()->pthread_mutex_lock(&lock); }
 void hako_asp_unlock(void) { pthread_mutex_unlock(&lock); }
 
-void hako_asp_players_start(void) { self = MAIN; }
-void hako_asp_kernel_started(void) { kernel_started = true; }
+void hako_asp_players_start(void)
+{
+    self = MAIN;
+    players[MAIN].thread = pthread_self();
+}
+
+void hako_asp_kernel_started(void)
+{
+    if (!kernel_started)
+        hako_asp_spin_clock_start();
+    kernel_started = true;
+}
 bool hako_asp_player(void) { return self >= 0; }
 
 /* `cond`'s signals; its slot is taken at the first use. */
@@ -214,6 +224,7 @@ void hako_asp_wait(const struct hako_wait *w)
     await_turn();
     players[self].state = RUNNING;
     hako_asp_unlock();
+    hako_asp_slice_start();
     deliver_tick();
 }
 
@@ -224,7 +235,28 @@ void hako_asp_spent_step(bool fired)
     hand_on(self);
     await_turn();
     hako_asp_unlock();
+    hako_asp_slice_start();
     deliver_tick();
+}
+
+bool hako_asp_spun(int64_t spin_us)
+{
+    if (self >= 0 || pthread_mutex_trylock(&lock) != 0) /* a player here waits; the library is busy */
+        return false;
+    if (players[holder].state != RUNNING) {
+        hako_asp_unlock();
+        return false;
+    }
+    int64_t until = hako_tick() + spin_us, due = next_move();
+    /* no drain: the receiving thread may be the one here, and the spinner may hold the port's mutex */
+    tick_pending |= hako_asp_move(due < until ? due : until, false);
+    hako_serial_release();
+    bool tick = holder == MAIN && tick_pending;
+    tick_pending &= !tick;
+    hako_asp_unlock();
+    if (tick)
+        pthread_kill(players[MAIN].thread, SIGALRM);
+    return true;
 }
 
 /* -- the calls that start, end and wait for threads ------------------------------------------------------ */
@@ -243,6 +275,7 @@ static void *player_main(void *arg)
     hako_asp_lock();
     await_turn();
     hako_asp_unlock();
+    hako_asp_slice_start();
     void *result = start.entry(start.arg);
     hako_asp_lock();
     players[self].state = ENDED;
