@@ -22,7 +22,7 @@ from athrill_sim.raspike_art.build import CROSS_GCC, INSTALL_CROSS
 RUNTIME = Path(__file__).parent.parent / "native" / "runtime"
 # The runtime's files asp takes as they are; asp_time.c stands where kernel.c does for the native runtime.
 SHARED_SOURCES = ("sim_time.c", "lockstep.c", "mapped_files.c", "real.c", "lines.c", "posix_time.c")
-ASP_SOURCES = ("asp_time.c", "asp_threads.c", "asp_serial.c")
+ASP_SOURCES = ("asp_time.c", "asp_threads.c", "asp_serial.c", "asp_spin.c")
 EXPORTS = RUNTIME / "asp" / "exports.map"
 LIBRARY = "libhakotime.so"
 RUN_DIR_ENV = "HAKO_RUN_DIR"  # asp_time.c: the run directory, and the test it waits for (asp's argv is asp's)

@@ -13,6 +13,7 @@ never a result of the parameters under test.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 
 from hakoniwa.physics.raspike_hub import Hub, HubFault, PtyHub, SerialCounts
@@ -38,10 +39,12 @@ class HubRelay(MappedFiles):
         self.run_dir = run_dir
         self.kinds = kinds
         self._link: tuple[PtyHub, SerialCounts] | None = None  # this test's hub and the run's byte counts
+        self._relayed: tuple[tuple[int, ...], tuple[int, ...]] | None = None  # the motors as last written to TX
 
     def launching(self) -> None:
         """A fresh hub on a fresh pty for this test's asp, and both byte counts at zero."""
         self.ended()
+        self._relayed = None
         try:
             pty = PtyHub(Hub(self.kinds))
             self._link = pty, SerialCounts(self.run_dir)
@@ -51,11 +54,13 @@ class HubRelay(MappedFiles):
         except OSError as e:
             raise OSError(f"cannot play the SPIKE hub on a pseudo-terminal: {e}") from e
 
-    def publishing(self, readings: Sensors, now_us: int) -> None:
+    reads_files = False
+
+    def publishing(self, read: Callable[[], Sensors], now_us: int) -> None:
         if self._link is None:
             return
         pty, counts = self._link
-        counts.publish(self._exchange(pty, counts, readings, now_us), pty.next_status_us)
+        counts.publish(self._exchange(pty, counts, read, now_us), pty.next_status_us)
         if not pty.hub.shook_hands and now_us >= HANDSHAKE_BY_US:
             raise AthrillCrash(CrashKind.BENCH, 0, f"the program did not open the hub's serial port in "
                                f"{HANDSHAKE_BY_US // US_PER_S} s of simulated time", BenchCause.HUB_FAILED)
@@ -64,15 +69,18 @@ class HubRelay(MappedFiles):
         if self._link is not None:
             self._exchange(*self._link, None, now_us)  # its count goes out with the next snapshot
 
-    def _exchange(self, pty: PtyHub, counts: SerialCounts, readings: Sensors | None, now_us: int) -> int:
+    def _exchange(self, pty: PtyHub, counts: SerialCounts, read: Callable[[], Sensors] | None, now_us: int) -> int:
         """The hub takes in what asp counted as sent and answers it (`PtyHub.exchange`), and what it was asked
         of the motors goes where the loop takes commands from; the bytes the hub has sent. A link it cannot
         keep ends the test as the bench's fault."""
         try:
-            sent = pty.exchange(readings, now_us, counts.program_sent)
+            sent = pty.exchange(read, now_us, counts.program_sent)
         except HubFault as e:
             raise AthrillCrash(CrashKind.BENCH, 0, str(e), BenchCause.HUB_FAILED) from None
-        self.slots.relay_commands(*pty.hub.powers(MOTOR_PORTS))
+        motors = pty.hub.powers(MOTOR_PORTS)
+        if motors != self._relayed:  # twice a stop: written only when they change
+            self.slots.relay_commands(*motors)
+            self._relayed = motors
         return sent
 
     def ended(self) -> None:

@@ -30,6 +30,7 @@ import select
 import struct
 import time
 from collections import deque
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -101,6 +102,9 @@ class Motor:
         default_factory=lambda: deque(maxlen=spike_hub.STALL_TIME_US // RASPIKE_STATUS_PERIOD_US + 1))
 
 
+_IDLE = Motor()  # a port without a motor, as `Hub.powers` reports it: never changed
+
+
 def hub_kinds(wiring: Wiring, robot: Robot) -> dict[int, int]:
     """What is plugged into each port of `robot`'s hub: its wheels' motors (on `wiring`'s ports) and its
     sensors."""
@@ -124,9 +128,11 @@ class Hub:
         self.shook_hands = False
         self.shut_down = False
         self._pending = bytearray()
+        self._powers: tuple[tuple[int, ...], tuple[int, ...]] | None = None  # `powers`, until a command comes
 
     def feed(self, data: bytes) -> bytes:
         """The hub's answers to what the Pi sent (the handshake's reply, acknowledgements)."""
+        self._powers = None  # only a command changes a motor's power or direction
         self._pending += data
         out = bytearray()
         if not self.shook_hands:
@@ -217,8 +223,10 @@ class Hub:
     def powers(self, motor_ports: int) -> tuple[tuple[int, ...], tuple[int, ...]]:
         """Each motor port's power (the program's direction) and set-up direction, for the physics side's
         `SensorModel.drive`, ports 0 .. motor_ports - 1."""
-        motors = [self.motors.get(p, Motor()) for p in range(motor_ports)]
-        return tuple(m.power for m in motors), tuple(m.direction for m in motors)
+        if self._powers is None or len(self._powers[0]) != motor_ports:  # asked twice a stop: kept till a command
+            motors = [self.motors.get(p, _IDLE) for p in range(motor_ports)]
+            self._powers = tuple(m.power for m in motors), tuple(m.direction for m in motors)
+        return self._powers
 
     def status(self, s: Sensors, now_us: int) -> bytes:
         """The status frame raspike.c's notify task sends (802-809) from the readings `s` at `now_us`, then
@@ -309,9 +317,9 @@ class PtyHub:
                 os.close(fd)
         self._slave = None
 
-    def pump(self, readings: Sensors | None, now_us: int) -> None:
-        """Answer what the program sent; at each multiple of 10 ms after the handshake, send a status of
-        `readings` (raspike.c starts its notify cycle once the handshake is done, 905)."""
+    def pump(self, read: Callable[[], Sensors] | None, now_us: int) -> None:
+        """Answer what the program sent; at each multiple of 10 ms after the handshake, send a status of the
+        readings `read()` takes then (raspike.c starts its notify cycle once the handshake is done, 905)."""
         try:
             while True:
                 data = os.read(self.master, 4096)
@@ -322,9 +330,9 @@ class PtyHub:
             pass
         except OSError as e:  # EIO: every copy of the program's end is closed
             raise HubFault(f"the program's serial port closed ({e.strerror})") from None
-        self._after(readings, now_us)
+        self._after(read, now_us)
 
-    def exchange(self, readings: Sensors | None, now_us: int, program_sent: int) -> int:
+    def exchange(self, read: Callable[[], Sensors] | None, now_us: int, program_sent: int) -> int:
         """`pump` in the lockstep, between two steps: read exactly the bytes the program says it sent so far
         (`program_sent`, asp_serial.c's count), answer them, send the status when due; the count of bytes the
         hub has sent, which the program waits for before its tasks run at the step."""
@@ -338,7 +346,7 @@ class PtyHub:
                 continue
             except OSError as e:
                 raise HubFault(f"the program's serial port closed ({e.strerror})") from None
-        self._after(readings, now_us)
+        self._after(read, now_us)
         return self.sent
 
     @property
@@ -350,12 +358,12 @@ class PtyHub:
         self.received += len(data)
         self._write(self.hub.feed(data))
 
-    def _after(self, readings: Sensors | None, now_us: int) -> None:
+    def _after(self, read: Callable[[], Sensors] | None, now_us: int) -> None:
         if self.hub.shook_hands and self._slave is not None:  # the program has its end open: ours may go, so
             os.close(self._slave)  # that its closing reads as EIO here
             self._slave = None
-        if self.hub.shook_hands and readings is not None and now_us >= self._next_status_us:
-            self._write(self.hub.status(readings, now_us))
+        if self.hub.shook_hands and read is not None and now_us >= self._next_status_us:
+            self._write(self.hub.status(read(), now_us))
             self._next_status_us = (now_us // RASPIKE_STATUS_PERIOD_US + 1) * RASPIKE_STATUS_PERIOD_US
 
     def _write(self, data: bytes) -> None:

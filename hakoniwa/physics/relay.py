@@ -33,12 +33,16 @@ RESEND_S = 0.02  # after that: the RX packet again when Athrill has been silent 
 
 
 class Transport(Protocol):
+    reads_files: bool
+    """Whether the program reads its sensors from `unity_mmap.bin` (Athrill does; RasPike-ART's asp hears the
+    hub instead)."""
+
     def launching(self) -> None:
         """Just before this test's Athrill starts; OSError if it cannot (the bench's fault)."""
 
-    def publishing(self, readings: Sensors, now_us: int) -> None:
-        """The loop is about to publish the snapshot `readings` of `now_us`: a device the physics side plays
-        answers first (`hub_relay.HubRelay`)."""
+    def publishing(self, read: Callable[[], Sensors], now_us: int) -> None:
+        """The loop is about to publish the snapshot of `now_us`, whose readings `read()` takes: a device the
+        physics side plays answers first (`hub_relay.HubRelay`), and reads them only when it sends them."""
 
     def published(self) -> None:
         """The loop has published a snapshot and its unity time into `unity_mmap.bin`."""
@@ -62,10 +66,12 @@ class Transport(Protocol):
 class MappedFiles:
     """The mmap transport: Athrill reads and writes the files themselves; there is nothing to relay."""
 
+    reads_files = True
+
     def launching(self) -> None:
         pass
 
-    def publishing(self, readings: Sensors, now_us: int) -> None:
+    def publishing(self, read: Callable[[], Sensors], now_us: int) -> None:
         pass
 
     def published(self) -> None:
@@ -93,6 +99,8 @@ class UdpRelay:
     test runs, so benches that never test at the same time (a campaign's worker and the bench that draws its
     best set) can share them."""
 
+    reads_files = True
+
     def __init__(self, link: UdpLink, slots: Slots, run_dir: Path, log: Callable[[str], None]) -> None:
         self.link = link
         self.slots = slots
@@ -119,7 +127,7 @@ class UdpRelay:
         self._heard = False
         self._dropped = 0
 
-    def publishing(self, readings: Sensors, now_us: int) -> None:
+    def publishing(self, read: Callable[[], Sensors], now_us: int) -> None:
         pass
 
     def answered(self, now_us: int) -> None:

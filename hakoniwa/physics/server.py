@@ -40,6 +40,7 @@ from hakoniwa.physics.relay import MappedFiles, Transport, UdpRelay
 from hakoniwa.physics.replay import REPLAY_FILE, write_replay
 from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
 from hakoniwa.physics.scenario import Scenario
+from hakoniwa.physics.sensors import Sensors
 from hakoniwa.physics.slots import Slots
 from hakoniwa.physics.sync import SYNC_LOOPS, AthrillCrash, snapshot_end_us, unity_time_us
 from hakoniwa.physics.tasks import TASKS
@@ -120,10 +121,20 @@ class PhysicsServer:
         self._max_diff_us = max(self._max_diff_us, abs(diff_us))
 
     def publish_sensors(self) -> None:
+        """The snapshot of now. Its readings are taken once, and only where something reads them (Athrill, from
+        the files; a hub the physics side plays, in its status): a reading costs more than a step, and draws
+        its noise."""
         now = self.env.now_us
-        readings = self.env.read_sensors()
-        self.transport.publishing(readings, now)
-        self.slots.publish(readings, unity_time_us(self.launcher.sync, now), snapshot_end_us(now))
+        taken: list[Sensors] = []
+
+        def read() -> Sensors:
+            if not taken:
+                taken.append(self.env.read_sensors())
+            return taken[0]
+
+        self.transport.publishing(read, now)
+        self.slots.publish(read() if self.transport.reads_files else None, unity_time_us(self.launcher.sync, now),
+                           snapshot_end_us(now))
         self.transport.published()
 
     def apply_actuators(self) -> None:

@@ -95,9 +95,18 @@ class Slots:
     def announce(self, seq: int) -> None:
         self.unity.write_u32(Rx.TEST_SEQ, seq)  # last: a waiting Athrill starts when it sees its number
 
-    def publish(self, s: Sensors, unity_time_us: int, snapshot_end_us: int) -> None:
-        """The sensor snapshot, then the instant it holds until and the unity time (last: a reader that sees
-        the new times sees the values they belong to), and a wake-up for an Athrill sleeping on the latter."""
+    def publish(self, s: Sensors | None, unity_time_us: int, snapshot_end_us: int) -> None:
+        """The sensor snapshot (none for a program that does not read it from the file), then the instant it
+        holds until and the unity time (last: a reader that sees the new times sees the values they belong
+        to), and a wake-up for an Athrill sleeping on the latter."""
+        u = self.unity
+        if s is not None:
+            self._write_readings(s)
+        u.snapshot_end_us = snapshot_end_us
+        u.unity_time_us = unity_time_us
+        futex_wake(self._unity_time_address)
+
+    def _write_readings(self, s: Sensors) -> None:
         u = self.unity
         # BUTTONS, COLOR0_AMBIENT .. COLOR0_RGB and GYRO_ANGLE, GYRO_RATE are one run of words: one write.
         u.write_i32s(Rx.BUTTONS, [s.buttons, s.ambient, int(s.color), s.reflect, *s.rgb, s.gyro_angle_deg,
@@ -115,9 +124,6 @@ class Slots:
                 u.write_f32(offset, value)
         if s.spike is not None:  # what the hub answers: the SDK's HSV slots, then ours after them, in one run
             u.write_i32s(Rx.SPIKE_HSV_H, [*s.spike.hsv, *s.spike.ambient_hsv, *s.spike.color, *s.spike.powers])
-        u.snapshot_end_us = snapshot_end_us
-        u.unity_time_us = unity_time_us
-        futex_wake(self._unity_time_address)
 
     def take_commands(self) -> Commands:
         """Motor powers, and the reset requests, which are cleared once taken (EV3RT never clears them)."""

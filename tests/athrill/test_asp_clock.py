@@ -7,6 +7,7 @@ from __future__ import annotations
 import shutil
 import subprocess
 import time
+from functools import partial
 from pathlib import Path
 
 import pytest
@@ -141,7 +142,7 @@ def run_sample(asp: Path, library: Path, folder: Path) -> tuple[list[int], int |
                 pressed_at = wakes[-1] + 500_000  # the program waits on the force sensor: press it later
             now = wakes[-1]
             pressed = pressed_at is not None and now >= pressed_at
-            counts.publish(hub.exchange(readings(hub.hub, pressed=pressed), now, counts.program_sent),
+            counts.publish(hub.exchange(partial(readings, hub.hub, pressed=pressed), now, counts.program_sent),
                            hub.next_status_us)
             physics.answer(now)
             if hub.hub.powers(4)[0] != (0, 0, 0, 0):
@@ -206,8 +207,9 @@ def test_threads_a_task_starts_run_one_at_a_time_on_the_bench_clock(probe: tuple
     lines, wakes = run_threads_probe(library, exe, tmp_path / "first")
     assert lines == ["A 3000", "A 6000", "B 7000", "A 9000", "A 12000", "B 14000", "A 15000", "A 18000", "B 21000",
                      "C 21000", "A 21000", "joined 21000"]
-    # while C waits for a signal the bench moves a step at a time: with no hub on a port (asp_serial.c), what
-    # asp's receiving thread might signal could come at any step; once C is joined, the main thread's sleep
-    # goes straight to its end
-    assert wakes == [*range(1000, 22_000, 1000), 1_000_021_000]
+    # while C waits for a signal nothing has given yet the bench moves a step at a time: with no hub on a port
+    # (asp_serial.c), asp's receiving thread might give it at any step; once B, a player, has signalled it
+    # (7 ms), only a player can wake C, and the bench goes straight to the next sleep's end; once C is joined,
+    # the main thread's sleep goes straight to its end
+    assert wakes == [*range(1000, 8000, 1000), 9000, 12_000, 14_000, 15_000, 18_000, 21_000, 1_000_021_000]
     assert run_threads_probe(library, exe, tmp_path / "second") == (lines, wakes)

@@ -64,9 +64,9 @@ def test_a_program_that_never_opens_the_port_is_the_benchs_fault(tmp_path):
     try:
         assert link._link is not None
         hub = link._link[0]
-        link.publishing(readings(hub.hub), HANDSHAKE_BY_US - 1)  # still time
+        link.publishing(lambda: readings(hub.hub), HANDSHAKE_BY_US - 1)  # still time
         with pytest.raises(AthrillCrash) as e:
-            link.publishing(readings(hub.hub), HANDSHAKE_BY_US)
+            link.publishing(lambda: readings(hub.hub), HANDSHAKE_BY_US)
     finally:
         link.close()
     assert (e.value.kind, e.value.cause) == (CrashKind.BENCH, BenchCause.HUB_FAILED)
@@ -89,6 +89,33 @@ def test_a_malformed_frame_is_the_benchs_fault_in_one_line(tmp_path):
         link.close()
     assert (e.value.kind, e.value.cause) == (CrashKind.BENCH, BenchCause.HUB_FAILED)
     assert "\n" not in str(e.value)
+
+
+def test_the_hub_takes_readings_only_for_its_status(tmp_path):
+    """A reading costs more than a step and draws its noise, and asp reads none from the files: the hub takes
+    one for each status it sends (the first snapshot after the handshake, then every 10 ms), none else."""
+    link = relay(tmp_path)
+    program = os.open(os.readlink(tmp_path / RASPIKE_PORT), os.O_RDWR | os.O_NOCTTY)  # asp's end
+    assert link._link is not None
+    hub, counts = link._link
+    taken: list[int] = []
+
+    def read(now_us: int):
+        taken.append(now_us)
+        return readings(hub.hub)
+
+    try:
+        link.publishing(lambda: read(0), 0)  # no handshake yet: no status
+        handshake = b"\xae\xce"
+        os.write(program, handshake)
+        counts._map[8:16] = len(handshake).to_bytes(8, "little")  # what asp_serial.c counts as sent
+        for now in range(1000, 21_000, 1000):
+            link.publishing(lambda: read(now), now)  # noqa: B023 (called at once)
+            link.answered(now)
+    finally:
+        os.close(program)
+        link.close()
+    assert taken == [1000, 10_000, 20_000]
 
 
 def trial(course: str, emulator: str) -> dict:
@@ -117,6 +144,28 @@ def threads_trial(emulator: str) -> dict:
              "--course", "etrobocon-r", "--scenario", str(FORCE_START), "--noise", "0", "--json")
     assert r.returncode == 0, r.stderr
     return json.loads(r.stdout)
+
+
+@pytest.mark.slow
+def test_a_program_that_computes_without_a_call_moves_the_bench_and_ends_at_its_time_limit(tmp_path):
+    """tests/programs/raspike_spin waits for the force sensor in a busy loop (libraspike-art's reading is a load,
+    no call the bench sees), then drives and ends in `while (1) {}`. Its CPU time moves the bench
+    (asp/asp_spin.c): it sees the press when it comes, drives, and the test ends at its time limit, not as a
+    program that went silent."""
+    need_raspike_art()
+    scenario = tmp_path / "press.toml"
+    scenario.write_text('[[press]]\nsensor = "force"\nat_s = 2.5\nfor_s = 0.2\n')
+    run = tmp_path / "run"
+    r = hako("trial", "--app", str(PROGRAMS / "raspike_spin"), "--emulator", "raspike-art", "--robot", "hackspi",
+             "--course", "etrobocon-r", "--scenario", str(scenario), "--noise", "0", "--time-limit", "5", "--json",
+             "--run-dir", str(run))
+    assert r.returncode == 0, r.stderr
+    result = json.loads(r.stdout)
+    assert result["event"] == "TIME_OVER" and result["distance_m"] > 0.1, result
+    pressed = [line for line in (run / ATHRILL_LOG).read_text().splitlines() if line.startswith("pressed after")]
+    assert pressed, "the busy wait never saw the press"
+    spun_ms = int(pressed[0].split()[2])
+    assert 1350 <= spun_ms <= 1650, pressed  # from the end of its set-up (about 1.05 s) to the press at 2.5 s
 
 
 @pytest.mark.slow

@@ -12,6 +12,7 @@ import struct
 import subprocess
 import time
 from collections import deque
+from functools import partial
 from pathlib import Path
 
 import pytest
@@ -215,7 +216,7 @@ def run_against_the_hub(program: Path, pressed: bool = True) -> tuple[int, str]:
     try:
         while proc.poll() is None and time.monotonic() - start < 20:
             try:
-                hub.pump(readings(hub.hub, pressed), int((time.monotonic() - start) * 1e6))
+                hub.pump(partial(readings, hub.hub, pressed), int((time.monotonic() - start) * 1e6))
             except HubFault:  # the probe closed its port: it is done
                 break
             select.select([hub.master], [], [], 0.001)
@@ -271,7 +272,7 @@ def test_in_the_lockstep_the_hub_takes_exactly_what_the_program_counted_and_coun
         with (tmp_path / rundir.RASPIKE_SERIAL).open("r+b") as f:  # as asp's write does
             f.seek(rundir.RASPIKE_PROGRAM_SENT)
             f.write(struct.pack("<Q", 2))
-        sent = hub.exchange(readings(hub.hub), 0, counts.program_sent)
+        sent = hub.exchange(lambda: readings(hub.hub), 0, counts.program_sent)
         assert sent == 5 + 4 + 128  # the version (raspike.c 858-890), then the first status
         counts.publish(sent, hub.next_status_us)
         raw = (tmp_path / rundir.RASPIKE_SERIAL).read_bytes()
@@ -281,7 +282,7 @@ def test_in_the_lockstep_the_hub_takes_exactly_what_the_program_counted_and_coun
         while len(got) < sent:
             got += os.read(fd, sent - len(got))
         assert got[:5] == bytes([0xAE, 0xCE, 0, 0, 6]) and got[5] == 0xEA
-        assert hub.exchange(readings(hub.hub), 1_000, 2) == sent  # nothing new, no status due: nothing sent
+        assert hub.exchange(lambda: readings(hub.hub), 1_000, 2) == sent  # nothing new, no status due: nothing sent
     finally:
         os.close(fd)
         counts.close()
@@ -335,7 +336,7 @@ def test_raspike_arts_own_sample_in_its_asp_under_qemu_drives_the_hub(tmp_path):
             now = time.monotonic() - start
             if pressed_at is None and hub.hub.ports[3].configured:
                 pressed_at = now + 0.5  # the program waits on the force sensor: press it a little later
-            hub.pump(readings(hub.hub, pressed=pressed_at is not None and now >= pressed_at), int(now * 1e6))
+            hub.pump(partial(readings, hub.hub, pressed=pressed_at is not None and now >= pressed_at), int(now * 1e6))
             if hub.hub.powers(4)[0] != (0, 0, 0, 0):
                 break
             select.select([hub.master], [], [], 0.001)

@@ -20,6 +20,10 @@ void hako_asp_step_undrained(void);
  * before any task runs at that step. Nothing to wait for before asp opens the port. */
 void hako_serial_drain(void);
 
+/* What the hub has sent, released to the receiving thread without waiting for it to take it in: for a spinning
+ * player, which makes no call where a drain could wait. */
+void hako_serial_release(void);
+
 /* The bench moves on: what asp has sent so far goes with its answer, and the hub answers it at the next step. */
 void hako_serial_published(void);
 
@@ -82,5 +86,19 @@ void hako_asp_wait(const struct hako_wait *w);
 /* The calling player has spent a whole step, whose move `fired` the kernel's timer or not: the baton goes on to
  * the next player that may run, the caller after them. */
 void hako_asp_spent_step(bool fired);
+
+/* In a signal handler, in a thread that is not a player: the baton's holder has computed a slice without a call.
+ * If it is not waiting and the baton's lock is free, the bench moves by up to `spin_us` (no further than a
+ * waiting player's or the kernel's timer's next time), the hub's bytes are released to the receiving thread,
+ * and the kernel's tick, if it fell due, goes to the main thread if it holds the baton. Whether it moved. */
+bool hako_asp_spun(int64_t spin_us);
+
+/* -- asp_spin.c: the CPU clock that preempts a spinning player ------------------------------------------ */
+
+/* Asp's kernel has started: from now on a player computing for a slice without a call is preempted. */
+void hako_asp_spin_clock_start(void);
+
+/* The calling player has taken the baton: its slice of CPU time starts now. */
+void hako_asp_slice_start(void);
 
 #endif /* HAKO_ASP_H */

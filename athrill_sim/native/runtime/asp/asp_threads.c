@@ -9,8 +9,8 @@
  * bench (asp_time.c) and puts the player after the others that may run, as the native kernel preempts a task
  * there. It goes to the next player (in the order they were started) that may run; the kernel's tick comes
  * first, as an interrupt would. When none may run, the one that would hand it on moves the bench to the
- * earliest time any of them waits for (at most a step while one waits for a signal: asp's receiving thread
- * signals what the hub sent at any step, when the bench moves and takes its bytes in), and looks again.
+ * earliest time any of them waits for (no further than the hub's next sending while one waits for a signal
+ * that asp's receiving thread may give, when the bench moves and takes the hub's bytes in), and looks again.
  *
  * asp's receiving thread (RasPike-ART's vdev thread, started by a constructor before asp's kernel) is not a
  * player: it runs in wall time, only while the bench moves (asp_serial.c), so what it does is part of a move.
@@ -48,43 +48,73 @@ struct player {
     enum state state;
     pthread_t thread;
     struct hako_wait wait; /* what it waits for, while WAITING */
+    pthread_cond_t turn; /* signalled when the baton comes to it (zeroed: glibc's PTHREAD_COND_INITIALIZER) */
 };
 
 static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
-static pthread_cond_t turn = PTHREAD_COND_INITIALIZER; /* broadcast when the baton changes hands */
-static struct player players[PLAYERS_MAX] = {{.state = RUNNING}};
+static struct player players[PLAYERS_MAX] = {{.state = RUNNING}}; /* MAIN's thread: hako_asp_players_start */
 static int player_count = 1; /* slots used, MAIN's among them */
 static int holder = MAIN;
 static bool tick_pending; /* the timer fell due: SIGALRM is owed to the main thread */
 static bool kernel_started;
 static __thread int self = -1; /* the calling thread's slot; -1: not a player */
 
-static struct {
+/* Each condition's signals, and who has signalled it: a condition only players signal cannot be signalled
+ * during a move, so a wait for it does not hold moves to the hub's sendings. */
+struct signals {
     _Atomic(const void *) cond;
     _Atomic uint64_t count;
-} signalled[SIGNALLED_MAX];
+    atomic_bool by_player;
+    atomic_bool by_other; /* by a thread that is not a player: asp's receiving thread, within a move */
+};
+static struct signals signalled[SIGNALLED_MAX];
 
 void hako_asp_lock(void) { hako_real()->pthread_mutex_lock(&lock); }
 void hako_asp_unlock(void) { pthread_mutex_unlock(&lock); }
 
-void hako_asp_players_start(void) { self = MAIN; }
-void hako_asp_kernel_started(void) { kernel_started = true; }
+void hako_asp_players_start(void)
+{
+    self = MAIN;
+    players[MAIN].thread = pthread_self();
+}
+
+void hako_asp_kernel_started(void)
+{
+    if (!kernel_started)
+        hako_asp_spin_clock_start();
+    kernel_started = true;
+}
 bool hako_asp_player(void) { return self >= 0; }
 
-/* The count of `cond`'s signals; its slot is taken at the first use. */
-static _Atomic uint64_t *signals_of(const void *cond)
+/* `cond`'s signals; its slot is taken at the first use. */
+static struct signals *signals_of(const void *cond)
 {
     size_t start = ((uintptr_t)cond >> 3) % SIGNALLED_MAX;
     for (size_t i = 0; i < SIGNALLED_MAX; i++) {
         size_t k = (start + i) % SIGNALLED_MAX;
         const void *found = NULL;
         if (atomic_compare_exchange_strong(&signalled[k].cond, &found, cond) || found == cond)
-            return &signalled[k].count;
+            return &signalled[k];
     }
     hako_bench_fault("asp signals more than %d condition variables", SIGNALLED_MAX);
 }
 
-uint64_t hako_asp_signals(const void *cond) { return atomic_load(signals_of(cond)); }
+uint64_t hako_asp_signals(const void *cond) { return atomic_load(&signals_of(cond)->count); }
+
+static void count_signal(const void *cond)
+{
+    struct signals *it = signals_of(cond);
+    atomic_store(self >= 0 ? &it->by_player : &it->by_other, true);
+    atomic_fetch_add(&it->count, 1);
+}
+
+/* Whether only players have signalled `cond`, as far as the program has run: a condition nothing has signalled
+ * yet may be the receiving thread's. */
+static bool players_signal(const void *cond)
+{
+    const struct signals *it = signals_of(cond);
+    return atomic_load(&it->by_player) && !atomic_load(&it->by_other);
+}
 
 static bool mutex_free(const pthread_mutex_t *m) { return __atomic_load_n(&m->__data.__lock, __ATOMIC_ACQUIRE) == 0; }
 
@@ -116,7 +146,7 @@ static bool may_run(int p)
 
 /* The time the bench moves to when no player may run: the earliest any waits for, and the kernel's timer. A
  * wait for a signal goes no further than the next time the hub may send (the receiving thread signals what it
- * brings). */
+ * brings), unless only players signal that condition. */
 static int64_t next_move(void)
 {
     int64_t step = hako_tick() + HAKO_PHYSICS_STEP_US, until = hako_asp_timer_due();
@@ -131,7 +161,7 @@ static int64_t next_move(void)
             due = hako_whole_steps(w->due);
             break;
         case HAKO_WAIT_SIGNAL:
-            due = w->due < hub_sends ? w->due : hub_sends;
+            due = w->due < hub_sends || players_signal(w->object) ? w->due : hub_sends;
             break;
         case HAKO_WAIT_MUTEX: /* held by the receiving thread, which lets go within a move */
             due = step;
@@ -156,7 +186,9 @@ static void hand_on(int from)
                 next = (from + i) % player_count;
         if (next >= 0) {
             holder = next;
-            hako_real()->pthread_cond_broadcast(&turn); /* the baton's own: no player waits on it */
+            /* the baton's own condition, to its one waiter: waking every player at each hand-off cost a
+             * futex round trip through qemu for each */
+            hako_real()->pthread_cond_signal(&players[next].turn);
             return;
         }
         if (hako_asp_move(next_move(), true))
@@ -167,7 +199,7 @@ static void hand_on(int from)
 static void await_turn(void)
 {
     while (holder != self)
-        hako_real()->pthread_cond_wait(&turn, &lock);
+        hako_real()->pthread_cond_wait(&players[self].turn, &lock);
 }
 
 /* SIGALRM, if owed, now that the main thread holds the baton and not the lock. */
@@ -192,6 +224,7 @@ void hako_asp_wait(const struct hako_wait *w)
     await_turn();
     players[self].state = RUNNING;
     hako_asp_unlock();
+    hako_asp_slice_start();
     deliver_tick();
 }
 
@@ -202,7 +235,28 @@ void hako_asp_spent_step(bool fired)
     hand_on(self);
     await_turn();
     hako_asp_unlock();
+    hako_asp_slice_start();
     deliver_tick();
+}
+
+bool hako_asp_spun(int64_t spin_us)
+{
+    if (self >= 0 || pthread_mutex_trylock(&lock) != 0) /* a player here waits; the library is busy */
+        return false;
+    if (players[holder].state != RUNNING) {
+        hako_asp_unlock();
+        return false;
+    }
+    int64_t until = hako_tick() + spin_us, due = next_move();
+    /* no drain: the receiving thread may be the one here, and the spinner may hold the port's mutex */
+    tick_pending |= hako_asp_move(due < until ? due : until, false);
+    hako_serial_release();
+    bool tick = holder == MAIN && tick_pending;
+    tick_pending &= !tick;
+    hako_asp_unlock();
+    if (tick)
+        pthread_kill(players[MAIN].thread, SIGALRM);
+    return true;
 }
 
 /* -- the calls that start, end and wait for threads ------------------------------------------------------ */
@@ -221,6 +275,7 @@ static void *player_main(void *arg)
     hako_asp_lock();
     await_turn();
     hako_asp_unlock();
+    hako_asp_slice_start();
     void *result = start.entry(start.arg);
     hako_asp_lock();
     players[self].state = ENDED;
@@ -302,12 +357,12 @@ int pthread_mutex_lock(pthread_mutex_t *m)
 
 int pthread_cond_signal(pthread_cond_t *cond)
 {
-    atomic_fetch_add(signals_of(cond), 1);
+    count_signal(cond);
     return hako_real()->pthread_cond_signal(cond);
 }
 
 int pthread_cond_broadcast(pthread_cond_t *cond)
 {
-    atomic_fetch_add(signals_of(cond), 1);
+    count_signal(cond);
     return hako_real()->pthread_cond_broadcast(cond);
 }

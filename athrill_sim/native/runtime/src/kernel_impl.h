@@ -27,7 +27,6 @@
 #define HAKO_MIN_STACK (256 * 1024) /* host code (printf, libm) needs more than a v850 task's 4 KiB */
 #define HAKO_THREAD_STACK (8 * 1024 * 1024) /* a thread's stack unless it asks for more: glibc's default */
 #define HAKO_SPIN_SLICE_US 2000 /* CPU time since its dispatch after which a computing task is preempted */
-#define HAKO_SPIN_TIME_US 10000 /* the simulated time a preempted spin is taken to have used */
 
 enum task_state { DORMANT, READY, RUNNING, WAITING, ENDED };
 enum wait_kind { WAIT_SLEEP, WAIT_DELAY, WAIT_OBJECT }; /* slp_tsk / tslp_tsk (wup_tsk ends it), dly_tsk, a thread's */

@@ -15,11 +15,8 @@
  * next test already runs. Past HAKO_AFTER_INTERRUPT_US of simulated time it leaves.
  */
 #include <errno.h>
-#include <limits.h>
-#include <linux/futex.h>
 #include <signal.h>
 #include <string.h>
-#include <sys/syscall.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -35,15 +32,6 @@ static int64_t detached_until = -1; /* the simulated time it leaves at, set at i
 void hako_lockstep_detach(void) { detached = 1; }
 
 bool hako_lockstep_detached(void) { return detached != 0; }
-
-static void futex_wake(uint32_t *word) { hako_real()->syscall(SYS_futex, word, FUTEX_WAKE, INT_MAX, NULL, NULL, 0); }
-
-/* Sleep while *word still holds `expected`, at most `seconds` (the kernel compares before it sleeps). */
-static void futex_wait(uint32_t *word, uint32_t expected, double seconds)
-{
-    struct timespec ts = {(time_t)seconds, (long)((seconds - (double)(time_t)seconds) * 1e9)};
-    hako_real()->syscall(SYS_futex, word, FUTEX_WAIT, expected, &ts, NULL, 0);
-}
 
 static void check_physics(void)
 {
@@ -83,7 +71,7 @@ void hako_publish(int64_t now_us, int64_t wake_us)
     memcpy(tx + HAKO_HDR_UNITY_TIME, &unity_time, sizeof unity_time);
     uint32_t *answer = (uint32_t *)(tx + HAKO_HEADER_SIZE + HAKO_TX_ANSWER_SEQ);
     __atomic_store_n(answer, *answer + 1, __ATOMIC_RELEASE); /* last: the physics process acts on it */
-    futex_wake(answer);
+    hako_wall_wake(answer);
 }
 
 static void go_on_detached(int64_t wake_us)
@@ -103,7 +91,7 @@ void hako_wait_snapshot(int64_t wake_us)
         uint32_t expected = __atomic_load_n(low_word, __ATOMIC_ACQUIRE);
         if ((int64_t)hako_rx_unity_time() >= wake_us)
             break;
-        futex_wait(low_word, expected, HAKO_CHECK_EVERY_S);
+        hako_wall_wait(low_word, expected, HAKO_CHECK_EVERY_S);
         double now = hako_wall_s();
         if (now > next_check) {
             next_check = now + HAKO_CHECK_EVERY_S;

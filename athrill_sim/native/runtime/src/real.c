@@ -3,7 +3,10 @@
  */
 #define _GNU_SOURCE
 #include <dlfcn.h>
+#include <limits.h>
+#include <linux/futex.h>
 #include <stdlib.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
 #include "real.h"
@@ -45,3 +48,11 @@ void hako_wall_nap(double seconds)
     struct timespec ts = {(time_t)seconds, (long)((seconds - (double)(time_t)seconds) * 1e9)};
     hako_real()->nanosleep(&ts, NULL);
 }
+
+void hako_wall_wait(uint32_t *word, uint32_t expected, double seconds)
+{
+    struct timespec ts = {(time_t)seconds, (long)((seconds - (double)(time_t)seconds) * 1e9)};
+    hako_real()->syscall(SYS_futex, word, FUTEX_WAIT, expected, &ts, NULL, 0);
+}
+
+void hako_wall_wake(uint32_t *word) { hako_real()->syscall(SYS_futex, word, FUTEX_WAKE, INT_MAX, NULL, NULL, 0); }

@@ -10,6 +10,7 @@
 #include <poll.h>
 #include <pthread.h>
 #include <signal.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <sys/epoll.h>
 #include <sys/select.h>
@@ -59,5 +60,9 @@ const struct hako_real *hako_real(void);
 /* Wall time, for the runtime's own waits [s]. */
 double hako_wall_s(void);
 void hako_wall_nap(double seconds);
+/* A futex: sleep while *word still holds `expected`, at most `seconds` (the kernel compares before it sleeps);
+ * and wake every sleeper on `word`, once it has changed. It works across processes on a shared file mapping. */
+void hako_wall_wait(uint32_t *word, uint32_t expected, double seconds);
+void hako_wall_wake(uint32_t *word);
 
 #endif /* HAKO_REAL_H */

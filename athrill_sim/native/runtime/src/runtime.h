@@ -16,6 +16,10 @@
 
 _Static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "the bench files are little-endian, as is the guest");
 
+/* The simulated time a preempted spin (a task or thread computing without a call) is taken to have used, at
+ * most: the native kernel's (kernel.c) and asp's (asp_spin.c). */
+#define HAKO_SPIN_TIME_US 10000
+
 /* mapped_files.c: the two files, checked and mapped; leaving the process. */
 void hako_files_open(const char *run_dir);
 uint8_t *hako_rx_body(void);
