@@ -22,6 +22,7 @@ run again.
 from __future__ import annotations
 
 import csv
+import functools
 import io
 import json
 import math
@@ -40,7 +41,6 @@ from hakoniwa.physics.relay import MappedFiles, Transport, UdpRelay
 from hakoniwa.physics.replay import REPLAY_FILE, write_replay
 from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
 from hakoniwa.physics.scenario import Scenario
-from hakoniwa.physics.sensors import Sensors
 from hakoniwa.physics.slots import Slots
 from hakoniwa.physics.sync import SYNC_LOOPS, AthrillCrash, snapshot_end_us, unity_time_us
 from hakoniwa.physics.tasks import TASKS
@@ -125,13 +125,7 @@ class PhysicsServer:
         the files; a hub the physics side plays, in its status): a reading costs more than a step, and draws
         its noise."""
         now = self.env.now_us
-        taken: list[Sensors] = []
-
-        def read() -> Sensors:
-            if not taken:
-                taken.append(self.env.read_sensors())
-            return taken[0]
-
+        read = functools.cache(self.env.read_sensors)
         self.transport.publishing(read, now)
         self.slots.publish(read() if self.transport.reads_files else None, unity_time_us(self.launcher.sync, now),
                            snapshot_end_us(now))

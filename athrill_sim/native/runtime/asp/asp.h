@@ -93,9 +93,10 @@ void hako_asp_spent_step(bool fired);
  * and the kernel's tick, if it fell due, goes to the main thread if it holds the baton. Whether it moved. */
 bool hako_asp_spun(int64_t spin_us);
 
-/* -- asp_spin.c: the CPU clock that preempts a spinning player ------------------------------------------ */
+/* -- asp_spin.c: the CPU clock that moves the bench for a spinning player -------------------------------- */
 
-/* Asp's kernel has started: from now on a player computing for a slice without a call is preempted. */
+/* Asp's kernel has started: from now on a player computing for a slice without a call moves the bench (it keeps
+ * the baton). */
 void hako_asp_spin_clock_start(void);
 
 /* The calling player has taken the baton: its slice of CPU time starts now. */

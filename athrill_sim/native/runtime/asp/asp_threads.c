@@ -84,6 +84,7 @@ void hako_asp_kernel_started(void)
         hako_asp_spin_clock_start();
     kernel_started = true;
 }
+
 bool hako_asp_player(void) { return self >= 0; }
 
 /* `cond`'s signals; its slot is taken at the first use. */

@@ -43,15 +43,20 @@ double hako_wall_s(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
+static struct timespec span(double seconds)
+{
+    return (struct timespec){(time_t)seconds, (long)((seconds - (double)(time_t)seconds) * 1e9)};
+}
+
 void hako_wall_nap(double seconds)
 {
-    struct timespec ts = {(time_t)seconds, (long)((seconds - (double)(time_t)seconds) * 1e9)};
+    struct timespec ts = span(seconds);
     hako_real()->nanosleep(&ts, NULL);
 }
 
 void hako_wall_wait(uint32_t *word, uint32_t expected, double seconds)
 {
-    struct timespec ts = {(time_t)seconds, (long)((seconds - (double)(time_t)seconds) * 1e9)};
+    struct timespec ts = span(seconds);
     hako_real()->syscall(SYS_futex, word, FUTEX_WAIT, expected, &ts, NULL, 0);
 }
 
