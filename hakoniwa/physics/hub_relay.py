@@ -6,7 +6,9 @@ but its motors and sensors are the hub's business: before each snapshot is publi
 asp counted as sent and answers it, with a status when one is due (every 10 ms of simulated time); after each
 answer it takes in what asp sent during the step and its motor commands go where the loop takes commands
 from. So asp's commands reach the motors at the step they were sent, as a native program's do, and its tasks
-read a status only at the step it is sent (`asp_serial.c`). A link the hub cannot keep (the pty closed, a
+read a status only at the step it is sent (`asp_serial.c`). Between statuses, while asp sends nothing, its clock
+moves on without the physics side, which catches up to the step of asp's next answer (`sync.run_lockstep`):
+nothing asp reads could have changed meanwhile. A link the hub cannot keep (the pty closed, a
 malformed frame, another protocol version, a program that never opens the port) is a fault of the bench,
 never a result of the parameters under test.
 """

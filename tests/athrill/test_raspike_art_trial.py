@@ -6,20 +6,25 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 from pathlib import Path
 
 import pytest
 
+from athrill_sim.kinds.kind import RASPIKE_ART_EMULATOR
 from hakoniwa.physics.hub_relay import HANDSHAKE_BY_US, HubRelay
 from hakoniwa.physics.raspike_hub import COLOR, FORCE, MOTOR, ULTRASONIC, hub_kinds
 from hakoniwa.physics.robots import HACKSPI
 from hakoniwa.physics.slots import Slots
 from hakoniwa.physics.sync import AthrillCrash
-from hakoniwa.wire.protocol import BenchCause, CrashKind
+from hakoniwa.wire.protocol import BenchCause, CrashKind, Event, Rx, Tx
 from hakoniwa.wire.rundir import ATHRILL_LOG, RASPIKE_PORT, WORKSPACE_DIR
+from testctl.bench_options import BenchOptions
 from tests.athrill.test_raspike_art_build import SAMPLE, need_raspike_art, workspace
+from tests.helpers.bench_fixtures import physics
 from tests.helpers.commands import hako, one_line_error
 from tests.helpers.paths import PROGRAMS
+from tests.helpers.waiting import wait_until
 from tests.physics.test_raspike_hub import readings
 
 FORCE_START = PROGRAMS / "scenarios" / "force-start.toml"
@@ -116,6 +121,28 @@ def test_the_hub_takes_readings_only_for_its_status(tmp_path):
         os.close(program)
         link.close()
     assert taken == [1000, 10_000, 20_000]
+
+
+@pytest.mark.slow
+def test_asp_killed_from_outside_mid_test_is_the_benchs_fault_and_the_bench_stays_usable(tmp_path):
+    """asp dying of a signal only the outside sends (SIGKILL: the OOM killer, kill -9) says nothing of the
+    parameters: the test is the bench's fault, and the next one runs. (asp dying of its own crash, SIGSEGV or
+    an abort, is the program's, with its last lines, as natively.)"""
+    need_raspike_art()
+    bench = BenchOptions(app=str(SAMPLE), emulator=RASPIKE_ART_EMULATOR, robot="hackspi", course="etrobocon-r",
+                         scenario=str(FORCE_START))
+    with physics(tmp_path, bench=bench) as (_, runner):
+        runner.write_params({})
+        runner.athrill.write_i32(Tx.START, 1)
+        wait_until(lambda: runner.unity.unity_time_us >= 2_000_000, 60, 0.005, what="two simulated seconds")
+        os.kill(runner.athrill.read_u32(Tx.ATHRILL_PID), signal.SIGKILL)  # qemu-user: asp's own process
+        wait_until(lambda: runner.unity.read_i32(Rx.EVENT) != Event.NONE, 60, 0.005, what="an event")
+        assert runner.unity.read_i32(Rx.EVENT) == Event.CRASH
+        assert runner.unity.read_i32(Rx.CRASH_KIND) == CrashKind.BENCH
+        assert runner.unity.read_i32(Rx.BENCH_CAUSE) == BenchCause.ATHRILL_KILLED
+        runner.athrill.write_i32(Tx.START, 0)
+        wait_until(lambda: runner.unity.read_i32(Rx.EVENT) == Event.NONE, 10, 0.005, what="the reset")
+        assert runner.run_test({}).event == Event.GOAL
 
 
 def trial(course: str, emulator: str) -> dict:

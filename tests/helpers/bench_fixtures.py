@@ -18,10 +18,12 @@ ZERO = line_trace_params(0.0, 0.0, 0.0)
 
 @contextmanager
 def physics(run_dir: Path, *, extra_env: dict[str, str] | None = None, app: str = "line_trace",
-            athrill_timeout_s: float = 10.0) -> Iterator[tuple[subprocess.Popen, TrialRunner]]:
-    """A physics process serving `run_dir` with no controller of its own: the test is the controller."""
+            athrill_timeout_s: float = 10.0,
+            bench: BenchOptions | None = None) -> Iterator[tuple[subprocess.Popen, TrialRunner]]:
+    """A physics process serving `run_dir` with no controller of its own: the test is the controller. `bench`,
+    where given, stands for `app` and `athrill_timeout_s`."""
     env = dict(os.environ, **(extra_env or {}))
-    bench = BenchOptions(app=app, athrill_timeout_s=athrill_timeout_s)
+    bench = bench or BenchOptions(app=app, athrill_timeout_s=athrill_timeout_s)
     proc = subprocess.Popen(bench.physics_command(run_dir, []), env=env)
     try:
         runner = TrialRunner.attach(run_dir, proc)

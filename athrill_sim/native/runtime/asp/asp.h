@@ -32,6 +32,12 @@ void hako_serial_published(void);
  * the next step before asp opens the port. */
 int64_t hako_serial_hub_sends(void);
 
+/* Whether the bench may move to `step` without the physics side seeing it: asp has sent the hub nothing since
+ * the bench last moved with it, and the hub, having shaken hands, sends its next status after `step`. Nothing
+ * asp reads changes before then (it reads the world only through the hub), so the physics side catches up to
+ * the step of asp's next answer instead (hakoniwa/physics/sync.py). */
+bool hako_serial_unseen(int64_t step);
+
 /* Whether so many of the hub's bytes are held back from the receiving thread (not yet drained) that the pty
  * could fill: a move drains then even where it would otherwise owe the drain to the next idle point. */
 bool hako_serial_backlog(void);

@@ -168,6 +168,14 @@ int64_t hako_serial_hub_sends(void)
     return status > step ? status : step;
 }
 
+bool hako_serial_unseen(int64_t step)
+{
+    if (counts == NULL || program_sent() != sent_at_publish)
+        return false;
+    int64_t status = (int64_t)shared_word(HAKO_RASPIKE_HUB_NEXT_STATUS);
+    return status != HAKO_NEVER_WAKES && step < status;
+}
+
 bool hako_serial_backlog(void) { return counts != NULL && hub_sent() - released > BACKLOG_MAX; }
 
 /* Whether the receiving thread goes idle again within a short spin: it takes a status in within tens of

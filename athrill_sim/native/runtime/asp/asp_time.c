@@ -20,6 +20,11 @@
  *   Pi sends its commands only when a status arrives (raspike_protocol.c 333); SIGALRM is raised when the
  *   timer falls due, as the robot's tick interrupts that wait. A move of the bench at such a wait drains asp's
  *   serial port (asp_serial.c), so an answer of the hub is in before any thread runs at that step.
+ * A move the physics side cannot see is made without it: asp reads the world only through the hub, so while
+ * asp has sent the hub nothing since the last move made with the physics side, and the hub's next status is
+ * later, the clock moves on alone (hako_serial_unseen), and the physics side catches up to the step of asp's
+ * next answer before it takes that answer in (hakoniwa/physics/sync.py). The steps are the same, and so is
+ * the lap; half of team_spike_threads' stops (its gyro thread's, ASP3's timer's) need no round trip.
  * Who waits, and who moves the bench when all wait, is the baton's (asp_threads.c): asp's main thread, where
  * its kernel and its tasks run, and the threads its tasks start. asp's receiving thread runs in wall time
  * within the moves, and its clock reads and waits cannot make one run differ from the next.
@@ -71,7 +76,9 @@ bool hako_asp_is_main(void) { return gettid() == getpid(); }
 bool hako_asp_move(int64_t until, bool drained)
 {
     int64_t step = until == HAKO_FOREVER ? HAKO_FOREVER : until - until % HAKO_PHYSICS_STEP_US;
-    if (step > hako_tick()) {
+    if (step > hako_tick() && hako_serial_unseen(step)) {
+        hako_time_set_tick(step); /* the hub sent nothing: no drain owed */
+    } else if (step > hako_tick()) {
         hako_serial_published();
         hako_publish(hako_now(), step);
         hako_wait_snapshot(step);
