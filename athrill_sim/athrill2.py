@@ -14,6 +14,7 @@ from __future__ import annotations
 import os
 import shutil
 import sys
+from enum import StrEnum
 from pathlib import Path
 
 from athrill_sim.program import Program, ProgramError
@@ -29,9 +30,29 @@ BUILD_ATHRILL_HINT = ("build it from TOPPERS' sources (github.com/toppers/athril
 REPEATABLE_DIR = "build/athrill-repeatable"  # where scripts/build_athrill2.sh --repeatable is documented to build
 BUILD_REPEATABLE_HINT = (f"build one with scripts/build_athrill2.sh --repeatable {REPEATABLE_DIR} (or pass "
                          "--sync hakoniwa: the unmodified protocol, whose results depend on the machine's load)")
-REAL_SYNCS = {"repeatable": SyncMode.REPEATABLE, "hakoniwa": SyncMode.HAKONIWA}
+
+
+class RealSync(StrEnum):
+    """How the real emulator keeps time with physics (`--sync`): the sync modes it can run in."""
+
+    REPEATABLE = "repeatable"
+    HAKONIWA = "hakoniwa"
+
+    @property
+    def mode(self) -> SyncMode:
+        return SyncMode[self.name]
+
+
 SYNC_WAIT_KEY = "DEBUG_FUNC_VDEV_MMAP_SYNC_WAIT"  # read by scripts/athrill-patches/01-*.patch
-TRANSPORTS = ("mmap", "udp")  # how athrill2's packets travel: the mapped files, or UDP (ET Robocon's simulator)
+
+
+class AthrillTransport(StrEnum):
+    """How athrill2's packets travel (`--transport`)."""
+
+    MMAP = "mmap"  # the two mapped files
+    UDP = "udp"  # its vdev_udp device, as in ET Robocon's simulator
+
+
 
 # Athrill's memory map and device configuration for an EV3RT image in MMAP mode: the layout the TOPPERS
 # ev3rt-athrill-v850e2m images are linked for (v850es_fk3.ld, and the SDK's sdk/common/memory.txt: 2048 KB of
@@ -80,10 +101,10 @@ def athrill_argv(exe: str, image: Path, udp: bool = False) -> tuple[str, ...]:
     return exe, "-c1", "-t", "-1", "-m", memory, "-d", device, str(image.resolve())
 
 
-def udp_link(transport: str | None, device_config: str | None) -> UdpLink | None:
+def udp_link(transport: AthrillTransport | None, device_config: str | None) -> UdpLink | None:
     """The UDP link `--transport` and `--device-config` ask for (a device config alone means UDP), or None
     for the mapped files."""
-    if (transport or ("udp" if device_config else "mmap")) == "mmap":
+    if (transport or (AthrillTransport.UDP if device_config else AthrillTransport.MMAP)) == AthrillTransport.MMAP:
         if device_config is not None:
             raise ProgramError(f"--device-config {device_config} configures athrill2's UDP transport; it does "
                                "not go with --transport mmap")

@@ -10,10 +10,10 @@ test, so a bad `--app` is one clear error instead of a campaign of crashed tests
 
 from __future__ import annotations
 
-from athrill_sim.athrill2 import REAL_SYNCS, udp_link
+from athrill_sim.athrill2 import AthrillTransport, RealSync, udp_link
 from athrill_sim.kinds.elf import ELF
 from athrill_sim.kinds.image import IMAGE_KIND
-from athrill_sim.kinds.kind import AppSpec, ProgramKind, RealEmulator, Recipe
+from athrill_sim.kinds.kind import AppSpec, Emulator, ProgramKind, RealEmulator, Recipe
 from athrill_sim.kinds.native import NATIVE
 from athrill_sim.kinds.python import PYTHON
 from athrill_sim.kinds.raspike_art import RASPIKE_ART_KIND
@@ -23,9 +23,9 @@ from athrill_sim.program import Program, ProgramError
 KINDS: tuple[ProgramKind, ...] = (RASPIKE_ART_KIND, PYTHON, NATIVE, IMAGE_KIND, ELF)
 
 
-def resolve_program(spec: str, *, athrill2: str | None = None, emulator: str | None = None,
-                    sync: str | None = None, transport: str | None = None, device_config: str | None = None,
-                    bindings: str | None = None) -> Program:
+def resolve_program(spec: str, *, athrill2: str | None = None, emulator: Emulator | None = None,
+                    sync: RealSync | None = None, transport: AthrillTransport | None = None,
+                    device_config: str | None = None, bindings: str | None = None) -> Program:
     """The program `--app SPEC` names: a built-in or `module:function` Python program, an EV3RT C or C++
     program (a .c or .cpp file, a workspace folder or a built-in C name), or a v850 ELF. `emulator` athrill2
     builds a C or C++ program into a v850 image; `sync` (repeatable, hakoniwa) is how a real emulator keeps
@@ -46,8 +46,8 @@ def resolve_program(spec: str, *, athrill2: str | None = None, emulator: str | N
     return recipe.make(recipe.path, ())
 
 
-def program_recipe(spec: str, *, athrill2: str | None = None, emulator: str | None = None,
-                   sync: str | None = None, transport: str | None = None,
+def program_recipe(spec: str, *, athrill2: str | None = None, emulator: Emulator | None = None,
+                   sync: RealSync | None = None, transport: AthrillTransport | None = None,
                    device_config: str | None = None) -> Recipe:
     """How to make the program `--app SPEC` names (see `resolve_program`)."""
     from athrill_sim.apps import BUILTIN, C_BUILTIN
@@ -60,10 +60,10 @@ def program_recipe(spec: str, *, athrill2: str | None = None, emulator: str | No
     if udp is not None and not app.real:
         raise ProgramError(f"--transport udp is for the real emulator (a v850 image, or --emulator athrill2); "
                            f"{spec} runs in the lockstep over the mapped files")
-    if udp is not None and sync == "repeatable":
+    if udp is not None and sync == RealSync.REPEATABLE:
         raise ProgramError("--sync repeatable needs --transport mmap (the wait is patched into athrill2's mmap "
                            "device); over UDP athrill2 keeps TOPPERS' protocol: --sync hakoniwa")
-    real = RealEmulator(athrill2, REAL_SYNCS[sync or ("hakoniwa" if udp is not None else "repeatable")], udp)
+    real = RealEmulator(athrill2, (sync or (RealSync.HAKONIWA if udp is not None else RealSync.REPEATABLE)).mode, udp)
     for kind in KINDS:
         if kind.claims(app):
             return kind.recipe(app, real)
@@ -71,7 +71,7 @@ def program_recipe(spec: str, *, athrill2: str | None = None, emulator: str | No
     if app.path.is_file():
         raise ProgramError(f"--app {spec}: not a v850 ELF image, a C or C++ file (.c, .cpp), a built-in app "
                            f"({builtins}) or module:function")
-    if emulator == "athrill2":
+    if emulator == Emulator.ATHRILL2:
         raise ProgramError(f"--app {spec}: --emulator athrill2 runs EV3RT C and C++ programs (app.c, app.cpp, a "
                            "workspace folder, line_trace_c) and v850 images, not Python programs")
     raise ProgramError(f"--app {spec}: no such file or folder, and not a built-in app ({builtins}) "

@@ -31,6 +31,8 @@ from pathlib import Path
 
 import click
 
+from athrill_sim.athrill2 import RealSync
+from athrill_sim.kinds.kind import Emulator
 from athrill_sim.launcher import AthrillLauncher
 from athrill_sim.program import Program, ProgramError
 from athrill_sim.programs import resolve_program
@@ -210,8 +212,8 @@ def main(sets: int, seed: int, noise: float, noise_seed: int, course: str, time_
         gain_sets = random_gains(sets, seed) if app == TRACER else [BEST_GAINS]
         try:
             native = RecordingBench(resolve_program(app), course, time_limit, subject)
-            real = RecordingBench(resolve_program(app, emulator="athrill2", athrill2=athrill2), course, time_limit,
-                                  subject)
+            real = RecordingBench(resolve_program(app, emulator=Emulator.ATHRILL2, athrill2=athrill2), course,
+                                  time_limit, subject)
         except ProgramError as e:
             print(f"{label:<26} skipped: {e}")
             continue
@@ -245,9 +247,9 @@ def main(sets: int, seed: int, noise: float, noise_seed: int, course: str, time_
     if sync_cost:
         params = line_trace_params(*BEST_GAINS)
         exe = athrill2  # the same athrill2 both times: the patch's wait is off under --sync hakoniwa
-        for sync in ("repeatable", "hakoniwa"):
+        for sync in RealSync:
             try:
-                program = resolve_program(TRACER, emulator="athrill2", athrill2=exe, sync=sync)
+                program = resolve_program(TRACER, emulator=Emulator.ATHRILL2, athrill2=exe, sync=sync)
             except ProgramError as e:
                 raise click.ClickException(str(e)) from None
             exe = program.argv[0]

@@ -37,7 +37,8 @@ from pathlib import Path
 import click
 import mujoco
 
-from athrill_sim.kinds.kind import RASPIKE_ART_EMULATOR
+from athrill_sim.athrill2 import RealSync
+from athrill_sim.kinds.kind import Emulator
 from athrill_sim.program import MOCK_ARGV, Program, ProgramError
 from athrill_sim.programs import resolve_program
 from athrill_sim.raspike_art.build import DEFAULT_FOLDER
@@ -200,7 +201,8 @@ def athrill_rows(parts: str, a_batched: float, tests: int, starts: int, real_tes
     rows: list[tuple[str, str]] = []
     kinds = {"Python mock (line_trace)": BenchOptions(app="line_trace"),
              "native C (line_trace_c)": BenchOptions(app="line_trace_c"),
-             "real athrill2 (ble_sample asp)": BenchOptions(app=str(ASP_IMAGE), athrill2=athrill2, sync="hakoniwa")}
+             "real athrill2 (ble_sample asp)": BenchOptions(app=str(ASP_IMAGE), athrill2=athrill2,
+                                                             sync=RealSync.HAKONIWA)}
     programs: dict[str, Program | str] = {}
     for label, bench in kinds.items():
         try:
@@ -267,7 +269,7 @@ def asp_rows(tests: int, rounds: int) -> list[tuple[str, str]]:
     rows: list[tuple[str, str]] = []
     for title, app in (("RasPike-ART's sample_c5_spike", RASPIKE_ART_SAMPLE), ("team_spike_threads", TEAM_THREADS)):
         native = BenchOptions(app=str(app), robot="hackspi", scenario=FORCE_START, course="etrobocon-r")
-        asp = dataclasses.replace(native, emulator=RASPIKE_ART_EMULATOR)
+        asp = dataclasses.replace(native, emulator=Emulator.RASPIKE_ART)
         try:
             asp.program()  # built once, before any timing
         except ProgramError as e:

@@ -13,6 +13,7 @@ import sys
 import click
 from bench_sim import REPO, trial_rate  # scripts/ is this script's folder
 
+from athrill_sim.athrill2 import AthrillTransport, RealSync
 from hakoniwa.conventions import HELP
 from testctl.bench_options import BenchOptions
 
@@ -27,8 +28,8 @@ def main(tests: int, athrill2: str) -> None:
     """Print, per transport, the sim-s per wall-s of all trials together, and the laps."""
     image = subprocess.run([sys.executable, "-m", "testctl.hako", "build", str(TRACER)], capture_output=True,
                            text=True, check=True).stdout.strip()
-    benches = {"mmap": BenchOptions(app=image, athrill2=athrill2, sync="hakoniwa"),
-               "udp": BenchOptions(app=image, athrill2=athrill2, transport="udp")}
+    benches = {"mmap": BenchOptions(app=image, athrill2=athrill2, sync=RealSync.HAKONIWA),
+               "udp": BenchOptions(app=image, athrill2=athrill2, transport=AthrillTransport.UDP)}
     sim = {name: 0.0 for name in benches}
     wall = {name: 0.0 for name in benches}
     laps: dict[str, list[float]] = {name: [] for name in benches}

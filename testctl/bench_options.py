@@ -18,8 +18,9 @@ from typing import TYPE_CHECKING
 
 import click
 
-from athrill_sim.athrill2 import REAL_SYNCS, REPEATABLE_DIR, TRANSPORTS
-from athrill_sim.kinds.kind import EMULATORS, RASPIKE_ART_EMULATOR
+from athrill_sim.athrill2 import REPEATABLE_DIR, AthrillTransport, RealSync
+from athrill_sim.kinds.kind import Emulator
+from athrill_sim.program import ProgramError
 from hakoniwa.conventions import SECONDS, option_group
 from hakoniwa.wire.protocol import Objective
 from hakoniwa.wire.vdev_udp import UDP_DEVICE_CONFIG
@@ -42,9 +43,9 @@ class BenchOptions:
     course: str = DEFAULT_COURSE
     app: str = DEFAULT_APP
     athrill2: str | None = None
-    emulator: str | None = None  # None: by the kind of --app (a C program natively, a v850 image in athrill2)
-    sync: str | None = None  # None: repeatable for the real emulator (hakoniwa over UDP)
-    transport: str | None = None  # None: mmap, or udp with a device config
+    emulator: Emulator | None = None  # None: by the kind of --app (a C program natively, a v850 image in athrill2)
+    sync: RealSync | None = None  # None: repeatable for the real emulator (hakoniwa over UDP)
+    transport: AthrillTransport | None = None  # None: mmap, or udp with a device config
     device_config: str | None = None  # a user's athrill2 device config for UDP (ET Robocon's device_config.txt)
     athrill_timeout_s: float = 10.0
     time_limit_s: float | None = None  # None: the course's own limit
@@ -52,6 +53,15 @@ class BenchOptions:
     scenario: str | None = None  # a scenario TOML applied to every test
     bindings: str | None = None  # JSON: how parameters other than `offset` reach the program (from the space)
     objective: str | None = Objective.LAP.name.lower()  # what ends and scores a test: an `Objective`, by name
+
+    def __post_init__(self) -> None:
+        """The command line and a journal give these by name: they become their enums here, once."""
+        for field, kind in (("emulator", Emulator), ("sync", RealSync), ("transport", AthrillTransport)):
+            value = getattr(self, field)
+            if value is not None and not isinstance(value, kind):
+                if value not in set(kind):
+                    raise ProgramError(f"--{field} {value}: not one of {', '.join(kind)}")
+                object.__setattr__(self, field, kind(value))
 
     @property
     def scored_by(self) -> Objective:
@@ -104,16 +114,16 @@ _OPTIONS = [
             "athrill2 (built into a v850 image with the EV3RT SDK and run in the real TOPPERS emulator) or "
             "raspike-art (a RasPike-ART workspace folder built by RasPike-ART's make into the robot's own asp, run "
             "under qemu-user against the SPIKE hub the bench plays; --robot hackspi) [default: native; a v850 image "
-            "always runs in athrill2].", click.Choice(EMULATORS)),
+            "always runs in athrill2].", click.Choice([e.value for e in Emulator])),
     _Option("athrill2", "--athrill2", "The TOPPERS athrill2 emulator for the real emulator [default: on PATH, "
             f"else {REPEATABLE_DIR}/athrill2]."),
     _Option("sync", "--sync", "How the real emulator keeps time with physics: repeatable (athrill2 built with "
             "scripts/build_athrill2.sh --repeatable waits at each sync point: the same result on every run) or "
             "hakoniwa (TOPPERS' unmodified protocol: results depend on the machine's load) [default: "
-            "repeatable; hakoniwa over UDP].", click.Choice(tuple(REAL_SYNCS))),
+            "repeatable; hakoniwa over UDP].", click.Choice([s.value for s in RealSync])),
     _Option("transport", "--transport", "How the real emulator's packets travel: mmap (the two mapped files) or "
             "udp (athrill2's vdev_udp device, as in ET Robocon's simulator; --sync hakoniwa only) [default: mmap; "
-            "udp with --device-config].", click.Choice(TRANSPORTS)),
+            "udp with --device-config].", click.Choice([t.value for t in AthrillTransport])),
     _Option("device_config", "--device-config", f"athrill2's device config for UDP, e.g. ET Robocon's "
             f"{UDP_DEVICE_CONFIG}: athrill2 runs with it unchanged and the physics side uses its addresses and "
             "ports (127.x.x.x only) [default: the bench writes one with ports of its own]."),
@@ -154,7 +164,7 @@ def load_bench(options: BenchOptions) -> tuple[Course, Robot, Scenario]:
     from hakoniwa.physics.robots import RobotError
 
     course, robot, scenario = load_world(options.course, options.robot, options.scenario, options.time_limit_s)
-    if options.emulator == RASPIKE_ART_EMULATOR and not robot.spike:
-        raise RobotError(f"--emulator {RASPIKE_ART_EMULATOR}: asp drives a SPIKE hub; give a SPIKE robot (--robot "
+    if options.emulator == Emulator.RASPIKE_ART and not robot.spike:
+        raise RobotError(f"--emulator {Emulator.RASPIKE_ART}: asp drives a SPIKE hub; give a SPIKE robot (--robot "
                          "hackspi, basic, or a robot file with a SPIKE hub)")
     return course, robot, scenario

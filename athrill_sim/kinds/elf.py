@@ -5,7 +5,7 @@ as a global's initial value or through a data file, not as a `#define` or a sour
 from __future__ import annotations
 
 from athrill_sim.athrill2 import elf_program
-from athrill_sim.kinds.kind import DATA_FILE, IMAGE, AppSpec, ProgramKind, RealEmulator, Recipe, given
+from athrill_sim.kinds.kind import DATA_FILE, IMAGE, AppSpec, Emulator, ProgramKind, RealEmulator, Recipe, given
 from athrill_sim.program import ProgramError
 
 
@@ -17,7 +17,7 @@ class ElfKind(ProgramKind):
         return app.c_source is None and app.path.is_file() and app.real
 
     def recipe(self, app: AppSpec, real: RealEmulator) -> Recipe:
-        if app.emulator == "native":
+        if app.emulator == Emulator.NATIVE:
             raise ProgramError(f"--app {app.spec}: a v850 image runs only in the real emulator (--emulator athrill2)")
         return Recipe(self, app.path,
                       lambda image, _flags: elf_program(given(image), real.athrill2, real.sync, real.udp), real.sync)

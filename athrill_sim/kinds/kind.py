@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from enum import StrEnum
 from pathlib import Path
 from typing import Protocol
 
@@ -18,9 +19,15 @@ from athrill_sim.program import Program
 from hakoniwa.wire.protocol import SyncMode
 from hakoniwa.wire.vdev_udp import UdpLink
 
-RASPIKE_ART_EMULATOR = "raspike-art"  # a RasPike-ART workspace run as the robot's own asp under qemu-user
-# What a C program runs on: compiled for this machine, the real emulator, or the robot's own asp.
-EMULATORS = ("native", "athrill2", RASPIKE_ART_EMULATOR)
+
+class Emulator(StrEnum):
+    """What a C program runs on (`--emulator`): it decides the kind where one folder could be built either way."""
+
+    NATIVE = "native"  # compiled for this machine, on the bench's runtime
+    ATHRILL2 = "athrill2"  # built into a v850 image and run in the real TOPPERS emulator
+    RASPIKE_ART = "raspike-art"  # a RasPike-ART workspace run as the robot's own asp under qemu-user
+
+
 # What a parameter form needs of a program (`athrill_sim.forms.form.Form.needs`), and so of its kind:
 REBUILD = "rebuild"  # its value is built in: the program is rebuilt from its sources for each value
 IMAGE = "image"  # its value is set in the program's image (a global's initial value)
@@ -32,7 +39,7 @@ class AppSpec:
     """What `--app` names, with the emulator asked for, as each kind looks at it."""
 
     spec: str
-    emulator: str | None  # EMULATORS' names; None: by the kind of --app
+    emulator: Emulator | None  # None: by the kind of --app
     c_source: Path | None  # a C or C++ program: a built-in C name's file, a folder, a .c or .cpp file
     real: bool  # the program runs in the real emulator: --emulator athrill2, or a v850 image
 
@@ -41,7 +48,7 @@ class AppSpec:
         return Path(self.spec)
 
     @classmethod
-    def of(cls, spec: str, emulator: str | None) -> AppSpec:
+    def of(cls, spec: str, emulator: Emulator | None) -> AppSpec:
         from athrill_sim.apps import C_BUILTIN
         from athrill_sim.native.workspace import SOURCE_SUFFIXES
         from athrill_sim.v850.elf import is_elf
@@ -49,7 +56,7 @@ class AppSpec:
         path = Path(spec)
         c_source = C_BUILTIN.get(spec) or (path if path.is_dir() or (path.is_file() and path.suffix in SOURCE_SUFFIXES)
                                            else None)
-        real = emulator == "athrill2" or (c_source is None and path.is_file() and is_elf(path))
+        real = emulator == Emulator.ATHRILL2 or (c_source is None and path.is_file() and is_elf(path))
         return cls(spec, emulator, None if c_source is None else Path(c_source), real)
 
 

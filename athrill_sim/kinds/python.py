@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from athrill_sim.kinds.kind import AppSpec, ProgramKind, RealEmulator, Recipe
+from athrill_sim.kinds.kind import AppSpec, Emulator, ProgramKind, RealEmulator, Recipe
 from athrill_sim.program import MOCK_ARGV, Program
 from hakoniwa.wire.protocol import SyncMode
 
@@ -16,7 +16,7 @@ class PythonKind(ProgramKind):
     def claims(self, app: AppSpec) -> bool:
         from athrill_sim.apps import BUILTIN
 
-        if app.emulator == "athrill2":
+        if app.emulator == Emulator.ATHRILL2:
             return False
         if app.spec in BUILTIN:
             return True

@@ -8,9 +8,9 @@ from pathlib import Path
 
 from athrill_sim.kinds.kind import (
     DATA_FILE,
-    RASPIKE_ART_EMULATOR,
     REBUILD,
     AppSpec,
+    Emulator,
     ProgramKind,
     RealEmulator,
     Recipe,
@@ -29,7 +29,7 @@ class RaspikeArtKind(ProgramKind):
     needs_met = frozenset({DATA_FILE, REBUILD})
 
     def claims(self, app: AppSpec) -> bool:
-        return app.emulator == RASPIKE_ART_EMULATOR
+        return app.emulator == Emulator.RASPIKE_ART
 
     def recipe(self, app: AppSpec, real: RealEmulator) -> Recipe:
         if not app.path.is_dir():

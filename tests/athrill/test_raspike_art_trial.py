@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim.kinds.kind import RASPIKE_ART_EMULATOR
+from athrill_sim.kinds.kind import Emulator
 from hakoniwa.physics.hub_relay import HANDSHAKE_BY_US, HubRelay
 from hakoniwa.physics.raspike_hub import COLOR, FORCE, MOTOR, ULTRASONIC, hub_kinds
 from hakoniwa.physics.robots import HACKSPI
@@ -129,7 +129,7 @@ def test_asp_killed_from_outside_mid_test_is_the_benchs_fault_and_the_bench_stay
     parameters: the test is the bench's fault, and the next one runs. (asp dying of its own crash, SIGSEGV or
     an abort, is the program's, with its last lines, as natively.)"""
     need_raspike_art()
-    bench = BenchOptions(app=str(SAMPLE), emulator=RASPIKE_ART_EMULATOR, robot="hackspi", course="etrobocon-r",
+    bench = BenchOptions(app=str(SAMPLE), emulator=Emulator.RASPIKE_ART, robot="hackspi", course="etrobocon-r",
                          scenario=str(FORCE_START))
     with physics(tmp_path, bench=bench) as (_, runner):
         runner.write_params({})
