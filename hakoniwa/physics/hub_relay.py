@@ -1,16 +1,17 @@
 """The transport of a program that reaches its SPIKE hub over a serial port (RasPike-ART's asp): the physics
 side plays the hub (`raspike_hub.PtyHub`) on a pseudo-terminal of each test's own, in the lockstep.
 
-asp keeps time through the mapped files like any lockstep program (its clock library rings the answer slot),
-but its motors and sensors are the hub's business: before each snapshot is published the hub takes in what
-asp counted as sent and answers it, with a status when one is due (every 10 ms of simulated time); after each
-answer it takes in what asp sent during the step and its motor commands go where the loop takes commands
-from. So asp's commands reach the motors at the step they were sent, as a native program's do, and its tasks
-read a status only at the step it is sent (`asp_serial.c`). Between statuses, while asp sends nothing, its clock
-moves on without the physics side, which catches up to the step of asp's next answer (`sync.run_lockstep`):
-nothing asp reads could have changed meanwhile. A link the hub cannot keep (the pty closed, a
-malformed frame, another protocol version, a program that never opens the port) is a fault of the bench,
-never a result of the parameters under test.
+asp keeps time through the mapped files like any lockstep program (its clock library rings the answer slot), but
+its motors and sensors are the hub's business: before each snapshot is published the hub takes in what asp
+counted as sent and answers it, with a status when one is due (every 10 ms of simulated time); after each answer
+it takes in what asp sent during the step and its motor commands go where the loop takes commands from. So asp's
+commands reach the motors at the step they were sent, as a native program's do, and its tasks read a status only
+at the step it is sent (`asp_serial.c`). Between statuses asp's clock moves on without waiting for the physics
+side (asp_time.c): alone while it sends nothing, and where it sends bytes that nothing of its waits to hear back
+about, with an answer it does not wait on. The physics side catches up to the step of each answer
+(`sync.run_lockstep`) and takes the bytes in there: nothing asp reads could have changed meanwhile. A link the
+hub cannot keep (the pty closed, a malformed frame, another protocol version, a program that never opens the
+port) is a fault of the bench, never a result of the parameters under test.
 """
 
 from __future__ import annotations

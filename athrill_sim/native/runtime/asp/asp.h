@@ -32,11 +32,12 @@ void hako_serial_published(void);
  * the next step before asp opens the port. */
 int64_t hako_serial_hub_sends(void);
 
-/* Whether the bench may move to `step` without the physics side seeing it: asp has sent the hub nothing since
- * the bench last moved with it, and the hub, having shaken hands, sends its next status after `step`. Nothing
- * asp reads changes before then (it reads the world only through the hub), so the physics side catches up to
- * the step of asp's next answer instead (hakoniwa/physics/sync.py). */
-bool hako_serial_unseen(int64_t step);
+/* Whether asp has sent the hub bytes since its last answer. */
+bool hako_serial_sent(void);
+
+/* Whether the hub sends asp nothing of its own before `step`: it has shaken hands, and its next status, which it
+ * publishes, is after `step`. Nothing asp reads changes before then: it reads the world only through the hub. */
+bool hako_serial_hub_quiet(int64_t step);
 
 /* Whether so many of the hub's bytes are held back from the receiving thread (not yet drained) that the pty
  * could fill: a move drains then even where it would otherwise owe the drain to the next idle point. */
@@ -80,6 +81,10 @@ void hako_asp_kernel_started(void);
 
 /* Whether the calling thread is one of asp's players, which alone move the bench. */
 bool hako_asp_player(void);
+
+/* Whether a waiting player may wait for what the hub sends: a signal of a condition that not only players have
+ * signalled (the receiving thread signals what the hub brings), or a mutex (the receiving thread's, maybe). */
+bool hako_asp_awaits_hub(void);
 
 /* How many times the condition `cond` was signalled. */
 uint64_t hako_asp_signals(const void *cond);

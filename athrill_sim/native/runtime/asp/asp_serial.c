@@ -168,9 +168,11 @@ int64_t hako_serial_hub_sends(void)
     return status > step ? status : step;
 }
 
-bool hako_serial_unseen(int64_t step)
+bool hako_serial_sent(void) { return counts != NULL && program_sent() != sent_at_publish; }
+
+bool hako_serial_hub_quiet(int64_t step)
 {
-    if (counts == NULL || program_sent() != sent_at_publish)
+    if (counts == NULL)
         return false;
     int64_t status = (int64_t)shared_word(HAKO_RASPIKE_HUB_NEXT_STATUS);
     return status != HAKO_NEVER_WAKES && step < status;

@@ -117,6 +117,17 @@ static bool players_signal(const void *cond)
     return atomic_load(&it->by_player) && !atomic_load(&it->by_other);
 }
 
+bool hako_asp_awaits_hub(void)
+{
+    for (int p = 0; p < player_count; p++) {
+        const struct hako_wait *w = &players[p].wait;
+        if (players[p].state == WAITING &&
+            ((w->kind == HAKO_WAIT_SIGNAL && !players_signal(w->object)) || w->kind == HAKO_WAIT_MUTEX))
+            return true;
+    }
+    return false;
+}
+
 static bool mutex_free(const pthread_mutex_t *m) { return __atomic_load_n(&m->__data.__lock, __ATOMIC_ACQUIRE) == 0; }
 
 static bool ended(int p) { return players[p].state == ENDED || players[p].state == FREE; }

@@ -20,11 +20,16 @@
  *   Pi sends its commands only when a status arrives (raspike_protocol.c 333); SIGALRM is raised when the
  *   timer falls due, as the robot's tick interrupts that wait. A move of the bench at such a wait drains asp's
  *   serial port (asp_serial.c), so an answer of the hub is in before any thread runs at that step.
- * A move the physics side cannot see is made without it: asp reads the world only through the hub, so while
- * asp has sent the hub nothing since the last move made with the physics side, and the hub's next status is
- * later, the clock moves on alone (hako_serial_unseen), and the physics side catches up to the step of asp's
- * next answer before it takes that answer in (hakoniwa/physics/sync.py). The steps are the same, and so is
- * the lap; half of team_spike_threads' stops (its gyro thread's, ASP3's timer's) need no round trip.
+ * A move that nothing asp reads can see is not waited for: asp reads the world only through the hub, which
+ * sends of its own only a status (hako_serial_hub_quiet). Before the hub's next status, a move is
+ * - alone where asp has sent the hub nothing since its last answer: no answer at all, and the physics side
+ *   catches up to the step of asp's next answer before it takes that in (hakoniwa/physics/sync.py);
+ * - told where asp has sent bytes but no player waits for what the hub may send back (hako_asp_awaits_hub) and
+ *   no drain is owed: the answer goes out and asp moves on while the physics side takes the bytes in at the
+ *   step they were sent; before its next answer asp waits for that one's snapshot, since the slot is one. The
+ *   hub's reply to them (it acknowledges only what libraspike-art waits for) reaches asp at its next drain.
+ * The physics side steps the same steps and takes asp's bytes at the same ones, so the laps are the same; of
+ * team_spike_threads' four stops every 10 ms, one is waited for (the hub's status), where all four were.
  * Who waits, and who moves the bench when all wait, is the baton's (asp_threads.c): asp's main thread, where
  * its kernel and its tasks run, and the threads its tasks start. asp's receiving thread runs in wall time
  * within the moves, and its clock reads and waits cannot make one run differ from the next.
@@ -53,6 +58,7 @@
 static int64_t timer_due = HAKO_FOREVER; /* ITIMER_REAL's next expiry [simulated us] */
 static int64_t timer_interval; /* and its reload (0: one-shot) */
 static bool drain_owed; /* the bench moved with no drain since the last: owed at the next wait */
+static int64_t told_wake = -1; /* an answer's snapshot not waited for (a told move's); -1: none */
 
 __attribute__((constructor)) static void asp_time_start(void)
 {
@@ -76,14 +82,25 @@ bool hako_asp_is_main(void) { return gettid() == getpid(); }
 bool hako_asp_move(int64_t until, bool drained)
 {
     int64_t step = until == HAKO_FOREVER ? HAKO_FOREVER : until - until % HAKO_PHYSICS_STEP_US;
-    if (step > hako_tick() && hako_serial_unseen(step)) {
-        hako_time_set_tick(step); /* the hub sent nothing: no drain owed */
-    } else if (step > hako_tick()) {
-        hako_serial_published();
-        hako_publish(hako_now(), step);
-        hako_wait_snapshot(step);
-        hako_time_set_tick(step);
-        drain_owed = true;
+    if (step > hako_tick()) {
+        bool quiet = hako_serial_hub_quiet(step), sent = hako_serial_sent();
+        if (quiet && !sent) { /* alone: nothing to tell, nothing to hear */
+            hako_time_set_tick(step);
+        } else {
+            /* told: asp's bytes go with the answer, and nothing asp waits for can come back before the hub's
+             * next status, so asp moves on while the physics side takes them in */
+            bool told = quiet && !drain_owed && !hako_asp_awaits_hub();
+            if (told_wake >= 0) /* the last told answer taken in first: the answer slot is one */
+                hako_wait_snapshot(told_wake);
+            hako_serial_published();
+            hako_publish(hako_now(), step);
+            told_wake = told ? step : -1;
+            if (!told) {
+                hako_wait_snapshot(step);
+                drain_owed = true;
+            }
+            hako_time_set_tick(step);
+        }
     }
     if (drained && drain_owed) {
         hako_serial_drain();
