@@ -49,6 +49,11 @@ bool hako_serial_backlog(void);
  * `drained`: true when the kernel's timer fell due on the way (its SIGALRM is then owed). */
 bool hako_asp_move(int64_t until, bool drained);
 
+/* Wait until the physics side has taken in asp's last told answer (one asp moved on from without waiting), if
+ * that is still out: before the next answer, and before the hub's bytes are released out of a drain, whose
+ * reading may make libraspike-art send more, which the physics side would count with the told answer. */
+void hako_asp_told_taken(void);
+
 /* When the kernel's timer falls due next [simulated us], HAKO_FOREVER when stopped. */
 int64_t hako_asp_timer_due(void);
 

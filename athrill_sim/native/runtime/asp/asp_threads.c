@@ -262,6 +262,7 @@ bool hako_asp_spun(int64_t spin_us)
     int64_t until = hako_tick() + spin_us, due = next_move();
     /* no drain: the receiving thread may be the one here, and the spinner may hold the port's mutex */
     tick_pending |= hako_asp_move(due < until ? due : until, false);
+    hako_asp_told_taken();
     hako_serial_release();
     bool tick = holder == MAIN && tick_pending;
     tick_pending &= !tick;

@@ -90,8 +90,7 @@ bool hako_asp_move(int64_t until, bool drained)
             /* told: asp's bytes go with the answer, and nothing asp waits for can come back before the hub's
              * next status, so asp moves on while the physics side takes them in */
             bool told = quiet && !drain_owed && !hako_asp_awaits_hub();
-            if (told_wake >= 0) /* the last told answer taken in first: the answer slot is one */
-                hako_wait_snapshot(told_wake);
+            hako_asp_told_taken(); /* the answer slot is one */
             hako_serial_published();
             hako_publish(hako_now(), step);
             told_wake = told ? step : -1;
@@ -112,6 +111,13 @@ bool hako_asp_move(int64_t until, bool drained)
         return false;
     timer_due = timer_interval > 0 ? timer_due + timer_interval : HAKO_FOREVER;
     return true;
+}
+
+void hako_asp_told_taken(void)
+{
+    if (told_wake >= 0)
+        hako_wait_snapshot(told_wake);
+    told_wake = -1;
 }
 
 int64_t hako_asp_timer_due(void) { return timer_due; }
