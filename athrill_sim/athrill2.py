@@ -53,7 +53,6 @@ class AthrillTransport(StrEnum):
     UDP = "udp"  # its vdev_udp device, as in ET Robocon's simulator
 
 
-
 # Athrill's memory map and device configuration for an EV3RT image in MMAP mode: the layout the TOPPERS
 # ev3rt-athrill-v850e2m images are linked for (v850es_fk3.ld, and the SDK's sdk/common/memory.txt: 2048 KB of
 # ROM and of data RAM; a C++ program with libstdc++'s iostream outgrows the 512 KB of the older ble_sample's

@@ -189,17 +189,18 @@ def run_lockstep(server: SyncServer, proc: subprocess.Popen) -> None:
     def await_answer(last: int) -> int:
         """Wait for Athrill's answer to the snapshot at `server.now_us`; apply it and return its wake time."""
         wait_word(slots.answer_address, answer, lambda: answer() != last, check)
-        next_wake = slots.next_wake_us()
-        if catches_up and (at := slots.athrill_time_us()) - at % PHYSICS_STEP_US > server.now_us:
+        next_wake, athrill_us = slots.next_wake_us(), slots.athrill_time_us()
+        answered_at = athrill_us - athrill_us % PHYSICS_STEP_US
+        if catches_up and answered_at > server.now_us:
             # asp moved on without us, where nothing it reads could change (asp_time.c): its answer, and what
             # it sent the hub, are of the step it answered in
-            if server.advance_to(at - at % PHYSICS_STEP_US):
+            if server.advance_to(answered_at):
                 return next_wake  # the test ended on the way: the loop stops at once
         now = server.now_us
-        diff = slots.athrill_time_us() - now
+        diff = athrill_us - now
         server.note_time_diff(diff)
         if abs(diff) > ALLOWED_TIME_DIFF_US:
-            raise AthrillCrash(CrashKind.PROTOCOL, 0, f"athrill time {slots.athrill_time_us()} us, physics {now} us")
+            raise AthrillCrash(CrashKind.PROTOCOL, 0, f"athrill time {athrill_us} us, physics {now} us")
         if next_wake <= now:
             raise AthrillCrash(CrashKind.PROTOCOL, 0, f"athrill wakes at {next_wake} us, physics is at {now} us")
         server.apply_actuators()

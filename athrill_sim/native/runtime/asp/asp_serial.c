@@ -159,23 +159,22 @@ void hako_serial_published(void)
         sent_at_publish = program_sent();
 }
 
+bool hako_serial_sent(void) { return counts != NULL && program_sent() != sent_at_publish; }
+
+/* When the hub sends its next status, as it publishes it (HAKO_NEVER_WAKES before the handshake). */
+static int64_t next_status(void) { return (int64_t)shared_word(HAKO_RASPIKE_HUB_NEXT_STATUS); }
+
 int64_t hako_serial_hub_sends(void)
 {
     int64_t step = hako_tick() + HAKO_PHYSICS_STEP_US;
-    if (counts == NULL || program_sent() != sent_at_publish)
+    if (counts == NULL || hako_serial_sent())
         return step;
-    int64_t status = (int64_t)shared_word(HAKO_RASPIKE_HUB_NEXT_STATUS);
-    return status > step ? status : step;
+    return next_status() > step ? next_status() : step;
 }
-
-bool hako_serial_sent(void) { return counts != NULL && program_sent() != sent_at_publish; }
 
 bool hako_serial_hub_quiet(int64_t step)
 {
-    if (counts == NULL)
-        return false;
-    int64_t status = (int64_t)shared_word(HAKO_RASPIKE_HUB_NEXT_STATUS);
-    return status != HAKO_NEVER_WAKES && step < status;
+    return counts != NULL && next_status() != HAKO_NEVER_WAKES && step < next_status();
 }
 
 bool hako_serial_backlog(void) { return counts != NULL && hub_sent() - released > BACKLOG_MAX; }
