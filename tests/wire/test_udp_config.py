@@ -9,9 +9,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from athrill_sim.program import ProgramError
-from athrill_sim.programs import resolve_program
-from athrill_sim.third_party import EV3RT_SDK, RASPIKE_SDK
+from athrill_sim.programs.program import ProgramError
+from athrill_sim.programs.resolve import resolve_program
+from athrill_sim.programs.third_party import EV3RT_SDK, RASPIKE_SDK
 from hakoniwa.wire.vdev_udp import (
     PORT_RANGE,
     Endpoint,
