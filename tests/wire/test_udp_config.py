@@ -1,5 +1,5 @@
 """athrill2's device config as athrill2 reads it, and the UDP endpoints a bench takes from it or picks
-(athrill_sim/vdev_udp.py). Every socket here is bound to 127.0.0.1."""
+(hakoniwa/wire/vdev_udp.py). Every socket here is bound to 127.0.0.1."""
 
 import re
 import socket
