@@ -31,11 +31,11 @@ from pathlib import Path
 
 import click
 
-from athrill_sim.athrill2 import RealSync
-from athrill_sim.kinds.kind import Emulator
-from athrill_sim.launcher import AthrillLauncher
-from athrill_sim.program import Program, ProgramError
-from athrill_sim.programs import resolve_program
+from athrill_sim.programs.athrill2 import RealSync
+from athrill_sim.programs.kinds.kind import Emulator
+from athrill_sim.programs.launcher import AthrillLauncher
+from athrill_sim.programs.program import Program, ProgramError
+from athrill_sim.programs.resolve import resolve_program
 from hakoniwa.physics import spike_hub
 from hakoniwa.physics.course import load_course
 from hakoniwa.physics.server import PhysicsServer

@@ -8,7 +8,7 @@
     Athrill's start is included (once per test, overlapped with the previous test by the pre-launch).
 (c) the start of one Athrill process: spawn to its first answer on a test that has already begun (what a test
     would wait for without the pre-launch): Python mock (started, and forked from the zygote as the bench
-    does, `athrill_sim.zygote`), native C tracer, and the real TOPPERS athrill2 running
+    does, `athrill_sim.programs.zygote`), native C tracer, and the real TOPPERS athrill2 running
     the EV3RT sample image (spawn to its clock first moving; it is started with its test, never ahead).
 (d) the real emulator's trials (hakoniwa sync) on the sample image, which drives until TIME_OVER.
 (e) HackSPi tracers natively, in the same run: ET Robocon's official sample_c5_spike (one task woken by a cyclic
@@ -37,12 +37,12 @@ from pathlib import Path
 import click
 import mujoco
 
-from athrill_sim.athrill2 import RealSync
-from athrill_sim.kinds.kind import Emulator
-from athrill_sim.program import MOCK_ARGV, Program, ProgramError
-from athrill_sim.programs import resolve_program
+from athrill_sim.programs.athrill2 import RealSync
+from athrill_sim.programs.kinds.kind import Emulator
+from athrill_sim.programs.program import MOCK_ARGV, Program, ProgramError
+from athrill_sim.programs.resolve import resolve_program
+from athrill_sim.programs.zygote import Zygote
 from athrill_sim.raspike_art.build import DEFAULT_FOLDER
-from athrill_sim.zygote import Zygote
 from hakoniwa.physics.course import load_course
 from hakoniwa.physics.sync import HAKONIWA_START_US
 from hakoniwa.physics.world import World
@@ -228,7 +228,7 @@ def athrill_rows(parts: str, a_batched: float, tests: int, starts: int, real_tes
         value = program if isinstance(program, str) else ms(start_costs(program, starts))
         rows.append((f"(c) start per test, {label}" + ("" if isinstance(program, str) else f", {starts} starts"),
                      value))
-        if not isinstance(program, str) and program.forkable:  # how the bench starts it (athrill_sim.zygote)
+        if not isinstance(program, str) and program.forkable:  # how the bench starts it (athrill_sim.programs.zygote)
             rows.append((f"(c) start per test, {label}, forked from the zygote, {starts} starts",
                          ms(start_costs(program, starts, forked=True))))
 

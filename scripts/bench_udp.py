@@ -13,7 +13,7 @@ import sys
 import click
 from bench_sim import REPO, trial_rate  # scripts/ is this script's folder
 
-from athrill_sim.athrill2 import AthrillTransport, RealSync
+from athrill_sim.programs.athrill2 import AthrillTransport, RealSync
 from hakoniwa.conventions import HELP
 from testctl.bench_options import BenchOptions
 

@@ -18,15 +18,15 @@ from typing import TYPE_CHECKING
 
 import click
 
-from athrill_sim.athrill2 import REPEATABLE_DIR, AthrillTransport, RealSync
-from athrill_sim.kinds.kind import Emulator
-from athrill_sim.program import ProgramError
+from athrill_sim.programs.athrill2 import REPEATABLE_DIR, AthrillTransport, RealSync
+from athrill_sim.programs.kinds.kind import Emulator
+from athrill_sim.programs.program import ProgramError
 from hakoniwa.conventions import SECONDS, option_group
 from hakoniwa.wire.objective import BUILT_IN, DEFAULT, Objective, ObjectiveError, objective_named
 from hakoniwa.wire.vdev_udp import UDP_DEVICE_CONFIG
 
 if TYPE_CHECKING:
-    from athrill_sim.program import Program
+    from athrill_sim.programs.program import Program
     from hakoniwa.physics.course import Course
     from hakoniwa.physics.robots import Robot
     from hakoniwa.physics.scenario import Scenario
@@ -83,7 +83,7 @@ class BenchOptions:
 
     def program(self) -> Program:
         """The robot program this bench serves (ProgramError, one line, if it cannot run)."""
-        from athrill_sim.programs import resolve_program
+        from athrill_sim.programs.resolve import resolve_program
 
         return resolve_program(self.app, athrill2=self.athrill2, emulator=self.emulator, sync=self.sync,
                                transport=self.transport, device_config=self.device_config, bindings=self.bindings)

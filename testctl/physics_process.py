@@ -47,7 +47,7 @@ def main(run_dir: Path, controller: tuple[str, ...], view_speed: float | None, *
         os.environ["MUJOCO_GL"] = "glfw"  # a window, whatever a headless film would have used
     view = None
     try:
-        from athrill_sim.launcher import AthrillLauncher
+        from athrill_sim.programs.launcher import AthrillLauncher
         from hakoniwa.physics.server import PhysicsServer  # MuJoCo: only once the arguments are known to be good
 
         server = PhysicsServer(run_dir, world_course, AthrillLauncher(run_dir, program),

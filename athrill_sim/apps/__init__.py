@@ -9,8 +9,8 @@ import importlib
 from collections.abc import Callable
 from pathlib import Path
 
-from athrill_sim.ev3api import Ev3Api
-from athrill_sim.program import ProgramError
+from athrill_sim.mock.ev3api import Ev3Api
+from athrill_sim.programs.program import ProgramError
 
 App = Callable[[Ev3Api], None]
 

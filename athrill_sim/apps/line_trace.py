@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 import struct
 
-from athrill_sim.ev3api import COLOR_SENSOR, EV3_PORT_1, EV3_PORT_A, EV3_PORT_B, LARGE_MOTOR, Ev3Api, rx
+from athrill_sim.mock.ev3api import COLOR_SENSOR, EV3_PORT_1, EV3_PORT_A, EV3_PORT_B, LARGE_MOTOR, Ev3Api, rx
 from hakoniwa.wire.protocol import Rx
 from hakoniwa.wire.timebase import CONTROL_PERIOD_US
 

@@ -34,11 +34,11 @@ from collections.abc import Collection
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-from athrill_sim.build_cache import CacheKey, cache_root, cached_build
 from athrill_sim.native import NativeBuildError, appcfg, headers, makefile, spike, workspace
 from athrill_sim.native.appcfg import KERNEL_CFG_C, KERNEL_CFG_H, kernel_config
 from athrill_sim.native.makefile import ETROBOC_COMMON
 from athrill_sim.native.workspace import CXX_SUFFIX, AppSources, find_app
+from athrill_sim.programs.build_cache import CacheKey, cache_root, cached_build
 
 RUNTIME = Path(__file__).with_name("runtime")
 RUNTIME_INCLUDE = RUNTIME / "include"

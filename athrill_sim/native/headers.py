@@ -5,7 +5,7 @@ names of the files a program leaves in the run directory (`hakoniwa.wire.rundir`
 
 from __future__ import annotations
 
-from athrill_sim import kernel as mock_kernel
+from athrill_sim.mock import kernel as mock_kernel
 from hakoniwa.wire import rundir, waiting
 from hakoniwa.wire.protocol import RASPIKE_STATUS_PERIOD_US, c_header
 from hakoniwa.wire.timebase import BUTTON_POLL_US, CALL_COST_US, CLOCK_EPOCH_S, PHYSICS_STEP_US
@@ -31,7 +31,8 @@ def timing_header() -> str:
     files = {"LCD_LOG": rundir.LCD_LOG, "SERIAL_LOG": rundir.SERIAL_LOG.replace("{port}", "%s"),
              "SERIAL_INPUT": rundir.SERIAL_INPUT, "SDCARD_DIR": rundir.SDCARD_DIR,
              "RASPIKE_SERIAL": rundir.RASPIKE_SERIAL}
-    lines = ["/* Generated from hakoniwa.wire.timebase, hakoniwa.wire.waiting and athrill_sim.kernel; do not edit. */",
+    lines = ["/* Generated from hakoniwa.wire.timebase, hakoniwa.wire.waiting and athrill_sim.mock.kernel; "
+             "do not edit. */",
              "#ifndef HAKO_TIMING_H", "#define HAKO_TIMING_H"]
     lines += [f"#define HAKO_{name} {value}" for name, value in values.items()]
     lines += [f'#define HAKO_{name} "{value}"' for name, value in files.items()]

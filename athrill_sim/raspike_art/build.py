@@ -29,10 +29,10 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from athrill_sim.build_cache import CacheKey, cache_root, cached_build
 from athrill_sim.native.workspace import MAKEFILE_INC
+from athrill_sim.programs.build_cache import CacheKey, cache_root, cached_build
+from athrill_sim.programs.third_party import RASPIKE_ART
 from athrill_sim.raspike_art import AspError
-from athrill_sim.third_party import RASPIKE_ART
 from athrill_sim.v850.build import (
     APP_NAME,
     BUILD_LOG,

@@ -13,9 +13,9 @@ import shutil
 import subprocess
 from pathlib import Path
 
-from athrill_sim.build_cache import CacheKey, cache_root, cached_build
 from athrill_sim.native.build import C_STD, STRICT_FLAGS
 from athrill_sim.native.headers import generated_headers
+from athrill_sim.programs.build_cache import CacheKey, cache_root, cached_build
 from athrill_sim.raspike_art import AspError
 from athrill_sim.raspike_art.build import CROSS_GCC, INSTALL_CROSS
 

@@ -4,7 +4,7 @@ The SDK's build writes into its own tree (the workspace, `OBJ/`, the cfg pass's 
 scratch copy of the SDK beside the cache entry, with the program copied in as the workspace folder `hako_app`
 and `../../../athrill` linked to Athrill's sources (EV3RT's Makefile.img takes the guest half of Athrill's
 devices from there). No source tree is written. The image is cached as the native build's binary is
-(`athrill_sim.build_cache`).
+(`athrill_sim.programs.build_cache`).
 
 The cache key mirrors the native build's (`athrill_sim.native.build`): the program's files by their paths
 relative to its folder, every file of the SDK and of Athrill's guest library, this module, the make command
@@ -33,13 +33,13 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from athrill_sim.build_cache import CacheKey, cache_root, cached_build
-from athrill_sim.elf_symbols import DEBUG_SUFFIX
 from athrill_sim.native import NativeBuildError, spike
 from athrill_sim.native.build import no_entry_point, undefined_name
 from athrill_sim.native.headers import LAYOUT_HEADER
 from athrill_sim.native.makefile import ETROBO_VARIABLES, ETROBOC_COMMON, NO_MAKEFILE
 from athrill_sim.native.workspace import LONE_CXX_MAKEFILE_INC, MAKEFILE_INC, program_makefile
+from athrill_sim.programs.build_cache import CacheKey, cache_root, cached_build
+from athrill_sim.tuning.elf_symbols import DEBUG_SUFFIX
 from athrill_sim.v850 import ImageError
 from athrill_sim.v850.toolchain import Tools, check_build_tools, find_tools
 from hakoniwa.wire.protocol import c_header

@@ -17,7 +17,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from athrill_sim.athrill2 import athrill_argv, athrill_config
+from athrill_sim.programs.athrill2 import athrill_argv, athrill_config
 from hakoniwa.wire.protocol import EXT_OFF, MappedFile, SyncMode, Tx, open_athrill, open_unity
 from hakoniwa.wire.timebase import US_PER_S
 from hakoniwa.wire.wallclock import WallCeiling

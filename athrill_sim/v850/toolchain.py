@@ -14,8 +14,8 @@ import tarfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from athrill_sim.build_cache import cache_root, cached_folder
-from athrill_sim.third_party import ATHRILL, EV3RT_SDK, RASPIKE_SDK, V850_TOOLCHAIN
+from athrill_sim.programs.build_cache import cache_root, cached_folder
+from athrill_sim.programs.third_party import ATHRILL, EV3RT_SDK, RASPIKE_SDK, V850_TOOLCHAIN
 from athrill_sim.v850 import ImageError
 
 PROJECT = Path(__file__).resolve().parents[2]

@@ -3,7 +3,7 @@ before each test.
 
 The paper's programs read a float32 at `0x090F0000 + offset`, so an `offset` parameter's slot is the
 program's own storage, of the type the program reads there (f32 unless the space says otherwise). Every other
-form of parameter (a `#define`, a global, a data file, a source match: `athrill_sim.forms`) is handed to the
+form of parameter (a `#define`, a global, a data file, a source match: `athrill_sim.tuning.forms`) is handed to the
 physics process through a slot too, as an f64 holding the proposal exactly, and the physics side turns it
 into what the program reads (the float32 or float64 of the proposal, or the integer). So the wire stays the
 one contract between controller and bench, whatever the form.

@@ -33,8 +33,9 @@ RASPIKE_SERIAL = "raspike-serial.bin"
 RASPIKE_HUB_SENT, RASPIKE_PROGRAM_SENT, RASPIKE_HUB_NEXT_STATUS, RASPIKE_SERIAL_SIZE = 0, 8, 16, 24
 RASPIKE_PORT = "raspike-port"  # a link to the pty on which the physics side plays asp's hub, made anew each test
 SDCARD_DIR = "sdcard"  # the folder standing in for the SD card: the program's working directory
-# A native program's working folder, a scratch copy of its workspace per test (athrill_sim/working_folder.py): the
-# test being run's under WORKSPACES_DIR, the last test's, with what the program wrote, kept as WORKSPACE_DIR.
+# A native program's working folder, a scratch copy of its workspace per test
+# (athrill_sim/programs/working_folder.py): the test being run's under WORKSPACES_DIR, the last test's, with what the
+# program wrote, kept as WORKSPACE_DIR.
 WORKSPACES_DIR = "workspaces"
 WORKSPACE_DIR = "workspace"
 

@@ -25,7 +25,7 @@ def bench_sync(bench: BenchOptions) -> SyncMode:
     Raises:
         ProgramError: --app names nothing that can run.
     """
-    from athrill_sim.programs import program_recipe
+    from athrill_sim.programs.resolve import program_recipe
 
     return program_recipe(bench.app, athrill2=bench.athrill2, emulator=bench.emulator, sync=bench.sync,
                           transport=bench.transport, device_config=bench.device_config).sync
@@ -51,7 +51,7 @@ def campaign_benches(bench: BenchOptions, wave: int) -> int:
     Raises:
         ProgramError: --app names nothing that can run.
     """
-    from athrill_sim.athrill2 import udp_link
+    from athrill_sim.programs.athrill2 import udp_link
     from hakoniwa.wire.protocol import SyncMode
 
     link = udp_link(bench.transport, bench.device_config)

@@ -42,8 +42,8 @@ def fingerprint(bench: BenchOptions, fields: Iterable[str]) -> dict[str, dict[st
     """The hashes of what each of `fields` names: the program's files for `app` (and, under WORKSPACE, the
     other files each test's copy of its workspace holds), the course folder for `course`, and the file or
     folder any other option names."""
-    from athrill_sim.program import card_files
-    from athrill_sim.programs import resolve_program
+    from athrill_sim.programs.program import card_files
+    from athrill_sim.programs.resolve import resolve_program
     from hakoniwa.physics.course import course_file
 
     out: dict[str, dict[str, str]] = {}

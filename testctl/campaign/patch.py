@@ -20,8 +20,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from athrill_sim.forms.form import file_bytes, file_text
-from athrill_sim.tuning import Tuning, apply_edits
+from athrill_sim.tuning.forms.form import file_bytes, file_text
+from athrill_sim.tuning.tune import Tuning, apply_edits
 from hakoniwa.wire.errors import HakoError
 
 BEST_PATCH = "best.patch"

@@ -4,9 +4,9 @@ fixed, and how each reaches the robot program.
 The paper's programs read their parameters from guest memory, so a parameter is by default an `offset` in
 `unity_mmap.bin`'s parameter area: what the app reads (`read_f32(0x090F0000 + offset)`). A program written
 without the bench keeps its gains elsewhere, and a parameter may say so instead, in another of the forms
-`athrill_sim.bindings.FORMS` lists: `define = "KP"` (built with -DKP=value), `symbol = "g_kp"` (a global's
+`athrill_sim.tuning.bindings.FORMS` lists: `define = "KP"` (built with -DKP=value), `symbol = "g_kp"` (a global's
 initial value), `file = "gains.csv"` (a data file written from a template) or `source = { file, match }` (a
-constant in the source, rewritten). Each form parses its own keys (`athrill_sim.forms`). Every parameter still
+constant in the source, rewritten). Each form parses its own keys (`athrill_sim.tuning.forms`). Every parameter still
 travels through a slot of the parameter area (`hakoniwa.wire.params`): an `offset` one in its own, the others in
 slots allocated from the top of the area in the space's order, so the wire stays the one contract and a cluster
 needs nothing else. `type = "int"` makes a parameter an integer,
@@ -27,9 +27,9 @@ from functools import cached_property
 from pathlib import Path
 from typing import Any
 
-from athrill_sim.bindings import DEFAULT_FORM, FORMS, SPACE_TYPES, to_json
-from athrill_sim.forms.form import Binding, BindingError, Form
-from athrill_sim.forms.offset import Offset
+from athrill_sim.tuning.bindings import DEFAULT_FORM, FORMS, SPACE_TYPES, to_json
+from athrill_sim.tuning.forms.form import Binding, BindingError, Form
+from athrill_sim.tuning.forms.offset import Offset
 from hakoniwa.conventions import FLOAT32_MAX
 from hakoniwa.wire.errors import HakoError
 from hakoniwa.wire.params import CARRIER, FIRST_SLOT, FLOAT_TYPES, INT_TYPES, SLOT_ALIGN, int_range, slot_size

@@ -164,8 +164,8 @@ def test_raspike_arts_own_sample_runs_on_the_bench_clock(probe: tuple[Path, Path
     same simulated instants twice: the serial exchange is in the lockstep, not the wall's race (two runs reached
     the motors at 1.626 s and 2.560 s before it). How fast it runs is scripts/bench_sim.py's to say, not a
     test's."""
+    from athrill_sim.programs.third_party import RASPIKE_ART
     from athrill_sim.raspike_art.build import DEFAULT_FOLDER, build_asp
-    from athrill_sim.third_party import RASPIKE_ART
     from tests.helpers.paths import needs_shared
 
     if not DEFAULT_FOLDER.is_dir():

@@ -7,11 +7,11 @@ import pytest
 from hypothesis import example, given
 from hypothesis import strategies as st
 
-from athrill_sim.bindings import from_json, to_json
-from athrill_sim.command_files import NUMBER, CellError, ini_cell, replace_cells, row_cell
-from athrill_sim.forms.form import Binding
-from athrill_sim.forms.ini import Ini
-from athrill_sim.forms.row import Row
+from athrill_sim.tuning.bindings import from_json, to_json
+from athrill_sim.tuning.command_files import NUMBER, CellError, ini_cell, replace_cells, row_cell
+from athrill_sim.tuning.forms.form import Binding
+from athrill_sim.tuning.forms.ini import Ini
+from athrill_sim.tuning.forms.row import Row
 
 CSV = """# section,name,distance,speed,kp,ki,kd
 LineTrace,S001,500.0,0,0.03,0.001,0.008

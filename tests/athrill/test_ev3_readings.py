@@ -12,9 +12,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from athrill_sim.bus import MemoryBus
-from athrill_sim.ev3api import COLOR_SENSOR, EV3_PORT_1, Ev3Api, RgbRaw
-from athrill_sim.kernel import Kernel
+from athrill_sim.mock.bus import MemoryBus
+from athrill_sim.mock.ev3api import COLOR_SENSOR, EV3_PORT_1, Ev3Api, RgbRaw
+from athrill_sim.mock.kernel import Kernel
 from hakoniwa.physics import color_response as cr
 from hakoniwa.physics.color_response import Calibration
 from hakoniwa.physics.course import load_course

@@ -2,8 +2,8 @@
 
 import pytest
 
-from athrill_sim.bus import BusError, MemoryBus
-from athrill_sim.ev3api import (
+from athrill_sim.mock.bus import BusError, MemoryBus
+from athrill_sim.mock.ev3api import (
     COLOR_SENSOR,
     E_ID,
     E_OBJ,
@@ -22,7 +22,7 @@ from athrill_sim.ev3api import (
     ULTRASONIC_SENSOR,
     Ev3Api,
 )
-from athrill_sim.kernel import Kernel
+from athrill_sim.mock.kernel import Kernel
 from hakoniwa.wire.protocol import Rx, Tx, open_athrill, open_unity
 
 
@@ -139,7 +139,7 @@ def test_led_and_buttons(api):
 
 def test_touch_sensors_are_numbered_in_port_order(api):
     """As EV3RT does: the sample's touch sensors on ports 3 and 4 read slots 0 (RX 112) and 1 (RX 124)."""
-    from athrill_sim.ev3api import EV3_PORT_4
+    from athrill_sim.mock.ev3api import EV3_PORT_4
 
     api.ev3_sensor_config(EV3_PORT_3, TOUCH_SENSOR)
     api.ev3_sensor_config(EV3_PORT_4, TOUCH_SENSOR)

@@ -8,7 +8,7 @@ import signal
 import pytest
 
 from athrill_sim.apps import C_BUILTIN
-from athrill_sim.third_party import EV3RT_SAMPLE_IMAGE
+from athrill_sim.programs.third_party import EV3RT_SAMPLE_IMAGE
 from hakoniwa.wire.protocol import CrashKind, Event
 from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, read_journal
 from testctl.paper import GAIN_RANGE, line_trace_params

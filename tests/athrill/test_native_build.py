@@ -6,14 +6,14 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim import kernel as mock_kernel
+from athrill_sim.mock import kernel as mock_kernel
 from athrill_sim.native import NativeBuildError
 from athrill_sim.native.appcfg import kernel_config
 from athrill_sim.native.build import build_app, first_error
 from athrill_sim.native.headers import generated_headers
 from athrill_sim.native.workspace import find_app
-from athrill_sim.program import ProgramError
-from athrill_sim.programs import resolve_program
+from athrill_sim.programs.program import ProgramError
+from athrill_sim.programs.resolve import resolve_program
 from hakoniwa.wire import protocol, waiting
 from hakoniwa.wire.timebase import PHYSICS_STEP_US
 from tests.helpers.commands import hako
@@ -196,7 +196,7 @@ def test_an_unwritable_cache_names_the_variable_that_moves_it(tmp_path, variable
 
 
 def test_the_cache_error_is_caught_as_either_build_s_error(tmp_path, monkeypatch):
-    from athrill_sim.build_cache import cached_build
+    from athrill_sim.programs.build_cache import cached_build
     from athrill_sim.v850 import ImageError
 
     (tmp_path / "a-file").write_text("")

@@ -22,9 +22,9 @@ from athrill_sim.native import NativeBuildError
 from athrill_sim.native.build import build_app, find_compiler, find_cxx_compiler
 from athrill_sim.native.makefile import ETROBOC_COMMON, LIBRARY_DIR, evaluate
 from athrill_sim.native.workspace import find_app
-from athrill_sim.program import ProgramError
-from athrill_sim.programs import resolve_program
-from athrill_sim.third_party import EV3RT_SDK, RASPIKE_SDK
+from athrill_sim.programs.program import ProgramError
+from athrill_sim.programs.resolve import resolve_program
+from athrill_sim.programs.third_party import EV3RT_SDK, RASPIKE_SDK
 from tests.helpers.commands import hako, one_line_error
 from tests.helpers.ev3rt_corpus import EV3RT
 from tests.helpers.native_fixtures import need_cc

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim.bus import MemoryBus
-from athrill_sim.ev3api import (
+from athrill_sim.mock.bus import MemoryBus
+from athrill_sim.mock.ev3api import (
     COLOR_SENSOR,
     ENTER_BUTTON,
     EV3_FONT_MEDIUM,
@@ -38,7 +38,7 @@ from athrill_sim.ev3api import (
     MemFile,
     RgbRaw,
 )
-from athrill_sim.kernel import Kernel
+from athrill_sim.mock.kernel import Kernel
 from hakoniwa.wire.exits import EXIT_BENCH_FAULT
 from hakoniwa.wire.protocol import ATHRILL_FILE, NEVER_WAKES, UNITY_FILE, Rx, Tx
 from hakoniwa.wire.rundir import LCD_LOG, SDCARD_DIR, SERIAL_INPUT, SERIAL_LOG
@@ -519,7 +519,7 @@ void main_task(intptr_t unused)
 }
 """
 SHORT_PRESS_PY = """
-from athrill_sim.ev3api import ENTER_BUTTON
+from athrill_sim.mock.ev3api import ENTER_BUTTON
 
 def main_task(api):
     api.ev3_button_set_on_clicked(ENTER_BUTTON, lambda exinf: api.syslog(f"clicked {exinf}"), 5)
@@ -555,7 +555,7 @@ def test_a_press_shorter_than_the_programs_sleep_is_clicked_as_on_ev3rt(tmp_path
     else:
         (tmp_path / "short_press.py").write_text(SHORT_PRESS_PY)
         monkeypatch.setenv("PYTHONPATH", str(tmp_path))
-        proc = subprocess.Popen([sys.executable, "-m", "athrill_sim.main", "--app", "short_press:main_task",
+        proc = subprocess.Popen([sys.executable, "-m", "athrill_sim.mock.main", "--app", "short_press:main_task",
                                  "--run-dir", str(bench.run_dir)], stdin=subprocess.DEVNULL,
                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     assert run_with_a_short_press(bench, proc, 200_000) == [10_000 * k for k in range(1, 21)]

@@ -24,7 +24,7 @@ DONE_S = 50  # past the first lap with the paper's gains (GOAL at 35.68 s) and i
 # ends its competition run: from the first wake-up at or after DONE_S on.
 DONE_APP = f'''
 from athrill_sim.apps import line_trace
-from athrill_sim.ev3api import tx
+from athrill_sim.mock.ev3api import tx
 from hakoniwa.wire.protocol import Tx
 
 

@@ -89,7 +89,7 @@ def test_the_c_runtime_marks_its_bench_faults(tmp_path):
 
 def test_the_mock_marks_its_bench_faults(tmp_path):
     run_dir = damaged_run_dir(tmp_path)
-    proc = run_module("athrill_sim.main", "--app", "line_trace", "--run-dir", str(run_dir), timeout=60)
+    proc = run_module("athrill_sim.mock.main", "--app", "line_trace", "--run-dir", str(run_dir), timeout=60)
     assert proc.returncode == EXIT_BENCH_FAULT
     assert "size 104 bytes, expected 8192" in (run_dir / f"{BENCH_FAULT_MARKER}{proc_pid(run_dir)}").read_text()
 

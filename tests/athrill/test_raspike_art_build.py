@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 
+from athrill_sim.programs.third_party import RASPIKE_ART
 from athrill_sim.raspike_art import AspError
 from athrill_sim.raspike_art.build import (
     ASP,
@@ -24,7 +25,6 @@ from athrill_sim.raspike_art.build import (
     find_raspike_art,
     find_tools,
 )
-from athrill_sim.third_party import RASPIKE_ART
 from athrill_sim.v850 import ImageError
 from tests.helpers.commands import hako, one_line_error
 from tests.helpers.paths import needs_shared

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim.kinds.kind import Emulator
+from athrill_sim.programs.kinds.kind import Emulator
 from hakoniwa.physics.hub_relay import HANDSHAKE_BY_US, HubRelay
 from hakoniwa.physics.raspike_hub import COLOR, FORCE, MOTOR, ULTRASONIC, hub_kinds
 from hakoniwa.physics.robots import HACKSPI

@@ -6,7 +6,7 @@ import subprocess
 
 import pytest
 
-from athrill_sim.third_party import EV3RT_SAMPLE_IMAGE
+from athrill_sim.programs.third_party import EV3RT_SAMPLE_IMAGE
 from hakoniwa.wire.timebase import ALLOWED_TIME_DIFF_US
 from tests.helpers.athrill_fixtures import ASP_IMAGE
 from tests.helpers.commands import hako

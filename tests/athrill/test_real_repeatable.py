@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim.athrill2 import SYNC_WAIT_KEY
-from athrill_sim.third_party import EV3RT_SAMPLE_IMAGE
+from athrill_sim.programs.athrill2 import SYNC_WAIT_KEY
+from athrill_sim.programs.third_party import EV3RT_SAMPLE_IMAGE
 from hakoniwa.wire.timebase import ALLOWED_TIME_DIFF_US
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
 from tests.helpers.athrill_fixtures import ASP_IMAGE

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim.third_party import RASPIKE_SAMPLES, RASPIKE_SDK
+from athrill_sim.programs.third_party import RASPIKE_SAMPLES, RASPIKE_SDK
 from athrill_sim.v850.toolchain import SHARED, find_tools
 from tests.helpers.commands import hako
 from tests.helpers.paths import needs_shared

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim.third_party import RASPIKE_SDK
+from athrill_sim.programs.third_party import RASPIKE_SDK
 from hakoniwa.wire.vdev_udp import bench_link, bind_pair
 from tests.helpers.athrill_fixtures import ASP_IMAGE
 from tests.helpers.commands import hako, one_line_error

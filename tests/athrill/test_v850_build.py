@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim.third_party import EV3RT_SAMPLE_IMAGE
+from athrill_sim.programs.third_party import EV3RT_SAMPLE_IMAGE
 from athrill_sim.v850 import ImageError, build
 from athrill_sim.v850.build import app_files, build_image, cache_key, first_error, staged_sources, user_paths
 from athrill_sim.v850.elf import check_image

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim.third_party import EV3RT_SDK, RASPIKE_SDK
+from athrill_sim.programs.third_party import EV3RT_SDK, RASPIKE_SDK
 from athrill_sim.v850 import ImageError
 from athrill_sim.v850.toolchain import find_sdk, find_toolchain
 from tests.helpers.paths import SCRIPTS, needs_shared

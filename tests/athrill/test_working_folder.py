@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim.working_folder import MAX_BYTES, WorkingFolder, WorkingFolderError
+from athrill_sim.programs.working_folder import MAX_BYTES, WorkingFolder, WorkingFolderError
 from hakoniwa.wire.rundir import WORKSPACE_DIR, WORKSPACES_DIR
 from tests.helpers.bench_fixtures import PAPER, physics
 from tests.helpers.native_fixtures import need_cc
@@ -53,7 +53,7 @@ def test_an_app_c_beside_its_app_cfg_is_its_app_folder_and_a_lone_file_has_no_wo
 
 def test_a_workspace_too_large_to_copy_for_every_test_is_one_line(tmp_path, monkeypatch):
     ws = workspace(tmp_path)
-    monkeypatch.setattr("athrill_sim.working_folder.MAX_BYTES", 10)
+    monkeypatch.setattr("athrill_sim.programs.working_folder.MAX_BYTES", 10)
     with pytest.raises(WorkingFolderError, match=r"tracer: its workspace holds 0 MiB, copied for every test; keep it "
                                                  r"under 0 MiB \(large data outside the app folder"):
         WorkingFolder.of(ws / "tracer", None)

@@ -12,11 +12,11 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim import launcher as launcher_module
-from athrill_sim.kinds.python import python_program
-from athrill_sim.launcher import AthrillLauncher
-from athrill_sim.program import Program
-from athrill_sim.zygote import ForkedProcess, Zygote, ZygoteGone
+from athrill_sim.programs import launcher as launcher_module
+from athrill_sim.programs.kinds.python import python_program
+from athrill_sim.programs.launcher import AthrillLauncher
+from athrill_sim.programs.program import Program
+from athrill_sim.programs.zygote import ForkedProcess, Zygote, ZygoteGone
 from hakoniwa.wire.processes import kill
 from hakoniwa.wire.protocol import SyncMode
 
@@ -86,7 +86,8 @@ def test_a_forked_mock_exits_and_speaks_as_a_process_of_its_own(program_dir: Pat
         proc, out = run_forked(zygote)
     finally:
         zygote.close()
-    plain = subprocess.run([sys.executable, "-m", "athrill_sim.main", *check_args()], capture_output=True, text=True)
+    plain = subprocess.run([sys.executable, "-m", "athrill_sim.mock.main", *check_args()], capture_output=True,
+                           text=True)
     assert proc.returncode == plain.returncode == code
     assert said in out and said in plain.stdout + plain.stderr
 

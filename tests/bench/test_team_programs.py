@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim.command_files import NUMBER
+from athrill_sim.tuning.command_files import NUMBER
 from hakoniwa.wire.rundir import WORKSPACE_DIR
 from tests.helpers.commands import hako, one_line_error
 from tests.helpers.native_fixtures import need_cc

@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from athrill_sim.python_sources import program_sources
+from athrill_sim.programs.python_sources import program_sources
 from hakoniwa.physics.course import COURSES_DIR
 from testctl.bench_options import BenchOptions
 from testctl.campaign.fingerprint import FILES_KEY, WORKSPACE, changes, fingerprint
@@ -72,7 +72,8 @@ def test_a_changed_helper_module_the_program_imports_is_named_and_nothing_is_run
     (tmp_path / "tracer").mkdir()
     (tmp_path / "tracer" / "__init__.py").write_text(f"open({str(ran)!r}, 'w').close()\n")
     (tmp_path / "tracer" / "main.py").write_text(
-        "import json, numpy\nfrom athrill_sim.ev3api import Ev3Api\nfrom . import gains\nfrom .steer import steer\n"
+        "import json, numpy\nfrom athrill_sim.mock.ev3api import Ev3Api\nfrom . import gains\n"
+        "from .steer import steer\n"
         "def main_task(api):\n    steer(api, gains.KP)\n")
     (tmp_path / "tracer" / "gains.py").write_text("from tracer.filters import smooth\nKP = 1.0\n")
     (tmp_path / "tracer" / "steer.py").write_text("def steer(api, kp):\n    pass\n")
@@ -142,7 +143,7 @@ def test_the_program_files_are_exactly_the_modules_its_imports_reach(tmp_path_fa
 
 
 def test_every_file_a_tests_workspace_copy_holds_is_hashed(tmp_path):
-    """A native program's tests each start from a copy of its workspace (athrill_sim/working_folder.py): the
+    """A native program's tests each start from a copy of its workspace (athrill_sim/programs/working_folder.py): the
     command file no parameter names, a file in the workspace beside the app folder and the SD card's are what
     the program reads at run time, so an edit of any of them between a kill and `--resume` is named."""
     need_cc()

@@ -15,13 +15,13 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from athrill_sim.bindings import from_json
-from athrill_sim.forms.define import Define
-from athrill_sim.forms.file import fill_template, template_fields
-from athrill_sim.forms.form import Binding, BindingError, Edit
-from athrill_sim.forms.symbol import Symbol
-from athrill_sim.forms.values import as_float32, value_text
-from athrill_sim.tuning import apply_edits
+from athrill_sim.tuning.bindings import from_json
+from athrill_sim.tuning.forms.define import Define
+from athrill_sim.tuning.forms.file import fill_template, template_fields
+from athrill_sim.tuning.forms.form import Binding, BindingError, Edit
+from athrill_sim.tuning.forms.symbol import Symbol
+from athrill_sim.tuning.forms.values import as_float32, value_text
+from athrill_sim.tuning.tune import apply_edits
 from hakoniwa.wire.params import PARAM_END, slot_size
 from hakoniwa.wire.protocol import open_athrill, open_unity
 from testctl.campaign.patch import unified_diff

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim.forms.values import as_float32
+from athrill_sim.tuning.forms.values import as_float32
 from hakoniwa.wire.protocol import open_athrill
 from testctl.bench import Bench
 from testctl.bench_options import BenchOptions

@@ -10,9 +10,9 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim.athrill2 import AthrillTransport, RealSync
-from athrill_sim.kinds.kind import Emulator
-from athrill_sim.program import ProgramError
+from athrill_sim.programs.athrill2 import AthrillTransport, RealSync
+from athrill_sim.programs.kinds.kind import Emulator
+from athrill_sim.programs.program import ProgramError
 from testctl.bench_options import BenchOptions
 from testctl.campaign.benches import bench_info
 

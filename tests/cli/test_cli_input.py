@@ -51,7 +51,7 @@ def test_testctl_trial_refuses_non_finite_gains(tmp_path):
 
 @pytest.mark.parametrize("module, args", [
     ("testctl.hako", []), ("testctl.hako", ["trial"]), ("testctl.hako", ["run"]), ("testctl.physics_process", []),
-    ("testctl.cli", []), ("testctl.cli", ["trial"]), ("testctl.cli", ["campaign"]), ("athrill_sim.main", []),
+    ("testctl.cli", []), ("testctl.cli", ["trial"]), ("testctl.cli", ["campaign"]), ("athrill_sim.mock.main", []),
 ])
 def test_dash_h_is_help_everywhere(module, args):
     r = run(module, *args, "-h")

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim.third_party import ATHRILL, EV3RT_SAMPLE_IMAGE
+from athrill_sim.programs.third_party import ATHRILL, EV3RT_SAMPLE_IMAGE
 from tests.helpers.paths import REPO, SHARED, needs_shared
 
 SHARED_ATHRILL = SHARED / "third_party" / "athrill"

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from athrill_sim.third_party import EV3RT_SDK
+from athrill_sim.programs.third_party import EV3RT_SDK
 from tests.helpers.paths import SHARED, needs_shared
 
 EV3RT = SHARED / "third_party" / "ev3rt" / "ev3rt-athrill-v850e2m"

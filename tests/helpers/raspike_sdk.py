@@ -4,7 +4,7 @@ for the hub (third_party/raspike-art/README.md) likewise, with NEEDS_SPIKE_RT.""
 
 from __future__ import annotations
 
-from athrill_sim.third_party import RASPIKE_SDK, SPIKE_RT_HUB
+from athrill_sim.programs.third_party import RASPIKE_SDK, SPIKE_RT_HUB
 from tests.helpers.paths import SHARED, needs_shared
 
 RASPIKE = SHARED / "third_party" / "raspike"

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim.athrill2 import REPEATABLE_DIR
+from athrill_sim.programs.athrill2 import REPEATABLE_DIR
 from athrill_sim.v850 import ImageError
 from athrill_sim.v850.toolchain import SHARED, check_build_tools, find_tools
 from tests.helpers.athrill_fixtures import build_athrill2

@@ -7,7 +7,7 @@ Tests run on the mazes shipped in the package, so they pass on a fresh clone. Th
 
 import pytest
 
-from athrill_sim.third_party import MAZES
+from athrill_sim.programs.third_party import MAZES
 from maze.builtin import builtin_dir, builtin_names, builtin_path
 from maze.mazefile import parse_maze
 from tests.helpers.commands import mazelog

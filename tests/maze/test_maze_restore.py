@@ -2,7 +2,7 @@ import re
 
 import pytest
 
-from athrill_sim.third_party import SEEDS
+from athrill_sim.programs.third_party import SEEDS
 from maze.direction import EAST, NORTH, SOUTH
 from maze.errors import MazeError
 from maze.mazefile import dump_maze, parse_maze

@@ -40,7 +40,7 @@ from tests.helpers.paths import PROGRAMS
 LANES = ("etrobocon-l", "etrobocon-r")
 # A program that drives straight ahead at power 50 on both of the default robot's wheels, and never stops.
 STRAIGHT_APP = '''
-from athrill_sim.ev3api import EV3_PORT_A, EV3_PORT_B, LARGE_MOTOR
+from athrill_sim.mock.ev3api import EV3_PORT_A, EV3_PORT_B, LARGE_MOTOR
 
 
 def main_task(api):

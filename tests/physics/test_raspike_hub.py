@@ -19,7 +19,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from athrill_sim.third_party import RASPIKE_ART
+from athrill_sim.programs.third_party import RASPIKE_ART
 from hakoniwa.physics import spike_hub
 from hakoniwa.physics.raspike_hub import COLOR, FORCE, MOTOR, Hub, HubFault, PtyHub, SerialCounts
 from hakoniwa.physics.sensors import HubReadings, Sensors

@@ -193,11 +193,19 @@ def test_the_package_roots_import_nothing() -> None:
     a process that needs only the wire contract). One exception: `hakoniwa` pins the floating-point kernels
     (stdlib only), which must happen before anything imports numpy."""
     for name in ("hakoniwa", "hakoniwa.physics", "hakoniwa.pictures", "hakoniwa.wire", "testctl.hako", "testctl",
-                 "testctl.suite", "testctl.search", "testctl.campaign", "athrill_sim", "athrill_sim.kinds"):
+                 "testctl.suite", "testctl.search", "testctl.campaign", "athrill_sim", "athrill_sim.mock",
+                 "athrill_sim.programs", "athrill_sim.programs.kinds", "athrill_sim.tuning",
+                 "athrill_sim.tuning.forms"):
         path = modules()[name]
         allowed = ROOT_MAY_IMPORT.get(name)
         found = [t for _, t in imports(name, path) if is_ours(t)]
         assert [t for t in found if allowed is None or not t.startswith(allowed)] == [], name
+
+
+def test_the_athrill_side_root_holds_folders_only() -> None:
+    """`athrill_sim/` is its concepts' folders (the mock, the programs, the tuning, the builders), so no module
+    at its root mixes two of them."""
+    assert [p.name for p in (REPO / "athrill_sim").glob("*.py")] == ["__init__.py"]
 
 
 def test_the_design_notes_draw_these_packages() -> None:

@@ -1,5 +1,5 @@
 """Every test that skips for want of a piece of ../shared says where a user without ../shared gets it, and the
-README and docs/REAL-ATHRILL.md name the same repositories and commits as `athrill_sim.third_party`, the one
+README and docs/REAL-ATHRILL.md name the same repositories and commits as `athrill_sim.programs.third_party`, the one
 table of them."""
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from athrill_sim.third_party import PIECES, Piece
+from athrill_sim.programs.third_party import PIECES, Piece
 from tests.helpers.paths import DOCS, REPO, TESTS, needs_shared
 
 SHARED_WORD = "../" + "shared"  # spelt so that this file's own strings are not what it looks for

@@ -3,7 +3,7 @@
 from hypothesis import given
 from hypothesis import strategies as st
 
-from athrill_sim.ev3serial import Input, parse_serial_input
+from athrill_sim.mock.ev3serial import Input, parse_serial_input
 from hakoniwa.physics.scenario import SERIAL_PORTS, Scenario, SerialInput
 
 # by keyword: SerialInput's first field is `where`, so positional strategies filled the wrong fields and the

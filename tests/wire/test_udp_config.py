@@ -1,5 +1,5 @@
 """athrill2's device config as athrill2 reads it, and the UDP endpoints a bench takes from it or picks
-(athrill_sim/vdev_udp.py). Every socket here is bound to 127.0.0.1."""
+(hakoniwa/wire/vdev_udp.py). Every socket here is bound to 127.0.0.1."""
 
 import re
 import socket
@@ -9,9 +9,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from athrill_sim.program import ProgramError
-from athrill_sim.programs import resolve_program
-from athrill_sim.third_party import EV3RT_SDK, RASPIKE_SDK
+from athrill_sim.programs.program import ProgramError
+from athrill_sim.programs.resolve import resolve_program
+from athrill_sim.programs.third_party import EV3RT_SDK, RASPIKE_SDK
 from hakoniwa.wire.vdev_udp import (
     PORT_RANGE,
     Endpoint,

@@ -1,6 +1,6 @@
 /*
  * EV3RT's C API with EV3RT's names, signatures, types and constants (sdk/common/ev3api/include/ev3api.h and the
- * ev3api_*.h it includes); the semantics mirror athrill_sim/ev3api.py and EV3RT's sources (docs/NATIVE.md).
+ * ev3api_*.h it includes); the semantics mirror athrill_sim/mock/ev3api.py and EV3RT's sources (docs/NATIVE.md).
  * As EV3RT's does, it includes <kernel.h>, <t_syslog.h>, <t_stdlib.h> and <stdio.h> first and kernel_cfg.h
  * last, which programs rely on (FILE, fprintf, assert, act_tsk with no include of their own). Everything EV3RT
  * declares is declared here; what the bench does not provide is a link error naming it, never a silent no-op.

@@ -1,5 +1,5 @@
 /*
- * EV3RT's sensor, motor, LED and button API over guest memory, mirroring athrill_sim/ev3api.py call for
+ * EV3RT's sensor, motor, LED and button API over guest memory, mirroring athrill_sim/mock/ev3api.py call for
  * call: the same reads (the low byte of the colour slots, 16 bits of the gyro, ultrasonic and touch slots,
  * ultrasonic millimetres returned as centimetres), the same error codes, the same flags. Every access goes
  * through the guest windows, exactly as a program's own pointer would, so the API and raw addresses always

@@ -14,7 +14,7 @@
  * handlers run before any task, as a time-event handler preempts tasks on ASP3; tasks run highest priority
  * (lowest number) first, FIFO within a priority. A task runs until it blocks or ends, spends a step, or
  * activates or wakes a task of higher priority, which then runs first while the caller waits at the head of
- * its priority, as on ASP3. A program with one task therefore runs exactly as athrill_sim/kernel.py.
+ * its priority, as on ASP3. A program with one task therefore runs exactly as athrill_sim/mock/kernel.py.
  *
  * A relative wait is counted from the tick it is asked at and rounded up to whole steps, as the mock kernel
  * does: tslp_tsk(d) wakes at tick + ceil(d / step) * step, whatever the task spent in that step (a few

@@ -1,5 +1,5 @@
 /*
- * The lockstep with the physics process, exactly as athrill_sim/kernel.py speaks it (hakoniwa/sync.py is
+ * The lockstep with the physics process, exactly as athrill_sim/mock/kernel.py speaks it (hakoniwa/sync.py is
  * the other side):
  * - a pre-launched process waits, napping, until RX TEST_SEQ names its test;
  * - to sleep until `wake`, publish NEXT_WAKE, the TX header times (Athrill's clock and the echo of the unity

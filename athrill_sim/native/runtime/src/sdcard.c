@@ -1,6 +1,6 @@
 /*
  * The SD card: the program's working directory (the bench starts it in a copy of its workspace, which holds its
- * own sdcard/ folder's contents: athrill_sim/working_folder.py), so that fopen of a relative path and EV3RT's
+ * own sdcard/ folder's contents: athrill_sim/programs/working_folder.py), so that fopen of a relative path and EV3RT's
  * ev3_sdcard_* and ev3_memfile_* see the same files. Argument checks and error
  * codes are EV3RT's (ev3api_fs.c): memfile_load with no path is E_PAR, with no memfile E_NOMEM, a file that
  * does not open E_PAR; memfile_free of NULL E_PAR, of a freed one E_OBJ.
