@@ -10,7 +10,7 @@ import sys
 
 import pytest
 
-from athrill_sim.program import ProgramError
+from athrill_sim.programs.program import ProgramError
 from hakoniwa.wire.objective import ObjectiveError, objective_named
 from hakoniwa.wire.protocol import CrashKind, Event, Rx
 from hakoniwa.wire.result import TestResult
