@@ -9,7 +9,7 @@ import time
 from pathlib import Path
 
 from hakoniwa.wire.processes import die_with_parent
-from hakoniwa.wire.protocol import BenchCause, CrashKind, Event
+from hakoniwa.wire.protocol import BenchCause
 from hakoniwa.wire.result import TestResult
 from hakoniwa.wire.rundir import diagnose
 from testctl.bench_options import BenchOptions
@@ -65,8 +65,7 @@ class Bench:
             self.close()
             cause = (BenchCause.FILE_DAMAGED if damage else BenchCause.TIME_STALLED if hung
                      else BenchCause.PHYSICS_KILLED)
-            return TestResult(Event.CRASH, 0, time.monotonic() - started, crash_kind=CrashKind.BENCH,
-                              crash_detail=0 if hung else proc.returncode or 0, bench_cause=cause)
+            return TestResult.spoiled(cause, 0 if hung else proc.returncode or 0, time.monotonic() - started)
         if result.bench_fault:
             self.close()
         return result

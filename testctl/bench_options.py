@@ -22,7 +22,7 @@ from athrill_sim.programs.athrill2 import REPEATABLE_DIR, AthrillTransport, Real
 from athrill_sim.programs.kinds.kind import Emulator
 from athrill_sim.programs.program import ProgramError
 from hakoniwa.conventions import SECONDS, option_group
-from hakoniwa.wire.protocol import Objective
+from hakoniwa.wire.objective import BUILT_IN, DEFAULT, Objective, ObjectiveError, objective_named
 from hakoniwa.wire.vdev_udp import UDP_DEVICE_CONFIG
 
 if TYPE_CHECKING:
@@ -52,7 +52,7 @@ class BenchOptions:
     robot: str | None = None  # None: the default robot, with the course's wheel ports
     scenario: str | None = None  # a scenario TOML applied to every test
     bindings: str | None = None  # JSON: how parameters other than `offset` reach the program (from the space)
-    objective: str | None = Objective.LAP.name.lower()  # what ends and scores a test: an `Objective`, by name
+    objective: str | None = DEFAULT  # what ends and scores a test: an `Objective`, by its key
 
     def __post_init__(self) -> None:
         """The command line and a journal give these by name: they become their enums here, once."""
@@ -62,11 +62,15 @@ class BenchOptions:
                 if value not in set(kind):
                     raise ProgramError(f"--{field} {value}: not one of {', '.join(kind)}")
                 object.__setattr__(self, field, kind(value))
+        try:
+            self.scored_by  # noqa: B018 (an objective that cannot be found is one line here, before any test)
+        except ObjectiveError as e:
+            raise ProgramError(f"--objective: {e}") from None
 
     @property
     def scored_by(self) -> Objective:
         """The bench's objective; a journal from before objectives were recorded names none: the lap."""
-        return Objective.LAP if self.objective is None else Objective[self.objective.upper()]
+        return objective_named(self.objective or DEFAULT)
 
     def physics_command(self, run_dir: Path, controller: list[str], extra: tuple[str, ...] = ()) -> list[str]:
         """`extra`: options of the physics process alone, which are not the bench's (`--view`)."""
@@ -89,6 +93,27 @@ class BenchOptions:
         from hakoniwa.physics.bench import time_limit_us
 
         return time_limit_us(course_limit_us, self.time_limit_s)
+
+
+class ObjectiveKey(click.ParamType):
+    """A built-in objective's name or a plug-in's module:attribute, found before any bench starts."""
+
+    name = "objective"
+
+    def get_metavar(self, param: click.Parameter, ctx: click.Context) -> str:
+        return f"[{'|'.join(BUILT_IN)}|MODULE:ATTRIBUTE]"
+
+    def convert(self, value: str, param: click.Parameter | None, ctx: click.Context | None) -> str:
+        try:
+            objective_named(value)
+        except ObjectiveError as e:
+            self.fail(str(e), param, ctx)
+        return value
+
+    def shell_complete(self, ctx: click.Context, param: click.Parameter, incomplete: str) -> list:
+        from click.shell_completion import CompletionItem
+
+        return [CompletionItem(k) for k in BUILT_IN if k.startswith(incomplete)]
 
 
 @dataclass(frozen=True)
@@ -139,10 +164,10 @@ _OPTIONS = [
     _Option("bindings", "--bindings", "How the parameters of kinds other than offset (define, symbol, file, "
             "source) reach the program, as JSON; the controller makes it from the --space file.", hidden=True),
     _Option("objective", "--objective", "What ends and scores a test: lap (GOAL at the course's last "
-            "checkpoint, scored by the lap time) or completed (the program's ETRoboc_notifyCompletedToSimulator(), "
+            "checkpoint, scored by the lap time), completed (the program's ETRoboc_notifyCompletedToSimulator(), "
             "as an ET Robocon competition program ends its run, scored by when it came; the goal line does not "
-            "end the test, and a test it never comes to fails).",
-            click.Choice([o.name.lower() for o in Objective])),
+            "end the test, and a test it never comes to fails), etrobocon (ET Robocon's result points, raised) "
+            "or an objective of your own as module:attribute (docs/OBJECTIVES.md).", ObjectiveKey()),
 ]
 
 bench_options = option_group([o.declare() for o in _OPTIONS])

@@ -11,8 +11,10 @@ from pathlib import Path
 import click
 
 from hakoniwa.conventions import HELP, SECONDS, Float32, OneLineErrorsGroup
+from hakoniwa.wire.objective import DEFAULT
 from hakoniwa.wire.rundir import COURSE_ENV, OBJECTIVE_ENV, RUN_DIR_ENV, TIME_LIMIT_ENV
 from testctl import paper
+from testctl.bench_options import ObjectiveKey
 from testctl.executor import SerialExecutor, TestSpec
 from testctl.options import campaign_options, noise_options, plan
 from testctl.runner import TrialRunner
@@ -52,7 +54,7 @@ def trial(run_dir: Path, kp: float, ki: float, kd: float, power: float, seed: in
               help="The bench's course folder, for the best set's picture [env: HAKO_COURSE].")
 @click.option("--time-limit", envvar=TIME_LIMIT_ENV, required=True, type=SECONDS,
               help="The bench's time limit: what a failed test scores [env: HAKO_TIME_LIMIT_S].")
-@click.option("--objective", envvar=OBJECTIVE_ENV, default="lap", show_default=True,
+@click.option("--objective", envvar=OBJECTIVE_ENV, default=DEFAULT, show_default=True, type=ObjectiveKey(),
               help="The bench's objective: what a test's value is [env: HAKO_OBJECTIVE].")
 @campaign_options
 def campaign(run_dir: Path, course: str, time_limit: float, objective: str, **options) -> None:

@@ -73,7 +73,7 @@ def serve(server, run_dir: Path, course_folder: Path, controller: tuple[str, ...
     if controller:
         env = dict(os.environ, **{RUN_DIR_ENV: str(run_dir.resolve()), COURSE_ENV: str(course_folder.resolve()),
                                   TIME_LIMIT_ENV: repr(server.env.task.time_limit_us / US_PER_S),
-                                  OBJECTIVE_ENV: server.env.task.objective.name.lower()})
+                                  OBJECTIVE_ENV: server.objective.key})
         try:
             proc = subprocess.Popen(list(controller), env=env, preexec_fn=die_with_parent)
         except OSError as e:

@@ -3,14 +3,13 @@
 This is the only module of the controller that touches the mapped files, and it touches only what the
 paper gives the controller: the parameter area and the event/goal-time words of unity_mmap.bin, and the
 start/end flags of athrill_mmap.bin, plus the noise seed and scale of each test (`Rx.NOISE_SEED`,
-`Rx.NOISE_SCALE`; docs/NOISE.md). Under ET Robocon's score the physics process also leaves the score's
-components in the run directory (`SCORE_FILE`), as it leaves a crashed program's last words.
+`Rx.NOISE_SCALE`; docs/NOISE.md). The test's result comes whole in the run directory (`RESULT_FILE`), which the
+physics process writes before it raises the event.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
 import subprocess
 import time
@@ -18,25 +17,19 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 
 from hakoniwa.wire.errors import HakoError
-from hakoniwa.wire.etrobocon_rules import Score
 from hakoniwa.wire.params import SLOT_FORMATS, encode, fits_area
 from hakoniwa.wire.protocol import (
     MAX_NOISE_SCALE,
-    BenchCause,
-    CrashKind,
     Event,
     LayoutError,
     LayoutFile,
-    Objective,
     Rx,
-    SyncMode,
     Tx,
-    goal_time_from_words,
     poll_athrill,
     poll_unity,
 )
 from hakoniwa.wire.result import TestResult
-from hakoniwa.wire.rundir import PROGRAM_OUTPUT_FILE, SCORE_FILE
+from hakoniwa.wire.rundir import RESULT_FILE
 from hakoniwa.wire.waiting import pid_alive, wait_for
 
 POLL_S = 0.002  # a test takes about a second; a 2 ms nap costs nothing and leaves the CPU to the bench
@@ -110,41 +103,18 @@ class TrialRunner:
         self.athrill.write_i32(Tx.START, 1)
         self._wait(lambda: u.read_i32(Rx.EVENT) != Event.NONE, "an event")
         result = self.read_result()
-        if result.objective == Objective.ETROBOCON and result.event != Event.CRASH:
-            result = dataclasses.replace(result, score=self._score())
         self.athrill.write_i32(Tx.START, 0)
         self._wait(lambda: u.read_i32(Rx.EVENT) == Event.NONE, "the reset after the test")
         return dataclasses.replace(result, wall_s=time.monotonic() - start)
 
     def read_result(self) -> TestResult:
-        """The test's result as the physics process reported it in unity_mmap.bin (`Slots.report`), but for its
-        wall time and ET Robocon's score, which `run_test` adds."""
-        u = self.unity
-        event = Event(u.read_i32(Rx.EVENT))
-        goal_us = goal_time_from_words(u.read_u32(Rx.GOAL_TIME_HI), u.read_u32(Rx.GOAL_TIME_LO))
-        return TestResult(event, goal_us if event == Event.GOAL else 0, 0.0, u.read_u32(Rx.CHECKPOINTS),
-                          u.read_u32(Rx.DISTANCE_MM), u.read_u32(Rx.MAX_TIME_DIFF_US),
-                          SyncMode(u.read_u32(Rx.SYNC_MODE)), CrashKind(u.read_i32(Rx.CRASH_KIND)),
-                          u.read_i32(Rx.CRASH_DETAIL), self._program_output() if event == Event.CRASH else "",
-                          goal_time_from_words(u.read_u32(Rx.COMPLETED_TIME_HI), u.read_u32(Rx.COMPLETED_TIME_LO)),
-                          Objective(u.read_u32(Rx.OBJECTIVE)), BenchCause(u.read_u32(Rx.BENCH_CAUSE)),
-                          out_time_us=goal_time_from_words(u.read_u32(Rx.OUT_TIME_HI), u.read_u32(Rx.OUT_TIME_LO)),
-                          out_xy_mm=(u.read_i32(Rx.OUT_X_MM), u.read_i32(Rx.OUT_Y_MM)))
-
-    def _score(self) -> Score | None:
-        """ET Robocon's score the physics process wrote before it reported the event (None if it could not:
-        the test then counts as unscored, like a crash)."""
+        """The test's result as the physics process sent it before it raised the event (`RESULT_FILE`), but for
+        its wall time, which `run_test` adds. A result that cannot be read is the bench's fault: PhysicsGone."""
         try:
-            return Score.from_dict(json.loads((self.run_dir / SCORE_FILE).read_text()))
-        except (OSError, ValueError, KeyError, TypeError):
-            return None
-
-    def _program_output(self) -> str:
-        """What the physics process kept of a crashed program's last words (nothing for other crashes)."""
-        try:
-            return (self.run_dir / PROGRAM_OUTPUT_FILE).read_text(errors="replace").strip()
-        except OSError:
-            return ""
+            return TestResult.decode((self.run_dir / RESULT_FILE).read_text())
+        except (OSError, ValueError, KeyError, TypeError) as e:
+            raise PhysicsGone(f"{self.run_dir}: the physics process raised {Event(self.unity.read_i32(Rx.EVENT)).name}"
+                              f" without its result ({type(e).__name__}: {e})") from None
 
     def end(self) -> None:
         """end = 1: the physics process exits."""

@@ -12,7 +12,6 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from hakoniwa.physics.course import Course
-from hakoniwa.physics.etrobocon_task import EtRoboconTask
 from hakoniwa.physics.noise import NoiseDraw, StartOffset
 from hakoniwa.physics.placing import placements
 from hakoniwa.physics.replay import Replay, RobotLook, State
@@ -119,8 +118,6 @@ class Environment:
 
     def score(self) -> Score | None:
         """ET Robocon's result points as they stand (None under another objective)."""
-        if not isinstance(self.task, EtRoboconTask):
-            return None
         return self.task.score(self.world, self.robot.competition_class)
 
     def read_sensors(self) -> Sensors:
@@ -146,8 +143,9 @@ class Environment:
         if self.course.objects:
             self.object_states.append(self.world.object_states())
 
-    def replay(self) -> Replay:
-        """The test so far as a replay: its samples, and the state now if the test ended between two."""
+    def replay(self, objective: str) -> Replay:
+        """The test so far as a replay under the bench's `objective` (by its key): its samples, and the state now
+        if the test ended between two."""
         states, objects = self.states, self.object_states
         if states[-1][0] < self.now_us:
             states = [*states, (self.now_us, self.world.state())]
@@ -156,6 +154,6 @@ class Environment:
         look = RobotLook(r.name, r.hub, r.body, tuple(k for _, k in r.sensors))
         score = self.score()
         return Replay(str(self.course.folder.resolve()), look,
-                      self.task.objective.name.lower(), len(self.course.checkpoints), self.event.name, self.event_us,
+                      objective, len(self.course.checkpoints), self.event.name, self.event_us,
                       tuple(self.task.passed_us), self.completed_us, tuple(t for t, _ in states),
                       tuple(s for _, s in states), tuple(objects), None if score is None else score.to_dict())

@@ -27,14 +27,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import ClassVar
 
 from hakoniwa.physics.course import Box
 from hakoniwa.physics.robot import CHASSIS_BACK_M
 from hakoniwa.physics.task import LapTask
 from hakoniwa.physics.world import World
 from hakoniwa.wire.etrobocon_rules import FINISH_STOP_S, Score
-from hakoniwa.wire.protocol import Event, Objective
+from hakoniwa.wire.protocol import Event
 from hakoniwa.wire.timebase import US_PER_S
 
 STOPPED_RAD_S = 0.1  # a wheel turning slower than this is stopped (3 mm/s on HackSPi's wheel)
@@ -45,8 +44,6 @@ STILL_M_S = 0.01  # a bottle moving slower than this stands still
 class EtRoboconTask(LapTask):
     """The lap task's path and checkpoint times (`passed_us`: each gate, checkpoint or LAP, when reached), and
     the competition's own judging."""
-
-    objective: ClassVar[Objective] = Objective.ETROBOCON
 
     _reached: set[int] = field(default_factory=set)
     _lap_us: int | None = None

@@ -24,7 +24,6 @@ from __future__ import annotations
 import csv
 import functools
 import io
-import json
 import math
 import subprocess
 import threading
@@ -43,13 +42,13 @@ from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
 from hakoniwa.physics.scenario import Scenario
 from hakoniwa.physics.slots import Slots
 from hakoniwa.physics.sync import SYNC_LOOPS, AthrillCrash, snapshot_end_us, unity_time_us
-from hakoniwa.physics.tasks import TASKS
 from hakoniwa.physics.world import World
 from hakoniwa.wire.launch import Launcher, ProgramRefused
+from hakoniwa.wire.objective import DEFAULT, Objective, objective_named
 from hakoniwa.wire.processes import kill
-from hakoniwa.wire.protocol import BenchCause, CrashKind, Event, Objective
+from hakoniwa.wire.protocol import BenchCause, CrashKind, Event
 from hakoniwa.wire.result import TestResult
-from hakoniwa.wire.rundir import PHYSICS_LOG, PROGRAM_OUTPUT_FILE, SCORE_FILE, SERIAL_INPUT, TRAJECTORY_FILE
+from hakoniwa.wire.rundir import PHYSICS_LOG, RESULT_FILE, SERIAL_INPUT, TRAJECTORY_FILE
 from hakoniwa.wire.timebase import Scheduler
 from hakoniwa.wire.wallclock import WallCeiling
 
@@ -64,21 +63,23 @@ class ControllerGone(Exception):
 class PhysicsServer:
     def __init__(self, run_dir: Path, course: Course, launcher: Launcher, *, athrill_timeout_s: float,
                  time_limit_us: int, robot: Robot = DEFAULT_ROBOT, scenario: Scenario = Scenario(),
-                 objective: Objective = Objective.LAP) -> None:
-        """The server owns `launcher` from here on: it closes it when it stops serving. `objective` picks the
-        task that scores each test (`task.TASKS`)."""
+                 objective: Objective | None = None) -> None:
+        """The server owns `launcher` from here on: it closes it when it stops serving. `objective` gives the
+        task that scores each test (None: the default, the lap)."""
         self.run_dir = Path(run_dir)
         self.course = course
         self.launcher = launcher
         self.athrill_timeout_s = athrill_timeout_s
-        self.env = Environment(World(course, robot.body, imu=robot.spike), TASKS[objective](course, time_limit_us),
-                               robot, scenario)
+        self.objective = objective or objective_named(DEFAULT)
+        self.env = Environment(World(course, robot.body, imu=robot.spike),
+                               self.objective.task(course, time_limit_us), robot, scenario)
         (self.run_dir / SERIAL_INPUT).write_text(scenario.serial_lines())
         self.slots = Slots(self.run_dir)
         self._log = open(self.run_dir / PHYSICS_LOG, "a")
         self.transport = self._transport(robot)
         self.answer_before_start = 0
         self.tests_run = 0
+        self._program_output: list[str] = []  # a crashed program's last words, for the test's result
         self._max_diff_us = 0
         self._athrill_proc: subprocess.Popen | None = None
         self._ceiling = WallCeiling(self.env.task.time_limit_us)  # each test's own, from its start
@@ -172,12 +173,12 @@ class PhysicsServer:
     def _start_test(self, seq: int) -> tuple[NoiseDraw | None, AthrillCrash | None]:
         damaged = self.check_files("before the test")
         forget_screen(self.run_dir)
-        (self.run_dir / PROGRAM_OUTPUT_FILE).unlink(missing_ok=True)
-        (self.run_dir / SCORE_FILE).unlink(missing_ok=True)
+        (self.run_dir / RESULT_FILE).unlink(missing_ok=True)
+        self._program_output = []
         noise = self._read_noise()
         self.env.begin(noise)
         self._max_diff_us = 0
-        self.answer_before_start = self.slots.begin(self.launcher.sync, self.course.info, self.env.task.objective)
+        self.answer_before_start = self.slots.begin(self.course.info)
         self.publish_sensors()
         # before the announcement: a waiting Athrill reads its files after it
         crash = damaged or self._prepare_program(seq)
@@ -189,16 +190,15 @@ class PhysicsServer:
         try:
             self.launcher.prepare(seq, self.slots.unity)
         except ProgramRefused as e:
-            self._write_program_output([str(e)])
+            self._program_output = [str(e)]
             return AthrillCrash(CrashKind.PROGRAM, 0, str(e))
         except OSError as e:
             return AthrillCrash(CrashKind.BENCH, 0, str(e), BenchCause.ATHRILL_FAILED)
         return None
 
     def run_test(self) -> TestResult:
-        """One test, from the start flag to its report; its result (the controller reads the same through the
-        files, but for `wall_s`, which it measures itself, and `program_output`, which it reads from the run
-        directory)."""
+        """One test, from the start flag to its report; its result (the controller decodes the same from
+        `RESULT_FILE`, but for `wall_s`, which it measures itself)."""
         wall_start = time.monotonic()
         seq = self.tests_run + 1
         noise, crash = self._start_test(seq)
@@ -222,22 +222,20 @@ class PhysicsServer:
             env.end(Event.CRASH)
         out = env.event == Event.COURSE_OUT  # the world stopped at the check that saw it: it is where it left
         x, y = env.world.position()
+        if crash is not None and crash.kind == CrashKind.PROGRAM and proc is not None and proc.poll() is not None:
+            self._program_output = self.launcher.last_lines(proc, PROGRAM_OUTPUT_LINES)
+        score = env.score()
         result = TestResult(env.event, env.event_us if env.event == Event.GOAL else 0, time.monotonic() - wall_start,
                             len(env.task.passed_us), env.task.distance_mm, self._max_diff_us, self.launcher.sync,
                             crash.kind if crash else CrashKind.NONE, crash.detail if crash else 0,
-                            completed_time_us=env.completed_us or 0, objective=env.task.objective,
-                            bench_cause=crash.cause if crash else BenchCause.NONE,
-                            out_time_us=env.event_us if out else 0,
-                            out_xy_mm=(round(x * 1000), round(y * 1000)) if out else (0, 0))
+                            "\n".join(self._program_output).strip() if crash else "", env.completed_us or 0,
+                            self.objective, crash.cause if crash else BenchCause.NONE, None if crash else score,
+                            env.event_us if out else 0, (round(x * 1000), round(y * 1000)) if out else (0, 0))
         draw_screen(self.run_dir)  # before the report: whoever sees the event sees the screen
-        if crash is not None and crash.kind == CrashKind.PROGRAM and proc is not None and proc.poll() is not None:
-            self._write_program_output(self.launcher.last_lines(proc, PROGRAM_OUTPUT_LINES))
         self._write_trajectory()  # before the report too: whoever sees the event reads this test's files
-        write_replay(self.run_dir / REPLAY_FILE, self.env.replay())
-        score = env.score()
-        if score is not None:
-            self._replace_file(SCORE_FILE, json.dumps(score.to_dict()))
-        self.slots.report(result)
+        write_replay(self.run_dir / REPLAY_FILE, self.env.replay(self.objective.key))
+        self._replace_file(RESULT_FILE, result.encode())
+        self.slots.publish_event(result.event, result.goal_time_us)
         self.tests_run += 1
         why = f" ({crash.kind.name.lower()}: {crash})" if crash else ""
         if noise is not None:
@@ -256,11 +254,6 @@ class PhysicsServer:
         tmp = self.run_dir / (name + ".tmp")
         tmp.write_text(text, newline="")
         tmp.replace(self.run_dir / name)
-
-    def _write_program_output(self, lines: list[str]) -> None:
-        """Before the event is published, so that the controller finds it when it sees the crash."""
-        if lines:
-            self._replace_file(PROGRAM_OUTPUT_FILE, "\n".join(lines) + "\n")
 
     def _write_trajectory(self) -> None:
         out = io.StringIO()

@@ -22,22 +22,19 @@ from hakoniwa.wire.protocol import (
     Event,
     Header,
     MappedFile,
-    Objective,
     Rx,
-    SyncMode,
     Tx,
     goal_time_words,
     open_athrill,
     open_unity,
 )
-from hakoniwa.wire.result import TestResult
 from hakoniwa.wire.waiting import futex_wake
 
 ACTUATORS_END = Tx.SPIKE_DIRECTION + 4 * MOTOR_PORTS  # TX body bytes a test starts with cleared
 COMMAND_WORDS = (Tx.MOTOR_POWER, (ACTUATORS_END - Tx.MOTOR_POWER) // 4)  # TX words of powers .. directions
 _RESET_WORD, _GYRO_WORD, _DIRECTION_WORD = ((offset - Tx.MOTOR_POWER) // 4 for offset in
                                             (Tx.MOTOR_RESET_ANGLE, Tx.GYRO_RESET, Tx.SPIKE_DIRECTION))
-OUR_EXT = (Rx.TEST_SEQ, Rx.CRASH_DETAIL + 4)  # RX bytes of our extension the physics side writes
+OUR_EXT = (Rx.TEST_SEQ, Rx.PHYSICS_PID + 4)  # RX bytes of our extension the physics side writes
 # EV3RT reads the battery from RX (uart_dri_get_data_battery); Unity leaves those slots 0, which no program
 # expects of a running brick, so the physics side writes a charged EV3 pack idling there.
 BATTERY_MV = 8000  # six AA cells, charged
@@ -72,7 +69,7 @@ class Slots:
         """The (seed, scale) the controller wrote for this test."""
         return self.unity.read_u32(Rx.NOISE_SEED), self.unity.read_f32(Rx.NOISE_SCALE)
 
-    def begin(self, sync: SyncMode, info: CourseInfo, objective: Objective = Objective.LAP) -> int:
+    def begin(self, info: CourseInfo) -> int:
         """Clear what a new test starts without, and write the course's information; returns Athrill's answer
         counter before the test."""
         a = self.athrill
@@ -82,8 +79,6 @@ class Slots:
         a.write("q", Tx.STOPPED_AT, 0)  # where a patched Athrill stopped: likewise
         self.unity.clear(*OUR_EXT)
         self.unity.write_u32(Rx.PHYSICS_PID, os.getpid())
-        self.unity.write_u32(Rx.SYNC_MODE, int(sync))
-        self.unity.write_u32(Rx.OBJECTIVE, int(objective))
         self.unity.write_i32(Rx.BATTERY_CURRENT, BATTERY_MA)
         self.unity.write_i32(Rx.BATTERY_VOLTAGE, BATTERY_MV)
         self.unity.write_u32(Rx.COURSE_CARD_NUMBER, info.card_number)
@@ -144,24 +139,6 @@ class Slots:
         a = self.athrill
         a.write_i32s(Tx.MOTOR_POWER, list(powers[:MOTOR_PORTS]))
         a.write_i32s(Tx.SPIKE_DIRECTION, list(directions[:MOTOR_PORTS]))
-
-    def report(self, r: TestResult) -> None:
-        """The test's result, for the controller (its sync mode and objective were written at the start)."""
-        u = self.unity
-        u.write_u32(Rx.CHECKPOINTS, r.checkpoints)
-        u.write_u32(Rx.DISTANCE_MM, r.distance_mm)
-        u.write_u32(Rx.MAX_TIME_DIFF_US, r.max_time_diff_us)
-        u.write_i32(Rx.CRASH_KIND, int(r.crash_kind))
-        u.write_i32(Rx.CRASH_DETAIL, r.crash_detail)
-        u.write_u32(Rx.BENCH_CAUSE, int(r.bench_cause))
-        hi, lo = goal_time_words(r.completed_time_us)
-        u.write_u32(Rx.COMPLETED_TIME_HI, hi)
-        u.write_u32(Rx.COMPLETED_TIME_LO, lo)
-        hi, lo = goal_time_words(r.out_time_us)
-        u.write_u32(Rx.OUT_TIME_HI, hi)
-        u.write_u32(Rx.OUT_TIME_LO, lo)
-        u.write_i32s(Rx.OUT_X_MM, list(r.out_xy_mm))
-        self.publish_event(r.event, r.goal_time_us)
 
     def publish_event(self, event: Event, goal_time_us: int) -> None:
         hi, lo = goal_time_words(goal_time_us)

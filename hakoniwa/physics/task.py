@@ -3,10 +3,10 @@
 A task looks at the world at each event-check tick and never moves anything. `Task` is all the environment
 and the physics server ask of one: `reset` at each test's start, `check` at each event tick (the event that
 ends the test, or Event.NONE while it goes on), and what it reports (the checkpoints passed, the path driven,
-its objective and time limit). The objectives' tasks are in `tasks.TASKS`: `LapTask` (the paper's: GOAL at the
-last checkpoint, scored by the lap time), `CompletedTask` (ET Robocon's competition programs end their run with
-a completion notice; the goal line is one more checkpoint) and `etrobocon_task.EtRoboconTask` (the regulation's
-result points).
+its time limit and, under ET Robocon's score, the points). Each objective (`hakoniwa.objectives`) names its task:
+`LapTask` (the paper's: GOAL at the last checkpoint, scored by the lap time), `CompletedTask` (ET Robocon's
+competition programs end their run with a completion notice; the goal line is one more checkpoint) and
+`etrobocon_task.EtRoboconTask` (the regulation's result points).
 
 Every task ends a test where the robot leaves the course (COURSE_OUT, ET Robocon's コースアウト): past the
 mat's edge or into an area the course marks out of bounds (`Course.left_at`); a course with walls round its
@@ -26,16 +26,12 @@ from typing import ClassVar, Protocol
 
 from hakoniwa.physics.course import Course
 from hakoniwa.physics.world import World
-from hakoniwa.wire.protocol import Event, Objective
+from hakoniwa.wire.etrobocon_rules import Score
+from hakoniwa.wire.protocol import Event
 
 
 class Task(Protocol):
     """What scores a test: reset at its start, checked at each event tick, read for the report."""
-
-    @property
-    def objective(self) -> Objective:
-        """What the task scores (the controller reads it with the report; the replay names it)."""
-        ...
 
     @property
     def time_limit_us(self) -> int:
@@ -67,12 +63,16 @@ class Task(Protocol):
         driven."""
         ...
 
+    def score(self, world: World, competition_class: str | None = None) -> Score | None:
+        """ET Robocon's result points as they stand, by the points of `competition_class` (None: the course's);
+        None from a task that scores no points."""
+        ...
+
 
 @dataclass
 class LapTask:
     """One lap: GOAL at the course's last checkpoint, having passed every earlier one in order."""
 
-    objective: ClassVar[Objective] = Objective.LAP
     ends_at_goal: ClassVar[bool] = True  # False: passing the last checkpoint starts the next lap
 
     course: Course
@@ -94,6 +94,9 @@ class LapTask:
     @property
     def distance_mm(self) -> int:
         return round(self.distance_m * 1000)
+
+    def score(self, world: World, competition_class: str | None = None) -> Score | None:
+        return None  # a lap has no points
 
     def carried(self, lifted_xy: tuple[float, float], set_xy: tuple[float, float]) -> None:
         """The robot was lifted at `lifted_xy` and set down at `set_xy` (a scenario's place): its path counts to
@@ -138,6 +141,5 @@ class CompletedTask(LapTask):
     """A run the program ends itself (`--objective completed`): scored by when its completion notice came.
     The goal line is one more checkpoint, so the robot may drive on into the next lap."""
 
-    objective: ClassVar[Objective] = Objective.COMPLETED
     ends_at_goal: ClassVar[bool] = False
 

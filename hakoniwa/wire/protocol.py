@@ -103,25 +103,12 @@ class Rx:
     SPIKE_SHSV = 308  # i32 h, s, v at 308, 312, 316: pup_color_sensor_hsv(surface = false)
     SPIKE_COLOR = 320  # i32 h, s, v at 320, 324, 328: pup_color_sensor_color(), the detectable colour
     SPIKE_MOTOR_POWER = 332  # + 4 p: pup_motor_get_power() of motor port p (A = 0 .. D = 3) on the hub, i32
-    # Our extension (unused by the real layout): lockstep and test reports.
-    OUT_X_MM = 400  # i32 [mm]: where the axle centre was when the robot left the course (COURSE_OUT; 0 otherwise)
-    OUT_Y_MM = 404  # i32 [mm]
-    OUT_TIME_HI = 408  # u32: when the robot left the course [us], upper 32 bits (0: it did not)
-    OUT_TIME_LO = 412  # u32, lower 32 bits
+    # Our extension (unused by the real layout): the lockstep's words. A test's result is no slot: the physics
+    # process sends it whole (`hakoniwa.wire.result.TestResult.encode`, the run directory's result.json).
     BUTTONS_UNTIL = 416  # u64 [us]: the buttons hold their value until then (the scenario's next press or release;
     # NEVER_WAKES: none); a patched athrill2 reads them before then without stopping (scripts/athrill-patches/01-*)
-    BENCH_CAUSE = 424  # u32, BenchCause of a CRASH of kind BENCH: what spoiled the test (0 otherwise)
-    OBJECTIVE = 428  # u32, Objective of the bench: what ends and scores its tests
-    COMPLETED_TIME_HI = 432  # u32: when ETRoboc_notifyCompletedToSimulator() came [us], upper 32 bits (0: never)
-    COMPLETED_TIME_LO = 436  # u32, lower 32 bits
     TEST_SEQ = 448  # u32: the test in progress; a pre-launched Athrill waits for its own number
     PHYSICS_PID = 452  # u32: so an orphaned Athrill can notice the physics process is gone
-    SYNC_MODE = 456  # u32, SyncMode of the test in progress
-    CHECKPOINTS = 460  # u32: checkpoints passed in order when the event was raised
-    DISTANCE_MM = 464  # u32: path length the robot drove in the test [mm]
-    MAX_TIME_DIFF_US = 468  # u32: the largest |Athrill - physics| simulation-time difference seen
-    CRASH_KIND = 472  # i32, CrashKind of a CRASH event (0 otherwise)
-    CRASH_DETAIL = 476  # i32: the exit status, or minus the signal, of the Athrill that crashed
     NOISE_SEED = 440  # u32, written by the controller before start: the seed of this test's noise draw
     NOISE_SCALE = 444  # f32, written by the controller: 0 = no noise, 1 = the course's noise levels
     # ET Robocon's simulator extension (its etroboc_ext.h reads them), written by the physics side from the
@@ -239,17 +226,6 @@ class SyncMode(enum.IntEnum):
     LOCKSTEP = 0  # ours: the program's wake-ups drive physics; deterministic to the microsecond
     HAKONIWA = 1  # the real protocol: physics runs at most ALLOWED_TIME_DIFF ahead of Athrill's clock
     REPEATABLE = 2  # the real emulator, patched to wait at each sync point: deterministic to the microsecond
-
-
-class Objective(enum.IntEnum):
-    """What a bench's tests end at and are scored by (`--objective`), at RX OBJECTIVE."""
-
-    LAP = 0  # the paper's: GOAL at the course's last checkpoint, scored by the lap time
-    COMPLETED = 1  # ET Robocon's: the program's ETRoboc_notifyCompletedToSimulator(), scored by its time; the
-    # goal line does not end the test (a competition program ends its whole run that way)
-    ETROBOCON = 2  # ET Robocon's result points (hakoniwa.physics.etrobocon_task): the LAP time, the gates, the
-    # sumo, the finish in the garage; a test ends at FINISH, the time limit, a wall, leaving the course or the
-    # completion notice
 
 
 class LedBit(enum.IntFlag):
@@ -558,7 +534,7 @@ def c_header() -> str:
     for prefix, cls in (("HDR", Header), ("RX", Rx), ("TX", Tx)):
         lines += [f"#define HAKO_{prefix}_{k} {v}" for k, v in vars(cls).items() if isinstance(v, int)]
     for prefix, enum_cls in (("EVENT", Event), ("CRASH", CrashKind), ("SYNC", SyncMode), ("COLOR", ColorId),
-                             ("OBJECTIVE", Objective), ("LED", LedBit)):
+                             ("LED", LedBit)):
         lines += [f"#define HAKO_{prefix}_{m.name} {m.value}" for m in enum_cls]
     lines.append("#endif")
     return "\n".join(lines) + "\n"

@@ -18,8 +18,7 @@ LOCK_FILE = ".hako.lock"
 TRAJECTORY_FILE = "trajectory.csv"  # the last test's path, for pictures
 PHYSICS_LOG = "physics.log"  # one line per test: what the physics process saw
 ATHRILL_LOG = "athrill.log"  # what the Athrill processes printed (the program's syslog)
-SCORE_FILE = "score.json"  # ET Robocon's score of the last test and its components (--objective etrobocon)
-PROGRAM_OUTPUT_FILE = "program_output.txt"  # the last lines a crashed program printed (its own error), per test
+RESULT_FILE = "result.json"  # the last test's result (`TestResult.encode`), written before its event is raised
 # What a native EV3RT program leaves of its test (the C runtime writes them; docs/NATIVE.md).
 LCD_LOG = "lcd.txt"  # every LCD drawing call of the test, in order, stamped with the simulated time
 LCD_PNG = "lcd.png"  # the 178x128 screen at the test's end, drawn from LCD_LOG by the physics process

@@ -11,9 +11,10 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from hakoniwa.wire.measure import Measure
+from hakoniwa.wire.objective import DEFAULT, Objective, objective_named
 from hakoniwa.wire.protocol import MAX_NOISE_SCALE
 from testctl.campaign.journal import JournalError
-from testctl.campaign.measure import SCORE, Measure, measure_of
 from testctl.campaign.objective import RepetitionRule
 from testctl.search.optimizers import OPTIMIZERS
 from testctl.search.space import ParameterSpace
@@ -38,7 +39,7 @@ class CampaignConfig:
     noise: float = 1.0
     penalty_s: float = RepetitionRule.penalty_s  # the bench's time limit, set by the options from course and
     # --time-limit
-    objective: str = "lap"  # the bench's --objective: what a test's value is (`measure`)
+    objective: str = DEFAULT  # the bench's --objective, by its key: what a test's value is (`measure`)
 
     def __post_init__(self) -> None:
         if self.optimizer not in OPTIMIZERS:
@@ -57,11 +58,15 @@ class CampaignConfig:
 
     @property
     def rule(self) -> RepetitionRule:
-        return RepetitionRule(self.repeats, self.max_crashes, self.penalty_s, score=self.measure is SCORE)
+        return RepetitionRule(self.repeats, self.max_crashes, self.penalty_s, self.scored_by)
+
+    @property
+    def scored_by(self) -> Objective:
+        return objective_named(self.objective)
 
     @property
     def measure(self) -> Measure:
-        return measure_of(self.objective)
+        return self.scored_by.measure
 
     @property
     def total_sets(self) -> int:

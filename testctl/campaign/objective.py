@@ -4,8 +4,8 @@ Paper, section 4.1: the same parameters may succeed or fail depending on the loa
 is tested repeatedly; whichever of success or failure reaches 3 first decides the set (at most 5 tests). A
 successful set scores the mean lap time of its successes, a failed one the bench's time limit (60 s in the
 paper), on the bench's tick; under ET Robocon's score, minus the mean score (the optimizers minimise) and 0
-for a failed set. Here that rule is generalized to `repeats` tests with a strict majority `repeats // 2 + 1`
-needed for success.
+for a failed set: each objective says (its `set_value` and `failure_value`). Here that rule is generalized to
+`repeats` tests with a strict majority `repeats // 2 + 1` needed for success.
 
 A CRASH of the robot program (Athrill died or went silent) may or may not be the parameters' doing, unlike a
 wall hit or a time-out, so it is not counted and the test is repeated. Parameters that make the program crash
@@ -22,11 +22,11 @@ repetition order, and repeating gives the very verdict the one-at-a-time rule gi
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
+from hakoniwa.wire.objective import DEFAULT, Objective, objective_named
 from hakoniwa.wire.protocol import Event
 from hakoniwa.wire.result import TestResult
-from hakoniwa.wire.timebase import on_tick_s
 
 # The paper's time limit (section 4.1), what a failure scores where no bench says otherwise: a rule made
 # without a bench, and a journal written before campaigns recorded their bench's limit (all were 60 s then).
@@ -59,8 +59,7 @@ class RepetitionRule:
     repeats: int = 5
     max_crashes: int = 3
     penalty_s: float = PAPER_PENALTY_S  # the bench's time limit: a failure scores as a test that used it all
-    score: bool = False  # the tests are scored by ET Robocon's points (each costs minus its score): a failed set
-    # costs 0, no points
+    objective: Objective = field(default_factory=lambda: objective_named(DEFAULT))  # values a set and a failure
 
     def __post_init__(self) -> None:
         if self.repeats < 1:
@@ -72,7 +71,7 @@ class RepetitionRule:
 
     @property
     def failure_value(self) -> float:
-        return 0.0 if self.score else self.penalty_s
+        return self.objective.failure_value(self.penalty_s)
 
     @property
     def needed(self) -> int:
@@ -110,6 +109,6 @@ class RepetitionRule:
         # Failed once success can no longer be reached within `repeats` counted tests.
         failed = failures >= self.failures_needed
         mean = sum(laps) / len(laps) if laps else 0.0
-        value = ((mean if self.score else on_tick_s(mean)) if success else self.failure_value) \
+        value = (self.objective.set_value(mean) if success else self.failure_value) \
             if success or failed else None
         return Verdict(successes, failures, crashes, tuple(laps), success or failed, success, value)

@@ -10,8 +10,8 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 
+from hakoniwa.wire.measure import LAP_TIME, Measure
 from testctl.campaign.loop import Progress
-from testctl.campaign.measure import LAP_TIME, Measure
 from testctl.campaign.objective import RepetitionRule
 from testctl.time_left import RecentRate, expected_tests_left, time_left
 

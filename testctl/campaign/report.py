@@ -84,9 +84,9 @@ def best_dict(summary: CampaignSummary, validation: dict[str, Any] | None = None
     best = summary.best
     m = summary.config.measure
     value = ({"lap_time_s": best.value if best else None, "laps_s": list(best.verdict.laps) if best else None}
-             if m.sign > 0 else
-             {"score": m.shown(best.value) if best else None,
-              "scores": [m.shown(v) for v in best.verdict.laps] if best else None})
+             if m.time else
+             {m.word: m.shown(best.value) if best else None,
+              f"{m.word}s": [m.shown(v) for v in best.verdict.laps] if best else None})
     return {
         "success": best is not None,
         "set": best.number if best else None,

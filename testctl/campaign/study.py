@@ -35,7 +35,6 @@ from typing import TYPE_CHECKING, Any
 
 from testctl.campaign.journal import JOURNAL_FILE, TestRecord, read_journal
 from testctl.campaign.loop import CampaignConfig, SetResult
-from testctl.campaign.measure import SCORE
 from testctl.search.optuna_samplers import distributions, params_of, quiet_optuna
 
 if TYPE_CHECKING:
@@ -44,8 +43,6 @@ if TYPE_CHECKING:
 STUDY_FILE = "optuna.log"
 ARTIFACT_DIR = "optuna-artifacts"
 TRAJECTORY_DIR = "trajectories"
-METRIC = "lap time [s]"
-SCORE_METRIC = "minus the score [points]"  # Optuna minimises what the campaign minimises (`measure.py`)
 # Draws set `s`'s trajectory into the PNG at the path given.
 DrawSet = Callable[[SetResult, Path], object]  # what it returns is not used
 
@@ -153,7 +150,7 @@ class StudyMirror:
 
     @property
     def _metric(self) -> str:
-        return SCORE_METRIC if self._config.measure is SCORE else METRIC
+        return self._config.measure.metric  # Optuna minimises what the campaign minimises
 
     # -- opening: create, check against the journal, or rebuild -----------------------------------------
     def _open(self) -> None:

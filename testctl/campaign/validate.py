@@ -16,11 +16,11 @@ from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
+from hakoniwa.wire.measure import LAP_TIME, Measure
 from hakoniwa.wire.result import TestResult
 from testctl.campaign.journal import JOURNAL_FILE, PHASE_VALIDATION, Journal, TestRecord, now_timestamp
-from testctl.campaign.measure import LAP_TIME, SCORE, Measure
 from testctl.executor import Executor, TestSpec, bench_fault, results_of
 from testctl.lapstats import LapStats
 from testctl.noise_seed import noise_seed
@@ -48,18 +48,18 @@ class Validation:
         return [r.score.total for r in self.results if r.score is not None]
 
     def to_dict(self) -> dict:
-        if self.measure is SCORE:
-            value = {"scores": self.scores, "campaign_estimate": self.measure.shown(self.estimate_s)}
+        if self.measure.time:
+            value: dict[str, Any] = {"campaign_estimate_s": self.estimate_s}
         else:
-            value = {"campaign_estimate_s": self.estimate_s}
+            value = {"scores": self.scores, "campaign_estimate": self.measure.shown(self.estimate_s)}
         return {"draws": len(self.seeds), **self.stats.to_dict(), **value,
                 "events": dict(Counter(r.event.name for r in self.results)), "noise_seeds": list(self.seeds)}
 
     def describe(self) -> str:
         scores = self.scores
         mean = f"score mean {sum(scores) / len(scores):.2f} (min {min(scores):g}, max {max(scores):g}); " \
-            if self.measure is SCORE and scores else ""
-        estimate = self.measure.format(self.estimate_s) if self.measure is SCORE else f"{self.estimate_s:.2f} s"
+            if scores else ""
+        estimate = f"{self.estimate_s:.2f} s" if self.measure.time else self.measure.format(self.estimate_s)
         return (f"validation on {len(self.seeds)} fresh noise draws: {mean}{self.stats.describe()} "
                 f"(the campaign's estimate: {estimate})")
 
@@ -106,6 +106,6 @@ def draw_validation(path: Path, summary: CampaignSummary, validation: Validation
     assert best is not None
     names = " ".join(f"{k}={v:.3f}" for k, v in summary.config.space.to_named(best.x).items())
     # The figure is of laps: the campaign's estimate is one only when the campaign's value is a time.
-    estimate = validation.estimate_s if validation.measure is LAP_TIME else None
+    estimate = validation.estimate_s if validation.measure.time else None
     return plot_lap_distribution(path, validation.results, f"best set {best.number} ({names}) on "
                                  f"{len(validation.seeds)} fresh noise draws", estimate)

@@ -10,7 +10,8 @@ import os
 
 import pytest
 
-from hakoniwa.wire.protocol import Event, Objective
+from hakoniwa.wire.objective import objective_named
+from hakoniwa.wire.protocol import Event
 from hakoniwa.wire.result import TestResult
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
 from testctl.campaign.objective import RepetitionRule
@@ -40,9 +41,9 @@ def main_task(api):
 '''
 
 
-def completed(at_s: float | None, event: Event = Event.COMPLETED, objective=Objective.COMPLETED) -> TestResult:
+def completed(at_s: float | None, event: Event = Event.COMPLETED, objective: str = "completed") -> TestResult:
     return TestResult(event, 0, 0.01, completed_time_us=0 if at_s is None else round(at_s * 1e6),
-                      objective=objective)
+                      objective=objective_named(objective))
 
 
 def test_under_the_completed_objective_the_notice_is_the_success_and_its_time_the_score():
@@ -53,7 +54,7 @@ def test_under_the_completed_objective_the_notice_is_the_success_and_its_time_th
     v = rule.judge([completed(None, Event.GOAL), completed(None, Event.HIT_WALL)])
     assert (v.decided, v.success, v.value) == (True, False, 120.0)
     # Under the lap objective, COMPLETED stays a failure, as before.
-    v = rule.judge([completed(30.0, objective=Objective.LAP)] * 2)
+    v = rule.judge([completed(30.0, objective="lap")] * 2)
     assert (v.decided, v.success) == (True, False)
 
 
@@ -123,7 +124,7 @@ def test_hako_test_and_a_campaign_score_by_the_completion(done_app, tmp_path):
     assert r.returncode == 0, r.stderr
     header, records = read_journal(out / JOURNAL_FILE)
     assert header["bench"]["objective"] == "completed"
-    assert {rec.result.objective for rec in records} == {Objective.COMPLETED}
+    assert {rec.result.objective for rec in records} == {objective_named("completed")}
     for rec in records:
         assert rec.result.success == (rec.result.event == Event.COMPLETED)
     best = json.loads((out / "best.json").read_text())

@@ -39,9 +39,9 @@ def test_athrill_killed_mid_test_is_a_crash_and_the_bench_stays_usable(tmp_path)
         wait_until(lambda: runner.unity.read_i32(Rx.EVENT) != Event.NONE, 60, 0.005, what="an event")
         assert runner.unity.read_i32(Rx.EVENT) == Event.CRASH  # not HIT_WALL
         # noticed through the process, not by the silence watchdog; SIGKILL came from outside the program
-        assert runner.unity.read_i32(Rx.CRASH_KIND) == CrashKind.BENCH
-        assert runner.unity.read_i32(Rx.BENCH_CAUSE) == BenchCause.ATHRILL_KILLED
-        assert runner.unity.read_i32(Rx.CRASH_DETAIL) == -signal.SIGKILL
+        crash = runner.read_result()
+        assert (crash.crash_kind, crash.bench_cause, crash.crash_detail) == (CrashKind.BENCH,
+                                                                            BenchCause.ATHRILL_KILLED, -signal.SIGKILL)
         runner.athrill.write_i32(Tx.START, 0)
         wait_until(lambda: runner.unity.read_i32(Rx.EVENT) == Event.NONE, 10, 0.005, what="the reset")
         assert runner.run_test(PAPER).event == Event.GOAL

@@ -9,20 +9,23 @@ import json
 import pytest
 
 from hakoniwa.wire.etrobocon_rules import Score
-from hakoniwa.wire.protocol import CrashKind, Event, Objective, Rx
+from hakoniwa.wire.measure import LAP_TIME, SCORE
+from hakoniwa.wire.objective import objective_named
+from hakoniwa.wire.protocol import CrashKind, Event, Rx
 from hakoniwa.wire.result import TestResult
 from testctl.campaign.loop import Campaign, CampaignConfig
-from testctl.campaign.measure import LAP_TIME, SCORE, measure_of
 from testctl.campaign.objective import RepetitionRule
 from testctl.campaign.report import best_dict, fig8, format_summary, write_report
 from testctl.search.space import Parameter, ParameterSpace
 from tests.helpers.campaign_doubles import ScriptedBench
 
+ETROBOCON = objective_named("etrobocon")
+
 
 def scored(event: Event, total: float) -> TestResult:
     """A run that made `total` points: the run points of a LAP in (35 - total) s, and no task."""
     lap_us = round((35 - total) * 1e6)
-    return TestResult(event, 0, 0.01, objective=Objective.ETROBOCON,
+    return TestResult(event, 0, 0.01, objective=ETROBOCON,
                       score=Score.of("applied", lap_us, 0, False, None) if event != Event.CRASH else None)
 
 
@@ -30,13 +33,13 @@ def test_every_scored_end_succeeds_and_costs_minus_its_score():
     for event in (Event.FINISH, Event.TIME_OVER, Event.HIT_WALL, Event.COMPLETED):
         r = scored(event, 20.0)
         assert r.success and r.cost == -(20.0 + 3) and r.lap_time_s == 15.0  # + the LAP gate's 3 points
-    crash = TestResult(Event.CRASH, 0, 0.01, crash_kind=CrashKind.PROGRAM, objective=Objective.ETROBOCON)
+    crash = TestResult(Event.CRASH, 0, 0.01, crash_kind=CrashKind.PROGRAM, objective=ETROBOCON)
     assert not crash.success and crash.cost is None
-    assert TestResult(Event.FINISH, 0, 0.01, objective=Objective.ETROBOCON).success is False  # no score read
+    assert TestResult(Event.FINISH, 0, 0.01, objective=ETROBOCON).success is False  # no score read
 
 
 def test_the_journal_carries_each_component():
-    r = TestResult(Event.FINISH, 0, 0.01, objective=Objective.ETROBOCON,
+    r = TestResult(Event.FINISH, 0, 0.01, objective=ETROBOCON,
                    score=Score.of("basic", 21_450_000, 3, True, True))
     d = r.to_dict()
     assert d["score"] == {"total": 13.6 + 12 + 3 + 3 + 5, "run_points": 13.6, "task_points": 23.0,
@@ -46,16 +49,16 @@ def test_the_journal_carries_each_component():
 
 
 def test_a_set_scores_its_mean_and_a_failed_one_no_points():
-    rule = RepetitionRule(score=True)
+    rule = RepetitionRule(objective=ETROBOCON)
     v = rule.judge([scored(Event.FINISH, 20.0), scored(Event.TIME_OVER, 10.0), scored(Event.FINISH, 30.0)])
     assert (v.success, v.value) == (True, -23.0)
-    crashes = [TestResult(Event.CRASH, 0, 0.01, crash_kind=CrashKind.PROGRAM, objective=Objective.ETROBOCON)] * 6
-    assert RepetitionRule(score=True, max_crashes=0).judge(crashes[:3]).value == 0.0
+    crashes = [TestResult(Event.CRASH, 0, 0.01, crash_kind=CrashKind.PROGRAM, objective=ETROBOCON)] * 6
+    assert RepetitionRule(max_crashes=0, objective=ETROBOCON).judge(crashes[:3]).value == 0.0
 
 
 def test_the_measure_follows_the_objective():
-    assert measure_of("etrobocon") is SCORE and measure_of("lap") is measure_of("completed") is measure_of(None) \
-        is LAP_TIME
+    assert ETROBOCON.measure is SCORE
+    assert objective_named("lap").measure is objective_named("completed").measure is LAP_TIME
     assert SCORE.format(-31.5) == "score 31.50 points" and LAP_TIME.format(33.125) == "lap 33.12 s"
     assert CampaignConfig(objective="etrobocon").rule.failure_value == 0.0
     assert CampaignConfig(penalty_s=120.0).rule.failure_value == 120.0

@@ -7,12 +7,12 @@ from hakoniwa.physics.course import Course
 from hakoniwa.physics.environment import Environment
 from hakoniwa.physics.robots import DEFAULT_ROBOT, Robot
 from hakoniwa.physics.scenario import Scenario
-from hakoniwa.physics.tasks import TASKS
 from hakoniwa.physics.world import World
-from hakoniwa.wire.protocol import Objective
+from hakoniwa.wire.objective import DEFAULT, objective_named
 
 
 def environment(course: Course, time_limit_us: int, robot: Robot = DEFAULT_ROBOT, scenario: Scenario = Scenario(),
-                objective: Objective = Objective.LAP) -> Environment:
-    return Environment(World(course, robot.body, imu=robot.spike), TASKS[objective](course, time_limit_us), robot,
-                       scenario)
+                objective: str = DEFAULT) -> Environment:
+    """`objective`: the key of the objective whose task scores the test."""
+    return Environment(World(course, robot.body, imu=robot.spike),
+                       objective_named(objective).task(course, time_limit_us), robot, scenario)

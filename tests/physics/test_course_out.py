@@ -26,8 +26,10 @@ from hakoniwa.physics.robots import BUILT_IN
 from hakoniwa.physics.scenario import ScenarioError, parse_scenario
 from hakoniwa.physics.slots import Slots
 from hakoniwa.wire.etrobocon_rules import Score
-from hakoniwa.wire.protocol import Event, Objective
+from hakoniwa.wire.objective import objective_named
+from hakoniwa.wire.protocol import Event
 from hakoniwa.wire.result import TestResult
+from hakoniwa.wire.rundir import RESULT_FILE
 from testctl.campaign.objective import RepetitionRule
 from testctl.runner import TrialRunner
 from tests.helpers.commands import hako, one_line_error
@@ -161,7 +163,7 @@ def test_an_unknown_edge_is_one_line_from_hako_trial(tmp_path):
 @pytest.mark.parametrize("lane", LANES)
 def test_driving_straight_off_the_mat_ends_course_out_at_its_edge(lane):
     course = load_course(lane)
-    env = environment(course, course.time_limit_us, BUILT_IN["hackspi"], objective=Objective.ETROBOCON)
+    env = environment(course, course.time_limit_us, BUILT_IN["hackspi"], objective="etrobocon")
     env.begin(None)
     drive_forward(env)
     x, y = env.world.position()
@@ -182,7 +184,7 @@ def test_the_oval_keeps_its_walls():
 
 def test_a_course_out_result_keeps_its_time_and_place_and_is_a_scored_run():
     score = Score.of("applied", None, 1, False, False)
-    r = TestResult(Event.COURSE_OUT, 0, 0.0, 1, 3320, objective=Objective.ETROBOCON, score=score,
+    r = TestResult(Event.COURSE_OUT, 0, 0.0, 1, 3320, objective=objective_named("etrobocon"), score=score,
                    out_time_us=12_340_000, out_xy_mm=(-430, 1821))
     d = r.to_dict()
     assert d["course_out"] == {"time_s": 12.34, "x_m": -0.43, "y_m": 1.821}
@@ -193,15 +195,15 @@ def test_a_course_out_result_keeps_its_time_and_place_and_is_a_scored_run():
     assert (v.decided, v.success, v.crashes) == (True, False, 0)  # a failure of the parameters, not a crash
 
 
-def test_when_and_where_travel_through_the_mapped_file_to_the_controller(tmp_path):
-    """The physics side's report, read back as the controller reads it; the next test's report clears them."""
+def test_when_and_where_travel_to_the_controller(tmp_path):
+    """The physics side's result, read back as the controller reads it; the next test's result replaces it."""
     out = TestResult(Event.COURSE_OUT, 0, 0.0, 1, 3325, out_time_us=(1 << 32) + 5, out_xy_mm=(-430, 1824))
-    slots = Slots(tmp_path)
+    Slots(tmp_path)
     runner = TrialRunner(tmp_path)
     try:
-        slots.report(out)
+        (tmp_path / RESULT_FILE).write_text(out.encode())
         assert runner.read_result() == out
-        slots.report(TestResult(Event.TIME_OVER, 0, 0.0))
+        (tmp_path / RESULT_FILE).write_text(TestResult(Event.TIME_OVER, 0, 0.0).encode())
         assert runner.read_result() == TestResult(Event.TIME_OVER, 0, 0.0)
     finally:
         runner.close()

@@ -16,7 +16,7 @@ from hakoniwa.physics.robot import ULTRASONIC_MAX_MM
 from hakoniwa.physics.robots import BUILT_IN, DEFAULT_ROBOT, RobotError, parse_robot
 from hakoniwa.physics.world import ObjectState
 from hakoniwa.wire.etrobocon_rules import Score, result_points, run_points
-from hakoniwa.wire.protocol import ColorId, Event, Objective
+from hakoniwa.wire.protocol import ColorId, Event
 from tests.helpers.environments import environment
 
 
@@ -153,7 +153,7 @@ def test_pushing_an_object_is_no_wall_and_the_ultrasonic_sensor_sees_it(tmp_path
     bottle = env.world.object_state("bottle")
     assert bottle.x > 0.5 and bottle.upright and abs(bottle.y + 0.52) < 0.1
     assert env.read_sensors().ultrasonic_mm < 100  # the bottle, just ahead of the robot that pushes it
-    replay = env.replay()
+    replay = env.replay("lap")
     assert len(replay.object_states) == len(replay.times_us) and replay.object_states[0][:2] == (0.2, -0.52)
 
 
@@ -175,19 +175,19 @@ def test_the_etrobocon_objective_ends_at_the_finish_and_reports_the_score(tmp_pa
     course = load_course("etrobocon-l")
     garage = course.zone("garage")
     course = dataclasses.replace(course, start=Pose(garage.x, garage.y, 90.0))
-    env = environment(course, 120_000_000, BUILT_IN["hackspi"], objective=Objective.ETROBOCON)
+    env = environment(course, 120_000_000, BUILT_IN["hackspi"], objective="etrobocon")
     env.begin(None)
     assert env.advance_to(10_000_000) and env.event == Event.FINISH and env.event_us == 3_010_000
     score = env.score()
     assert (score.finish, score.lap_gate, score.total, score.sumo) == (True, False, 3.0, False)
-    assert env.replay().score == score.to_dict()
+    assert env.replay("etrobocon").score == score.to_dict()
     assert environment(course, 1, BUILT_IN["hackspi"]).score() is None  # the lap objective has none
 
 
 def test_a_course_without_objects_steps_as_before():
     env = environment(load_course("oval"), 60_000_000, DEFAULT_ROBOT)
     env.begin(None)
-    assert env.world.object_states() == () and env.replay().object_states == ()
+    assert env.world.object_states() == () and env.replay("lap").object_states == ()
     assert env.read_sensors().ultrasonic_mm < ULTRASONIC_MAX_MM  # the wall ahead, as always
     assert np.isfinite(env.world.measure().reflect)
 
@@ -217,7 +217,7 @@ def test_a_run_is_scored_by_its_robots_class_and_a_robot_of_none_by_the_courses(
     """HackSPi competes in the applied class and SPIKE-RT on the hub in the basic class (regulation 3, 表 3-1),
     whose checkpoints are worth 2 and 4 points (7.4 表 7-3, 6.4 表 6-2); the built-in courses' `[score]` says
     applied, which is what an EV3 of no class gets."""
-    env = environment(lane(), 120_000_000, BUILT_IN[robot], objective=Objective.ETROBOCON)
+    env = environment(lane(), 120_000_000, BUILT_IN[robot], objective="etrobocon")
     cp1 = env.course.checkpoints[0]
     world = FakeWorld()
     world.xy, world.yaw = (cp1.x, cp1.y), math.radians(cp1.heading_deg)

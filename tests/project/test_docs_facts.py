@@ -10,8 +10,10 @@ rather than passing over it. The byte offsets of `| Rx.NAME | offset |` rows are
 from __future__ import annotations
 
 import dataclasses
+import enum
 import re
 import tomllib
+import typing
 from pathlib import Path
 
 import pytest
@@ -21,7 +23,8 @@ from hakoniwa.physics.course import course_file
 from hakoniwa.physics.noise import DEFAULT_NOISE, NoiseLevels
 from hakoniwa.wire import timebase
 from hakoniwa.wire.exits import EXIT_BENCH_FAULT, EXIT_INTERRUPTED, EXIT_TERMINATED
-from hakoniwa.wire.protocol import BenchCause, CrashKind, Objective, Rx, SyncMode, Tx
+from hakoniwa.wire.protocol import Event, Rx, Tx
+from hakoniwa.wire.result import TestResult
 from testctl.campaign.config import CampaignConfig
 from tests.helpers.paths import REPO
 
@@ -75,7 +78,7 @@ def test_the_slot_tables_name_each_slot_at_its_offset(side, layout):
     assert not wrong, f"{side} rows whose offsets are not their slots' (offsets, names): {wrong}"
 
 
-@pytest.mark.parametrize("side, layout, low", [("RX", Rx, Rx.BENCH_CAUSE), ("TX", Tx, Tx.NEXT_WAKE)])
+@pytest.mark.parametrize("side, layout, low", [("RX", Rx, Rx.BUTTONS_UNTIL), ("TX", Tx, Tx.NEXT_WAKE)])
 def test_every_slot_of_our_extension_is_in_the_tables(side, layout, low):
     """A slot added to our extension (below ET Robocon's, from the lowest one) must be documented too."""
     documented = {n for _, slots, _ in extension_rows(side) for n in slots}
@@ -83,16 +86,22 @@ def test_every_slot_of_our_extension_is_in_the_tables(side, layout, low):
     assert ours <= documented, f"{side} slots of our extension missing from {DESIGN.name}: {ours - documented}"
 
 
-@pytest.mark.parametrize("slot, codes", [("SYNC_MODE", SyncMode), ("CRASH_KIND", CrashKind),
-                                         ("BENCH_CAUSE", BenchCause), ("OBJECTIVE", Objective)])
-def test_the_slot_tables_give_each_code_its_meaning(slot, codes):
-    """`0 lockstep, 1 hakoniwa, ...` in a slot's row lists every code of its enum, with its name."""
-    text = next((t for _, slots, t in extension_rows("RX") if slots[:1] == [slot]), None)
-    assert text is not None, f"no RX row for {slot}"
-    listed = {int(n): words for n, words in re.findall(r"(\d+) ([a-z][a-z ]*[a-z])", text) if words != "otherwise"}
-    actual = {c.value: c.words if isinstance(c, BenchCause) else c.name.lower() for c in codes if c.value}
-    actual |= {c.value: c.name.lower() for c in codes if c.value == 0 and 0 in listed}
-    assert listed == actual, f"{slot}: documented {listed}, the code's {actual}"
+def test_the_result_table_names_every_field_and_code():
+    """Each field of `TestResult` (what result.json carries) has its row, and a field that is an enum lists
+    every name the enum has."""
+    rows = {tuple(names_of(row[0])): row[2] for head, body in tables(DESIGN) if head[0] == "result.json"
+            for row in body}
+    documented = {name for key in rows for name in key}
+    hints = typing.get_type_hints(TestResult)
+    assert documented == {f.name for f in dataclasses.fields(TestResult)}
+    for key, text in rows.items():
+        for name in key:
+            if isinstance(hints[name], type) and issubclass(hints[name], enum.Enum) and hints[name] is not Event:
+                assert set(re.findall(r"\b[A-Z][A-Z_]+\b", text)) >= {c.name for c in hints[name]}, name
+
+
+def names_of(cell: str) -> list[str]:
+    return re.findall(r"`([a-z_]+)`", cell)
 
 
 def test_the_noise_table_gives_the_default_levels():

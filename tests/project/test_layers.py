@@ -18,17 +18,19 @@ OURS = ("hakoniwa", "athrill_sim", "testctl", "maze")
 
 # The packages of the bench, bottom to top, each with the packages below it that it may import. A module
 # belongs to the longest of these names it starts with.
-WIRE, CONVENTIONS, PHYSICS, PICTURES, ATHRILL, CONTROLLER, CLI = (
-    "hakoniwa.wire", "hakoniwa.conventions", "hakoniwa.physics", "hakoniwa.pictures", "athrill_sim", "testctl",
-    "testctl.hako")
+WIRE, CONVENTIONS, PHYSICS, OBJECTIVES, PICTURES, ATHRILL, CONTROLLER, CLI = (
+    "hakoniwa.wire", "hakoniwa.conventions", "hakoniwa.physics", "hakoniwa.objectives", "hakoniwa.pictures",
+    "athrill_sim", "testctl", "testctl.hako")
 PACKAGES: dict[str, tuple[str, ...]] = {
     WIRE: (),  # the contract every process shares: stdlib only
     CONVENTIONS: (WIRE,),  # what every command line shares
     PHYSICS: (WIRE, CONVENTIONS),  # the "Unity" side: given the program's launch (`hakoniwa.wire.launch`)
+    OBJECTIVES: (WIRE, CONVENTIONS, PHYSICS),  # what ends and scores a test: the physics' task and its judging
     PICTURES: (WIRE, CONVENTIONS, PHYSICS),  # what the physics looks like: drawn from it, never stepping it
     ATHRILL: (WIRE, CONVENTIONS),  # the robot programs, the physics' peer: resolving, building and running them
-    CONTROLLER: (WIRE, CONVENTIONS, PHYSICS, PICTURES, ATHRILL),  # benches (where the peers meet), tests, campaigns
-    CLI: (WIRE, CONVENTIONS, PHYSICS, PICTURES, ATHRILL, CONTROLLER),  # the user's `hako`: imported by nothing
+    # benches (where the peers meet), tests, campaigns
+    CONTROLLER: (WIRE, CONVENTIONS, PHYSICS, OBJECTIVES, PICTURES, ATHRILL),
+    CLI: (WIRE, CONVENTIONS, PHYSICS, OBJECTIVES, PICTURES, ATHRILL, CONTROLLER),  # the user's `hako`: imported by none
 }
 ROOTS = ("hakoniwa", "hakoniwa.physics")  # folders of the bench that are no package of their own
 STANDALONE = ("maze",)  # imports nothing of the bench, and nothing of the bench imports it
