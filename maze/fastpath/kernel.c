@@ -217,17 +217,17 @@ static void fp_free(void *p) {
  * one search back from the goal nodes over the reversed graph (rindptr, rindices, each entry priced rprice, and
  * redge the forward edge it is, whose open flag says whether it may be taken); infinite elsewhere. A* never reaches
  * a node the start does not, and walls only close while a bound is kept, so those nodes need none: a third of a
- * 32x32 diagonal graph's that reach the goal (27 500 to 19 200 on japan2017hef's first query). Returns the nodes
- * it settled. */
+ * 32x32 diagonal graph's that reach the goal (27 500 to 19 200 on japan2017hef's first query). Returns the edges
+ * it scanned, forwards and back: what finding the bound costs, in the unit fp_query weighs A*'s work in. */
 static int32_t fp_bound(void *p, const int32_t *rindptr, const int32_t *rindices, const double *rprice,
                         const int32_t *redge, const int32_t *indptr, const int32_t *indices, const uint8_t *open,
                         const int32_t *goals, int32_t ngoals, double *times) {
     workspace *ws = p;
     uint8_t *reach = ws->kept;  /* clear again by the end */
-    int32_t *list = ws->list, tail = 0, settled = 0, ntouched = 0;
+    int32_t *list = ws->list, tail = 0, scanned = 0, ntouched = 0;
     reach[ws->n - 1] = 1, list[tail++] = ws->n - 1;  /* the start */
     for (int32_t at = 0; at < tail; at++)
-        for (int32_t j = indptr[list[at]]; j < indptr[list[at] + 1]; j++)
+        for (int32_t j = indptr[list[at]]; j < indptr[list[at] + 1]; j++, scanned++)
             if (open[j] && !reach[indices[j]]) reach[indices[j]] = 1, list[tail++] = indices[j];
     for (int32_t i = 0; i < ws->n; i++) times[i] = INFINITY;
     heap *h = &ws->scratch;
@@ -239,7 +239,7 @@ static int32_t fp_bound(void *p, const int32_t *rindptr, const int32_t *rindices
     while (h->count) {
         item it = heap_pop(h);
         ws->done[it.node] = 1;
-        settled++;
+        scanned += rindptr[it.node + 1] - rindptr[it.node];
         for (int32_t j = rindptr[it.node]; j < rindptr[it.node + 1]; j++) {
             int32_t u = rindices[j];
             if (ws->done[u] || !reach[u] || !open[redge[j]]) continue;
@@ -253,7 +253,7 @@ static int32_t fp_bound(void *p, const int32_t *rindptr, const int32_t *rindices
     }
     for (int32_t i = 0; i < ntouched; i++) ws->done[ws->touched[i]] = 0;
     for (int32_t at = 0; at < tail; at++) reach[list[at]] = 0;
-    return settled;
+    return scanned;
 }
 
 /* Nodes (numbers below n) in ascending order, by their bytes from the lowest (a radix sort: two passes over a
@@ -312,7 +312,7 @@ static int reparent(workspace *ws, int32_t v, const double *price, const double 
  * what a search from scratch finds), and queued; A* then resumes (`fp_search`). A query comes because a wall on
  * the last route closed, so this touches the nodes past it that A* had reached through it, where a search from
  * scratch settles again every node the last one did (1 300-3 500 a query on japan2017hef once walls have closed
- * on a route since the bound was found). Returns the nodes forgotten. */
+ * on a route since the bound was found). Returns the edges it scanned for the nodes forgotten. */
 static int32_t invalidate(workspace *ws, const int32_t *indptr, const int32_t *indices, const double *price,
                           const double *h, const uint8_t *open, const int32_t *rindptr, const int32_t *rsrc,
                           const int32_t *redge, const int32_t *closed, int64_t nclosed) {
@@ -329,8 +329,10 @@ static int32_t invalidate(workspace *ws, const int32_t *indptr, const int32_t *i
             if (r[v] < INFINITY && ws->parent[v] == j && !reparent(ws, v, price, h, open, rindptr, rsrc, redge))
                 r[v] = INFINITY, ws->settled[v] = 0, lost[count++] = v, heap_remove(&ws->queue, v);
         }
+    int32_t scanned = 0;
     for (int32_t at = 0; at < count; at++) {
         int32_t v = lost[at];
+        scanned += (rindptr[v + 1] - rindptr[v]) + (indptr[v + 1] - indptr[v]);
         for (int32_t k = rindptr[v]; k < rindptr[v + 1]; k++) {
             int32_t e = redge[k], u = rsrc[k];
             if (!open[e] || !ws->settled[u]) continue;
@@ -339,15 +341,15 @@ static int32_t invalidate(workspace *ws, const int32_t *indptr, const int32_t *i
         }
         if (r[v] < INFINITY) heap_set(&ws->queue, r[v], v);
     }
-    return count;
+    return scanned;
 }
 
 /* FastestSearch.search: A* from the start (the last node) on the reduced prices of the open edges under the bound
  * h (`reduced_price`), resumed from the last query's (`invalidate`), until every node no slower than the fastest
- * goal node (with slack for rounding) is settled, adding the nodes settled to *spent; then the exact search of the
- * nodes that could lie on a fastest route (those the goal is reached from by tight edges, found back from the goal
- * over the reversed edges rindptr, rsrc, redge) on the prices, limited to the fastest time plus the bound at the
- * start; and the route walked back from the goal. Writes the route's nodes (start first) and their times and
+ * goal node (with slack for rounding) is settled, adding the edges it scanned to *spent; then the exact search of
+ * the nodes that could lie on a fastest route (those the goal is reached from by tight edges, found back from the
+ * goal over the reversed edges rindptr, rsrc, redge) on the prices, limited to the fastest time plus the bound at
+ * the start; and the route walked back from the goal. Writes the route's nodes (start first) and their times and
  * returns the route's node count; 0 when the goal cannot be reached. A* needs no limits (the scipy path's): it
  * stops where the fastest goal node is known, and which nodes it keeps besides those of the fastest routes does
  * not change the route (`FastestSearch.search`); nor does it need to keep them all to find those, every query. */
@@ -370,7 +372,7 @@ static int32_t fp_search(void *p, const int32_t *indptr, const int32_t *indices,
         if (best >= 0 && top.key > with_slack(reduced[best], slack)) break;
         heap_pop(&ws->queue);
         ws->settled[v] = 1;
-        ++*spent;
+        *spent += indptr[v + 1] - indptr[v];
         int faster = best < 0 || top.key < reduced[best] || (top.key == reduced[best] && v < best);
         if (v >= goal_lo && v < goal_hi && faster) best = v;
         for (int32_t j = indptr[v]; j < indptr[v + 1]; j++) {
@@ -690,7 +692,7 @@ typedef struct {
     int16_t *run;
     /* the bound (TimeBound) */
     double *times;  /* the bound: per node, a lower bound of the time to the goal */
-    int32_t *rindptr, *rsrc, *redge, cost;
+    int32_t *rindptr, *rsrc, *redge, cost;  /* cost: the edges the last find scanned (fp_bound) */
     double *rprice;  /* the prices and open flags in the reversed rows' order: a search back reads them in turn */
     uint8_t *valid_for;
     int has_bound;
@@ -1096,11 +1098,12 @@ void *fp_graph(const spec_t *s) {
 int32_t fp_graph_nodes(void *p) { return ((graph_t *)p)->n; }
 
 /* One query (MoveGraph.fastest up to decoding): which edges the walls `blocked` leave open; the bound found again
- * where it is stale (none yet, a wall it had closed is open, or A* has spent as much under it, nodes settled and
- * nodes forgotten, as finding it again costs: the ski-rental rule of maze/fastpath/bound.py); A* resumed from the
- * last query's (`invalidate`) where only walls closed under the same bound, else from scratch; then the exact
- * search. Writes the route's nodes (global numbers, the start first) and times; returns their count, 0 when the
- * goal cannot be reached. */
+ * where it is stale (none yet, a wall it had closed is open, or A* has spent as much under it as finding it again
+ * costs: the ski-rental rule of maze/fastpath/bound.py, both counted in the edges they scan, which is what their
+ * work per node is, where a count of nodes would weigh a node the find settles as one A* merely forgets); A*
+ * resumed from the last query's (`invalidate`) where only walls closed under the same bound, else from scratch;
+ * then the exact search. Writes the route's nodes (global numbers, the start first) and times; returns their
+ * count, 0 when the goal cannot be reached. */
 int32_t fp_query(void *p, const uint8_t *blocked, int32_t *route, double *times) {
     graph_t *g = p;
     workspace *ws = g->ws;
