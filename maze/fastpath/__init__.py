@@ -6,7 +6,8 @@ A->B and A->G, turns B->A, and straights from the standing start in the start ce
 The graph of a maze size is built once; each query marks which edges its walls leave open and searches it as
 A*: Dijkstra on reduced prices (each edge's price plus the drop in a lower bound of the time to the goal),
 with a distance limit so that scipy settles only the nodes that could lie on a route no slower than the
-fastest; the limit starts from the last query's answer and grows until the goal is reached. The bound is the
+fastest; the limit starts from the last query's answer and grows until the goal is reached (the compiled kernel
+instead resumes the last query's A*, repairing only the times the closed walls raised). The bound is the
 exact time to the goal under the walls of an earlier query (maze/fastpath/bound.py): walls only close while a
 mouse searches, so it stays a bound, and A* settles little more than the fastest routes' nodes. The route
 itself comes from a second search, on the real prices, of the small graph of the nodes A* found could lie on a

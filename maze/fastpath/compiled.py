@@ -78,9 +78,7 @@ class Spec(ctypes.Structure):
                 ("shape_noffsets", _i32_p), ("shape_offsets", _i32_p), ("shape_seconds", _double_p),
                 ("nstart", ctypes.c_int32), ("start_dst", _i32_p), ("start_run_from", _i32_p),
                 ("start_open_needed", _i32_p), ("start_first_wall", _i32_p), ("start_seconds", _double_p),
-                ("ngoals", ctypes.c_int32), ("goal_cells", _i32_p), ("wall_at", _i32_p),
-                ("growth", ctypes.c_double), ("slack", ctypes.c_double), ("hint_margin", ctypes.c_double),
-                ("min_limit", ctypes.c_double), ("tries", ctypes.c_int32), ("narrow_from", ctypes.c_int32)]
+                ("ngoals", ctypes.c_int32), ("goal_cells", _i32_p), ("wall_at", _i32_p), ("slack", ctypes.c_double)]
 
 
 def _bind(lib: ctypes.CDLL) -> ctypes.CDLL:

@@ -3,10 +3,12 @@
  * maze/fastpath/compiled.py and called through ctypes by maze/fastpath/native.py: fp_graph builds a graph,
  * fp_query answers a query on it, fp_decode decodes its route, fp_graph_free frees it.
  *
- * Every step computes exactly what the scipy path computes, so that routes stay identical to the bit: Dijkstra's
- * times are the minimum over paths of the left-to-right sums dist[u] + w (whatever order nodes are settled in),
- * a limit keeps the nodes whose time is <= the limit (scipy's rule), and ties are broken by the rules written
- * in maze/fastpath/query.py (the lowest-numbered goal node, the earliest then highest-numbered predecessor).
+ * Every step the route depends on computes exactly what the scipy path computes, so that routes stay identical to
+ * the bit: Dijkstra's times are the minimum over paths of the left-to-right sums dist[u] + w (whatever order nodes
+ * are settled in), a limit keeps the nodes whose time is <= the limit (scipy's rule), and ties are broken by the
+ * rules written in maze/fastpath/query.py (the lowest-numbered goal node, the earliest then highest-numbered
+ * predecessor). A* differs: it is resumed from query to query (fp_search), which changes which nodes it keeps
+ * besides those of the fastest routes, and so neither the exact search's times nor the route.
  * It must be compiled without contracting a * b + c into one rounding (-ffp-contract=off).
  */
 #include <math.h>
@@ -19,162 +21,138 @@ typedef struct {
     int32_t node;
 } item;
 
+/* A 4-ary heap of nodes keyed by their times, each node in it at most once (`where`): a node whose time falls moves
+ * up rather than being put in again, and A*'s queue, kept from query to query, takes the times of the nodes a
+ * query repairs (`invalidate`), which may lie below the last taken out. */
 typedef struct {
     item *at;
-    int64_t count, cap;
-} bucket;
-
-#define COARSE 32                 /* the low bits of a key's double that the radix heap's buckets ignore */
-#define BUCKETS (64 - COARSE + 1)
+    int32_t *where;  /* per node, its place in `at`; -1 where it is not in the heap */
+    int32_t count;
+} heap;
 
 /* The working memory of one query graph of n nodes and m edges, kept between its queries: the time arrays are
- * all infinite and the flags all clear between calls (each call resets only what it touched). */
+ * all infinite and the flags all clear between calls (each call resets only what it touched), but for A*'s, which
+ * are kept from one query to the next (fp_search). */
 typedef struct {
     int32_t n;
     int64_t m;
-    double *reduced;  /* A*'s times (reduced prices) */
+    double *reduced;  /* A*'s times (sums of reduced prices) */
+    uint8_t *settled; /* A*'s settled nodes */
+    int32_t *parent;  /* per node, the edge that gave it its A* time; -1 the start, -2 never reached */
+    int32_t *reached; /* the nodes A* has given a time since `astar_reset` */
+    int32_t nreached;
+    heap queue;       /* A*'s unsettled nodes with a time */
+    heap scratch;     /* the other searches' (empty between calls) */
     double *exact;    /* the exact search's times, local numbering */
     uint8_t *done;
     uint8_t *kept;
     int32_t *touched;
     int32_t *local;   /* node -> its number among the kept nodes */
     int32_t *nodes;   /* the kept nodes, ascending */
-    int32_t *lrow, *lcol, *ledge, *lindptr, *rindptr, *rsrc, *queue, *pred;
-    bucket buckets[BUCKETS]; /* the radix heap: bucket b holds keys whose coarse key's highest bit differing from
-                              * `last` is b - 1 */
-    uint64_t last;    /* the coarse key last taken out (keys only grow: the searches' prices are never negative) */
-    int64_t low_at;   /* where in bucket 0 its lowest key is; -1 when not known */
-    double last_key;  /* the key last taken out */
-    int64_t queued;
+    int32_t *lrow, *lcol, *ledge, *lindptr, *list, *pred;
     double *lprice;
     int32_t walls;          /* pricing (fp_price): 0 before the first query */
     uint8_t *open_wall;     /* per wall id and the two sentinels, the last query's: whether it is open */
     uint8_t *was_open;
     int32_t *wall_indptr;   /* the edges that need wall w open: wall_edges[wall_indptr[w]:wall_indptr[w + 1]] */
     int32_t *wall_edges;
+    int32_t *closed;        /* the edges the last fp_price closed, when it only closed walls */
+    int64_t nclosed;
 } workspace;
 
-/* A radix heap of nodes keyed by their tentative times: a search's keys never fall below the last one taken out
- * (its prices are never negative), and a double's bits order as the double does for keys >= 0, so a key goes in
- * the bucket of the highest bit in which its coarse key (the bits less the lowest COARSE) differs from that last
- * one's, and only the lowest non-empty bucket is ever sorted out. Bucket 0 holds the keys as coarse as the last;
- * the lowest of them is found by looking (a few keys, within 2^-17 s of each other at times of 8-16 s and closer
- * at shorter ones), where whole bits would move each entry through up to 50 buckets on its way down rather than
- * about 17. A node whose time is lowered is put in again; the searches skip an entry whose key is no
- * longer its node's time, or whose node is settled. Empty between searches (`queued` 0, `last` 0). */
-static uint64_t bits(double key) {
-    uint64_t b;
-    memcpy(&b, &key, sizeof b);
-    return b >> COARSE;
-}
-
-static int32_t bucket_of(uint64_t key, uint64_t last) { return key == last ? 0 : 64 - __builtin_clzll(key ^ last); }
-
-static int put(bucket *b, item it) {
-    if (b->count == b->cap) {
-        int64_t cap = b->cap ? 2 * b->cap : 256;
-        item *at = realloc(b->at, sizeof(item) * cap);
-        if (!at) return 0;
-        b->at = at, b->cap = cap;
+static void sift_up(heap *h, int32_t i) {
+    item it = h->at[i];
+    for (int32_t up = (i - 1) / 4; i > 0 && h->at[up].key > it.key; i = up, up = (i - 1) / 4) {
+        h->at[i] = h->at[up];
+        h->where[h->at[i].node] = i;
     }
-    b->at[b->count++] = it;
-    return 1;
+    h->at[i] = it;
+    h->where[it.node] = i;
 }
 
-static void push(workspace *ws, int64_t *size, double key, int32_t node) {
-    bucket *b = &ws->buckets[bucket_of(bits(key), ws->last)];
-    if (!put(b, (item){key, node})) return;
-    (*size)++;
-    if (b == ws->buckets && (ws->low_at >= 0 ? key < b->at[ws->low_at].key : key == ws->last_key))
-        ws->low_at = b->count - 1;  /* a key equal to the last taken out is a lowest */
-}
-
-/* The lowest key queued (the heap not empty), its entries moved into bucket 0. */
-static double lowest(workspace *ws) {
-    if (!ws->buckets[0].count) {
-        int32_t b = 1;
-        while (!ws->buckets[b].count) b++;
-        bucket *from = &ws->buckets[b];
-        uint64_t low = bits(from->at[0].key);
-        for (int64_t i = 1; i < from->count; i++)
-            if (bits(from->at[i].key) < low) low = bits(from->at[i].key);
-        ws->last = low;
-        for (int64_t i = 0; i < from->count; i++)  /* each to a lower bucket: it shares the bits above b with low */
-            put(&ws->buckets[bucket_of(bits(from->at[i].key), low)], from->at[i]);
-        from->count = 0;
-        ws->low_at = -1;
+static void sift_down(heap *h, int32_t i) {
+    item it = h->at[i];
+    for (;;) {
+        int32_t low = -1;
+        double key = it.key;
+        for (int32_t c = 4 * i + 1; c <= 4 * i + 4 && c < h->count; c++)
+            if (h->at[c].key < key) key = h->at[c].key, low = c;
+        if (low < 0) break;
+        h->at[i] = h->at[low];
+        h->where[h->at[i].node] = i;
+        i = low;
     }
-    bucket *b = ws->buckets;
-    if (ws->low_at < 0) {  /* newest first: a key equal to the last taken out (a price of 0) ends the look */
-        ws->low_at = b->count - 1;
-        for (int64_t i = b->count - 2; i >= 0 && b->at[ws->low_at].key != ws->last_key; i--)
-            if (b->at[i].key < b->at[ws->low_at].key) ws->low_at = i;
+    h->at[i] = it;
+    h->where[it.node] = i;
+}
+
+/* Queues `node` at `key`, or moves it there. */
+static void heap_set(heap *h, double key, int32_t node) {
+    int32_t i = h->where[node];
+    if (i < 0) {
+        h->at[i = h->count++] = (item){key, node};
+        sift_up(h, i);
+        return;
     }
-    return b->at[ws->low_at].key;
+    double was = h->at[i].key;
+    h->at[i].key = key;
+    if (key < was) sift_up(h, i); else sift_down(h, i);
 }
 
-static item pop(workspace *ws, int64_t *size) {
-    lowest(ws);
-    (*size)--;
-    bucket *b = ws->buckets;
-    item it = b->at[ws->low_at];
-    b->at[ws->low_at] = b->at[--b->count];
-    ws->low_at = -1;
-    ws->last_key = it.key;
-    return it;
+static void heap_remove(heap *h, int32_t node) {
+    int32_t i = h->where[node];
+    if (i < 0) return;
+    h->where[node] = -1;
+    item last = h->at[--h->count];
+    if (i == h->count) return;
+    h->at[i] = last;
+    sift_up(h, i);
+    sift_down(h, h->where[last.node]);
 }
 
-static void empty(workspace *ws, int64_t *size) {
-    for (int32_t b = 0; b < BUCKETS; b++) ws->buckets[b].count = 0;
-    ws->last = 0, ws->low_at = -1, ws->last_key = 0.0;
-    *size = 0;
+/* Takes out the lowest (the heap not empty): its hole sinks to a leaf by the lower children, and the last item rises
+ * from there (it mostly stays low: fewer compares than sinking it from the top). */
+static item heap_pop(heap *h) {
+    item top = h->at[0], last = h->at[--h->count];
+    h->where[top.node] = -1;
+    int32_t i = 0, count = h->count;
+    if (!count) return top;
+    for (int32_t c = 1; c < count; c = 4 * i + 1) {
+        int32_t low = c, end = c + 4 < count ? c + 4 : count;
+        for (int32_t k = c + 1; k < end; k++)
+            if (h->at[k].key < h->at[low].key) low = k;
+        h->at[i] = h->at[low];
+        h->where[h->at[i].node] = i;
+        i = low;
+    }
+    h->at[i] = last;
+    sift_up(h, i);
+    return top;
 }
 
-/* Dijkstra over CSR rows (indptr, indices), the price of entry j being w[j] or infinite where `mask` says the
- * edge is closed, from what the heap holds (`size` entries, their times in dist); it stops, rather than ends, at
- * the first node whose time is over `limit`, so that A*'s try under a larger limit resumes it where the last
- * stopped (its heap and times kept) instead of settling the same nodes again. Nodes given a time are appended to
- * touched; none over `push_limit` is. Returns how many nodes it settled: every node whose time is at most the
- * limit, with the times of a search limited to it. */
-static int32_t settle_to(const int32_t *indptr, const int32_t *indices, const double *w, const uint8_t *mask,
-                         double limit, double push_limit, double *dist, workspace *ws, int64_t *size,
-                         int32_t *ntouched) {
-    int32_t settled = 0;
-    while (*size && lowest(ws) <= limit) {
-        item it = pop(ws, size);
-        int32_t v = it.node;
-        if (ws->done[v] || it.key != dist[v]) continue;  /* settled, or put in again at a lower time */
-        ws->done[v] = 1;
-        settled++;
-        double at = dist[v];
-        for (int32_t j = indptr[v]; j < indptr[v + 1]; j++) {
+/* Dijkstra over CSR rows (indptr, indices) priced w from `source` (time 0), limited to `limit`: no node whose time
+ * is over it is given one (scipy's rule). Times go to dist (infinite on entry); the nodes given one are appended to
+ * touched. */
+static void dijkstra(const int32_t *indptr, const int32_t *indices, const double *w, int32_t source, double limit,
+                     double *dist, workspace *ws, int32_t *ntouched) {
+    heap *h = &ws->scratch;
+    ws->touched[(*ntouched)++] = source;
+    dist[source] = 0.0;
+    heap_set(h, 0.0, source);
+    while (h->count) {
+        item it = heap_pop(h);
+        ws->done[it.node] = 1;
+        for (int32_t j = indptr[it.node]; j < indptr[it.node + 1]; j++) {
             int32_t u = indices[j];
-            if (ws->done[u] || (mask && !mask[j])) continue;
-            double next = at + w[j];
-            if (next <= push_limit && next < dist[u]) {
+            if (ws->done[u]) continue;
+            double next = it.key + w[j];
+            if (next <= limit && next < dist[u]) {
                 if (dist[u] == INFINITY) ws->touched[(*ntouched)++] = u;
                 dist[u] = next;
-                push(ws, size, next, u);
+                heap_set(h, next, u);
             }
         }
     }
-    return settled;
-}
-
-/* Dijkstra from `sources` (time 0), limited to `limit`: settle_to from a heap of them, nothing over the limit put
- * in. Times go to dist (infinite on entry). Returns how many nodes it settled. */
-static int32_t dijkstra(const int32_t *indptr, const int32_t *indices, const double *w, const uint8_t *mask,
-                        const int32_t *sources, int32_t nsrc, double limit, double *dist, workspace *ws,
-                        int32_t *ntouched) {
-    int64_t size = 0;
-    for (int32_t s = 0; s < nsrc; s++) {
-        if (dist[sources[s]] == INFINITY) ws->touched[(*ntouched)++] = sources[s];
-        dist[sources[s]] = 0.0;
-        push(ws, &size, 0.0, sources[s]);
-    }
-    int32_t settled = settle_to(indptr, indices, w, mask, limit, limit, dist, ws, &size, ntouched);
-    ws->last = 0, ws->low_at = -1, ws->last_key = 0.0;  /* empty again */
-    return settled;
 }
 
 static void clear(double *dist, workspace *ws, int32_t ntouched) {
@@ -184,13 +162,23 @@ static void clear(double *dist, workspace *ws, int32_t ntouched) {
     }
 }
 
+static int new_heap(heap *h, int32_t n) {
+    h->at = malloc(sizeof(item) * n);
+    h->where = malloc(sizeof(int32_t) * n);
+    if (!h->at || !h->where) return 0;
+    for (int32_t i = 0; i < n; i++) h->where[i] = -1;
+    return 1;
+}
+
 static void *fp_new(int32_t n, int64_t m) {
     workspace *ws = calloc(1, sizeof *ws);
     if (!ws) return NULL;
     ws->n = n;
     ws->m = m;
-    ws->low_at = -1;
     ws->reduced = malloc(sizeof(double) * n);
+    ws->settled = calloc(n, 1);
+    ws->parent = malloc(sizeof(int32_t) * n);
+    ws->reached = malloc(sizeof(int32_t) * n);
     ws->exact = malloc(sizeof(double) * n);
     ws->done = calloc(n, 1);
     ws->kept = calloc(n + 1, 1);
@@ -201,47 +189,71 @@ static void *fp_new(int32_t n, int64_t m) {
     ws->lcol = malloc(sizeof(int32_t) * (m + n + 1));
     ws->ledge = malloc(sizeof(int32_t) * (m + 1));
     ws->lindptr = malloc(sizeof(int32_t) * (n + 2));
-    ws->rindptr = malloc(sizeof(int32_t) * (n + 3));
-    ws->rsrc = malloc(sizeof(int32_t) * (m + n + 1));
-    ws->queue = malloc(sizeof(int32_t) * (n + 1));
+    ws->list = malloc(sizeof(int32_t) * (n + 1));
     ws->pred = malloc(sizeof(int32_t) * n);
     ws->lprice = malloc(sizeof(double) * (m + 1));
-    if (!ws->reduced || !ws->exact || !ws->done || !ws->kept || !ws->touched || !ws->local
-        || !ws->nodes || !ws->lrow || !ws->lcol || !ws->ledge || !ws->lindptr || !ws->rindptr || !ws->rsrc
-        || !ws->queue || !ws->pred || !ws->lprice) {
+    if (!ws->reduced || !ws->settled || !ws->parent || !ws->reached || !new_heap(&ws->queue, n)
+        || !new_heap(&ws->scratch, n) || !ws->exact || !ws->done || !ws->kept || !ws->touched || !ws->local
+        || !ws->nodes || !ws->lrow || !ws->lcol || !ws->ledge || !ws->lindptr || !ws->list || !ws->pred
+        || !ws->lprice) {
         return NULL;  /* the caller falls back; what was allocated is lost once, at start-up */
     }
-    for (int32_t i = 0; i < n; i++) ws->reduced[i] = ws->exact[i] = INFINITY;
+    for (int32_t i = 0; i < n; i++) ws->reduced[i] = ws->exact[i] = INFINITY, ws->parent[i] = -2;
     return ws;
 }
 
 static void fp_free(void *p) {
     workspace *ws = p;
     if (!ws) return;
-    free(ws->reduced); free(ws->exact); free(ws->done); free(ws->kept); free(ws->touched);
-    free(ws->local); free(ws->nodes); free(ws->lrow); free(ws->lcol); free(ws->ledge); free(ws->lindptr);
-    free(ws->rindptr); free(ws->rsrc); free(ws->queue); free(ws->pred); free(ws->lprice);
-    free(ws->open_wall); free(ws->was_open); free(ws->wall_indptr); free(ws->wall_edges);
-    for (int32_t b = 0; b < BUCKETS; b++) free(ws->buckets[b].at);
+    free(ws->reduced); free(ws->settled); free(ws->parent); free(ws->reached); free(ws->queue.at);
+    free(ws->queue.where); free(ws->scratch.at); free(ws->scratch.where); free(ws->exact); free(ws->done);
+    free(ws->kept); free(ws->touched); free(ws->local); free(ws->nodes); free(ws->lrow); free(ws->lcol);
+    free(ws->ledge); free(ws->lindptr); free(ws->list); free(ws->pred); free(ws->lprice);
+    free(ws->open_wall); free(ws->was_open); free(ws->wall_indptr); free(ws->wall_edges); free(ws->closed);
     free(ws);
 }
 
-/* TimeBound.find: the exact times to the goal (`times`, every node) by one search back from the goal nodes over
- * the reversed graph (rindptr, rindices, with each entry's price and open flag: rprice, ropen) through the open
- * edges, and the reduced prices of the forward edges (rows, indices) under them. Returns the nodes it reached. */
+/* TimeBound.find: the exact times to the goal (`times`) of the nodes the start reaches through the open edges, by
+ * one search back from the goal nodes over the reversed graph (rindptr, rindices, each entry priced rprice, and
+ * redge the forward edge it is, whose open flag says whether it may be taken); infinite elsewhere. A* never reaches
+ * a node the start does not, and walls only close while a bound is kept, so those nodes need none: a third of a
+ * 32x32 diagonal graph's that reach the goal (27 500 to 19 200 on japan2017hef's first query). Returns the edges
+ * it scanned, forwards and back: what finding the bound costs, in the unit fp_query weighs A*'s work in. */
 static int32_t fp_bound(void *p, const int32_t *rindptr, const int32_t *rindices, const double *rprice,
-                 const uint8_t *ropen, const int32_t *rows, const int32_t *indices, const double *price,
-                 const int32_t *goals, int32_t ngoals, double *times, double *reduced) {
+                        const int32_t *redge, const int32_t *indptr, const int32_t *indices, const uint8_t *open,
+                        const int32_t *goals, int32_t ngoals, double *times) {
     workspace *ws = p;
-    int32_t ntouched = 0;
+    uint8_t *reach = ws->kept;  /* clear again by the end */
+    int32_t *list = ws->list, tail = 0, scanned = 0, ntouched = 0;
+    reach[ws->n - 1] = 1, list[tail++] = ws->n - 1;  /* the start */
+    for (int32_t at = 0; at < tail; at++)
+        for (int32_t j = indptr[list[at]]; j < indptr[list[at] + 1]; j++, scanned++)
+            if (open[j] && !reach[indices[j]]) reach[indices[j]] = 1, list[tail++] = indices[j];
     for (int32_t i = 0; i < ws->n; i++) times[i] = INFINITY;
-    int32_t cost = dijkstra(rindptr, rindices, rprice, ropen, goals, ngoals, INFINITY, times, ws, &ntouched);
-    for (int32_t i = 0; i < ntouched; i++) ws->done[ws->touched[i]] = 0;
-    for (int64_t e = 0; e < ws->m; e++) {
-        double r = (price[e] + times[indices[e]]) - times[rows[e]];
-        reduced[e] = isnan(r) ? INFINITY : (r < 0.0 ? 0.0 : r);  /* numpy: maximum(r, 0), NaN -> inf */
+    heap *h = &ws->scratch;
+    for (int32_t g = 0; g < ngoals; g++) {
+        ws->touched[ntouched++] = goals[g];
+        times[goals[g]] = 0.0;
+        heap_set(h, 0.0, goals[g]);
     }
-    return cost;
+    while (h->count) {
+        item it = heap_pop(h);
+        ws->done[it.node] = 1;
+        scanned += rindptr[it.node + 1] - rindptr[it.node];
+        for (int32_t j = rindptr[it.node]; j < rindptr[it.node + 1]; j++) {
+            int32_t u = rindices[j];
+            if (ws->done[u] || !reach[u] || !open[redge[j]]) continue;
+            double next = it.key + rprice[j];
+            if (next < times[u]) {
+                if (times[u] == INFINITY) ws->touched[ntouched++] = u;
+                times[u] = next;
+                heap_set(h, next, u);
+            }
+        }
+    }
+    for (int32_t i = 0; i < ntouched; i++) ws->done[ws->touched[i]] = 0;
+    for (int32_t at = 0; at < tail; at++) reach[list[at]] = 0;
+    return scanned;
 }
 
 /* Nodes (numbers below n) in ascending order, by their bytes from the lowest (a radix sort: two passes over a
@@ -262,108 +274,148 @@ static void sort_nodes(int32_t *nodes, int32_t count, int32_t n, int32_t *spare)
 
 static double with_slack(double seconds, double slack) { return seconds + slack * (1 + seconds); }
 
-/* FastestSearch.search: A* from the start (the last node) on the reduced prices `astar` of the open edges under limits
- * limit0 * growth^k (k < tries, then none), each try resuming the last (settle_to), adding the nodes settled to
- * *spent; then the exact search
- * of the nodes that could lie on a fastest route (narrowed to those the goal is reached from by tight edges when
- * more than narrow_from are kept) on the prices, limited to the fastest time plus the bound at the start; and
- * the route walked back from the goal. Writes the route's nodes (start first) and their times, sets *hint to
- * A*'s reduced time to the goal, and returns the route's node count; 0 when the goal cannot be reached. */
-static int32_t fp_search(void *p, const int32_t *indptr, const int32_t *indices, const double *astar, const double *price,
-                  const uint8_t *open, int32_t goal_lo, int32_t goal_hi, double limit0, double growth,
-                  int32_t tries, double at_start, double slack, int32_t narrow_from, int64_t *spent, double *hint,
-                  int32_t *route, double *times) {
+/* The reduced price of edge e from node `from` to node `to` under the bound h: its price plus the fall in the bound,
+ * as TimeBound works them out (numpy: maximum(r, 0), NaN -> inf), at the few edges A* reads rather than at every
+ * edge each time the bound is found. */
+static double reduced_price(const double *price, const double *h, int32_t e, int32_t from, int32_t to) {
+    double r = (price[e] + h[to]) - h[from];
+    return isnan(r) ? INFINITY : (r < 0.0 ? 0.0 : r);
+}
+
+/* Forgets A*'s times: its bound changed, or a wall opened (a time may fall, which `invalidate` cannot repair). */
+static void astar_reset(workspace *ws) {
+    for (int32_t i = 0; i < ws->nreached; i++) {
+        int32_t v = ws->reached[i];
+        ws->reduced[v] = INFINITY, ws->settled[v] = 0, ws->parent[v] = -2, ws->queue.where[v] = -1;
+    }
+    ws->nreached = 0, ws->queue.count = 0;
+}
+
+/* Whether another settled node gives v the same time through an open edge (its parent then): v keeps its time. A
+ * parent lost later loses v too, through the edge recorded. */
+static int reparent(workspace *ws, int32_t v, const double *price, const double *h, const uint8_t *open,
+                    const int32_t *rindptr, const int32_t *rsrc, const int32_t *redge) {
+    for (int32_t k = rindptr[v]; k < rindptr[v + 1]; k++) {
+        int32_t e = redge[k], u = rsrc[k];
+        if (open[e] && ws->settled[u] && ws->reduced[u] + reduced_price(price, h, e, u, v) == ws->reduced[v]) {
+            ws->parent[v] = e;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* A*'s times after the edges `closed` close (and none opens), under the same bound: closing only raises times,
+ * and only those of the nodes whose time came through a closed edge (parent[v], the edge that gave v its time),
+ * directly or through such a node, unless another node gives them the same time (`reparent`). They are forgotten
+ * and given again the best time through the settled nodes whose times stand (the minimum over paths, bit for bit
+ * what a search from scratch finds), and queued; A* then resumes (`fp_search`). A query comes because a wall on
+ * the last route closed, so this touches the nodes past it that A* had reached through it, where a search from
+ * scratch settles again every node the last one did (1 300-3 500 a query on japan2017hef once walls have closed
+ * on a route since the bound was found). Returns the edges it scanned for the nodes forgotten. */
+static int32_t invalidate(workspace *ws, const int32_t *indptr, const int32_t *indices, const double *price,
+                          const double *h, const uint8_t *open, const int32_t *rindptr, const int32_t *rsrc,
+                          const int32_t *redge, const int32_t *closed, int64_t nclosed) {
+    int32_t *lost = ws->list, count = 0;
+    double *r = ws->reduced;
+    for (int64_t i = 0; i < nclosed; i++) {
+        int32_t v = indices[closed[i]];
+        if (r[v] < INFINITY && ws->parent[v] == closed[i] && !reparent(ws, v, price, h, open, rindptr, rsrc, redge))
+            r[v] = INFINITY, ws->settled[v] = 0, lost[count++] = v, heap_remove(&ws->queue, v);
+    }
+    for (int32_t at = 0; at < count; at++)
+        for (int32_t j = indptr[lost[at]]; j < indptr[lost[at] + 1]; j++) {
+            int32_t v = indices[j];
+            if (r[v] < INFINITY && ws->parent[v] == j && !reparent(ws, v, price, h, open, rindptr, rsrc, redge))
+                r[v] = INFINITY, ws->settled[v] = 0, lost[count++] = v, heap_remove(&ws->queue, v);
+        }
+    int32_t scanned = 0;
+    for (int32_t at = 0; at < count; at++) {
+        int32_t v = lost[at];
+        scanned += (rindptr[v + 1] - rindptr[v]) + (indptr[v + 1] - indptr[v]);
+        for (int32_t k = rindptr[v]; k < rindptr[v + 1]; k++) {
+            int32_t e = redge[k], u = rsrc[k];
+            if (!open[e] || !ws->settled[u]) continue;
+            double next = r[u] + reduced_price(price, h, e, u, v);
+            if (next < r[v]) r[v] = next, ws->parent[v] = e;
+        }
+        if (r[v] < INFINITY) heap_set(&ws->queue, r[v], v);
+    }
+    return scanned;
+}
+
+/* FastestSearch.search: A* from the start (the last node) on the reduced prices of the open edges under the bound
+ * h (`reduced_price`), resumed from the last query's (`invalidate`), until every node no slower than the fastest
+ * goal node (with slack for rounding) is settled, adding the edges it scanned to *spent; then the exact search of
+ * the nodes that could lie on a fastest route (those the goal is reached from by tight edges, found back from the
+ * goal over the reversed edges rindptr, rsrc, redge) on the prices, limited to the fastest time plus the bound at
+ * the start; and the route walked back from the goal. Writes the route's nodes (start first) and their times and
+ * returns the route's node count; 0 when the goal cannot be reached. A* needs no limits (the scipy path's): it
+ * stops where the fastest goal node is known, and which nodes it keeps besides those of the fastest routes does
+ * not change the route (`FastestSearch.search`); nor does it need to keep them all to find those, every query. */
+static int32_t fp_search(void *p, const int32_t *indptr, const int32_t *indices, const double *h,
+                         const double *price, const uint8_t *open, const int32_t *rindptr, const int32_t *rsrc,
+                         const int32_t *redge, int32_t goal_lo, int32_t goal_hi, double at_start, double slack,
+                         int64_t *spent, int32_t *route, double *times) {
     workspace *ws = p;
     int32_t n = ws->n, start = n - 1, ntouched = 0, best = -1;
     double *reduced = ws->reduced;
-    int64_t size = 0;
-    reduced[start] = 0.0;
-    ws->touched[ntouched++] = start;
-    push(ws, &size, 0.0, start);
-    for (int32_t k = 0; k <= tries && best < 0; k++) {
-        double limit = k < tries ? limit0 * pow(growth, k) : INFINITY;
-        *spent += settle_to(indptr, indices, astar, open, limit, INFINITY, reduced, ws, &size, &ntouched);
-        for (int32_t g = goal_lo; g < goal_hi; g++)  /* the lowest-numbered of the first reached */
-            if (ws->done[g] && (best < 0 || reduced[g] < reduced[best])) best = g;
+    if (!ws->nreached) {
+        reduced[start] = 0.0, ws->parent[start] = -1, ws->reached[ws->nreached++] = start;
+        heap_set(&ws->queue, 0.0, start);
     }
-    empty(ws, &size);  /* the nodes over the last limit leave the heap */
-    if (best < 0) {
-        clear(reduced, ws, ntouched);
-        return 0;
+    for (int32_t g = goal_lo; g < goal_hi; g++)  /* the lowest-numbered of the fastest settled */
+        if (ws->settled[g] && (best < 0 || reduced[g] < reduced[best])) best = g;
+    while (ws->queue.count) {
+        item top = ws->queue.at[0];
+        int32_t v = top.node;
+        if (best >= 0 && top.key > with_slack(reduced[best], slack)) break;
+        heap_pop(&ws->queue);
+        ws->settled[v] = 1;
+        *spent += indptr[v + 1] - indptr[v];
+        int faster = best < 0 || top.key < reduced[best] || (top.key == reduced[best] && v < best);
+        if (v >= goal_lo && v < goal_hi && faster) best = v;
+        for (int32_t j = indptr[v]; j < indptr[v + 1]; j++) {
+            int32_t u = indices[j];
+            if (!open[j] || ws->settled[u]) continue;
+            double next = top.key + reduced_price(price, h, j, v, u);
+            if (next < reduced[u]) {
+                if (ws->parent[u] == -2) ws->reached[ws->nreached++] = u;
+                reduced[u] = next, ws->parent[u] = j;
+                heap_set(&ws->queue, next, u);
+            }
+        }
     }
-    double fastest = reduced[best];
-    *hint = fastest;
-    double keep_to = with_slack(fastest, slack);
+    if (best < 0) return 0;
+    double fastest = reduced[best], keep_to = with_slack(fastest, slack), margin = keep_to - fastest;
 
-    /* the kept nodes, ascending, and the open edges between them, in row order */
+    /* _on_fastest_routes: back from the kept goal nodes over tight edges between kept nodes */
+    uint8_t *on = ws->kept;  /* clear again by the end */
     int32_t count = 0;
-    for (int32_t i = 0; i < ntouched; i++)  /* settled: a node given a time over the limit is not */
-        if (ws->done[ws->touched[i]] && reduced[ws->touched[i]] <= keep_to) ws->nodes[count++] = ws->touched[i];
-    sort_nodes(ws->nodes, count, n, ws->queue);
-    for (int32_t i = 0; i < count; i++) {
-        ws->kept[ws->nodes[i]] = 1;
-        ws->local[ws->nodes[i]] = i;
+    for (int32_t g = goal_lo; g < goal_hi; g++)
+        if (ws->settled[g] && reduced[g] <= keep_to) on[g] = 1, ws->nodes[count++] = g;
+    for (int32_t at = 0; at < count; at++) {
+        int32_t v = ws->nodes[at];
+        for (int32_t k = rindptr[v]; k < rindptr[v + 1]; k++) {
+            int32_t u = rsrc[k], e = redge[k];
+            if (on[u] || !open[e] || !ws->settled[u] || reduced[u] > keep_to) continue;
+            if (reduced[u] + reduced_price(price, h, e, u, v) > reduced[v] + margin) continue;
+            on[u] = 1, ws->nodes[count++] = u;
+        }
     }
+    sort_nodes(ws->nodes, count, n, ws->list);
+    for (int32_t i = 0; i < count; i++) ws->local[ws->nodes[i]] = i;
     int64_t edges = 0;
     for (int32_t i = 0; i < count; i++) {
         int32_t v = ws->nodes[i];
         for (int32_t j = indptr[v]; j < indptr[v + 1]; j++) {
-            if (!open[j] || !ws->kept[indices[j]]) continue;
+            if (!open[j] || !on[indices[j]]) continue;
             ws->lrow[edges] = i;
             ws->lcol[edges] = ws->local[indices[j]];
             ws->ledge[edges++] = j;
         }
     }
-    for (int32_t i = 0; i < count; i++) ws->kept[ws->nodes[i]] = 0;
-
-    if (count > narrow_from) {
-        /* _on_fastest_routes: back from the goal (a node `count` joined to the kept goal nodes) over tight edges */
-        double margin = keep_to - fastest;
-        uint8_t *on = ws->kept;  /* clear again by the end */
-        int32_t *rindptr = ws->rindptr, *rsrc = ws->rsrc;
-        memset(rindptr, 0, sizeof(int32_t) * (count + 3));
-        int64_t extra = 0;
-        for (int64_t e = 0; e < edges; e++) {
-            int32_t r = ws->lrow[e], c = ws->lcol[e];
-            if (reduced[ws->nodes[r]] + astar[ws->ledge[e]] <= reduced[ws->nodes[c]] + margin) rindptr[c + 2]++;
-        }
-        for (int32_t i = 0; i < count; i++)
-            if (ws->nodes[i] >= goal_lo && ws->nodes[i] < goal_hi) { rindptr[count + 2]++; extra++; }
-        for (int32_t i = 0; i <= count; i++) rindptr[i + 2] += rindptr[i + 1];
-        for (int64_t e = 0; e < edges; e++) {
-            int32_t r = ws->lrow[e], c = ws->lcol[e];
-            if (reduced[ws->nodes[r]] + astar[ws->ledge[e]] <= reduced[ws->nodes[c]] + margin)
-                rsrc[rindptr[c + 1]++] = r;
-        }
-        for (int32_t i = 0; i < count; i++)
-            if (ws->nodes[i] >= goal_lo && ws->nodes[i] < goal_hi) rsrc[rindptr[count + 1]++] = i;
-        (void)extra;
-        int32_t head = 0, tail = 0;
-        ws->queue[tail++] = count;
-        on[count] = 1;
-        while (head < tail) {
-            int32_t v = ws->queue[head++];
-            for (int32_t j = rindptr[v]; j < rindptr[v + 1]; j++)
-                if (!on[rsrc[j]]) { on[rsrc[j]] = 1; ws->queue[tail++] = rsrc[j]; }
-        }
-        int32_t *renumber = ws->local;  /* reused: kept index -> narrowed index */
-        int32_t narrowed = 0;
-        for (int32_t i = 0; i < count; i++) {
-            renumber[i] = on[i] ? narrowed : -1;
-            if (on[i]) ws->nodes[narrowed++] = ws->nodes[i];
-        }
-        int64_t used = 0;
-        for (int64_t e = 0; e < edges; e++) {
-            int32_t r = ws->lrow[e], c = ws->lcol[e];
-            if (!on[r] || !on[c]) continue;
-            ws->lrow[used] = renumber[r];
-            ws->lcol[used] = renumber[c];
-            ws->ledge[used++] = ws->ledge[e];
-        }
-        for (int32_t i = 0; i <= count; i++) on[i] = 0;
-        count = narrowed;
-        edges = used;
-    }
+    for (int32_t i = 0; i < count; i++) on[ws->nodes[i]] = 0;
 
     /* the exact search of the sub graph, from the start (its last node) */
     memset(ws->lindptr, 0, sizeof(int32_t) * (count + 1));
@@ -372,12 +424,10 @@ static int32_t fp_search(void *p, const int32_t *indptr, const int32_t *indices,
         ws->lprice[e] = price[ws->ledge[e]];
     }
     for (int32_t i = 0; i < count; i++) ws->lindptr[i + 1] += ws->lindptr[i];
-    clear(reduced, ws, ntouched);
-    ntouched = 0;
     double *dist = ws->exact;
     int32_t local_start = count - 1;
-    dijkstra(ws->lindptr, ws->lcol, ws->lprice, NULL, &local_start, 1,
-             with_slack(fastest + at_start, slack), dist, ws, &ntouched);
+    dijkstra(ws->lindptr, ws->lcol, ws->lprice, local_start, with_slack(fastest + at_start, slack), dist, ws,
+             &ntouched);
     int32_t at = -1;
     for (int32_t i = 0; i < count; i++)
         if (ws->nodes[i] >= goal_lo && ws->nodes[i] < goal_hi && (at < 0 || dist[i] < dist[at])) at = i;
@@ -420,7 +470,8 @@ typedef struct {
 } edges_t;
 
 /* For each wall, the edges that need it open (each edge through a wall once per crossing of it), as CSR: built
- * at the first query, so that a query that only closes walls closes only the edges through them. */
+ * with the graph (fp_graph; 3 ms on a 32x32 diagonal graph), so that a query that only closes walls closes only
+ * the edges through them, and lists them (ws->closed) for A*. */
 static int index_walls(workspace *ws, const edges_t *g, int32_t walls) {
     int32_t *line_of = malloc(sizeof(int32_t) * g->layer_size), *pos_of = malloc(sizeof(int32_t) * g->layer_size);
     ws->wall_indptr = calloc((size_t)walls + 2, sizeof(int32_t));
@@ -450,11 +501,12 @@ static int index_walls(workspace *ws, const edges_t *g, int32_t walls) {
         if (!pass) {
             for (int32_t w = 0; w < walls; w++) ws->wall_indptr[w + 2] += ws->wall_indptr[w + 1];
             ws->wall_edges = malloc(sizeof(int32_t) * ((size_t)ws->wall_indptr[walls + 1] + 1));
-            if (!ws->wall_edges) break;
+            ws->closed = malloc(sizeof(int32_t) * ((size_t)ws->wall_indptr[walls + 1] + 1));
+            if (!ws->wall_edges || !ws->closed) break;
         }
     }
     free(line_of); free(pos_of);
-    return ws->wall_edges != NULL;
+    return ws->wall_edges && ws->closed;
 }
 
 /* Every edge's open flag from the walls (`open_wall`); `run` (one per node of a layer) gets the open walls
@@ -484,9 +536,9 @@ static void price_all(const edges_t *g, const uint8_t *open_wall, int16_t *run, 
 
 /* FastestSearch.price: which edges the walls leave open (`open`, per edge in row order). A wall is open where
  * `blocked` says so and it is not an outer wall; past the real walls come the always-open and the always-closed
- * sentinels. A query that only closes walls since the last one closes the edges through them; any other works
- * every edge out again. */
-static void fp_price(void *p, const uint8_t *blocked, int32_t walls, const int32_t *outer, int32_t nouter,
+ * sentinels. A query that only closes walls since the last one closes the edges through them, lists them in
+ * ws->closed for A* (`invalidate`) and returns 1; any other works every edge out again and returns 0. */
+static int fp_price(void *p, const uint8_t *blocked, int32_t walls, const int32_t *outer, int32_t nouter,
               const int32_t *line_walls, const int32_t *line_len, int32_t nlines, int32_t width,
               const int32_t *line_nodes, int16_t *run, int32_t layer_size, int32_t nstraight, int32_t before,
               const int32_t *run_from, const int32_t *open_needed, int32_t nturns, int32_t crossings,
@@ -500,7 +552,7 @@ static void fp_price(void *p, const uint8_t *blocked, int32_t walls, const int32
     if (first) {
         ws->open_wall = malloc((size_t)walls + 2);
         ws->was_open = malloc((size_t)walls + 2);
-        if (!ws->open_wall || !ws->was_open) return;  /* not reached on any machine that runs Python */
+        if (!ws->open_wall || !ws->was_open) return 0;  /* not reached on any machine that runs Python */
         ws->walls = walls;
     }
     uint8_t *now = ws->was_open;  /* the new walls are worked out into the spare array, then swapped */
@@ -510,15 +562,21 @@ static void fp_price(void *p, const uint8_t *blocked, int32_t walls, const int32
     now[walls + 1] = 0;
     int opened = first;
     for (int32_t w = 0; w < walls && !opened; w++) opened = now[w] && !ws->open_wall[w];
-    if (!opened && (ws->wall_edges || index_walls(ws, &g, walls))) {
+    int closing = !opened;
+    ws->nclosed = 0;
+    if (closing) {
         for (int32_t w = 0; w < walls; w++)
             if (!now[w] && ws->open_wall[w])
-                for (int32_t j = ws->wall_indptr[w]; j < ws->wall_indptr[w + 1]; j++) open[ws->wall_edges[j]] = 0;
+                for (int32_t j = ws->wall_indptr[w]; j < ws->wall_indptr[w + 1]; j++) {
+                    int32_t e = ws->wall_edges[j];
+                    if (open[e]) open[e] = 0, ws->closed[ws->nclosed++] = e;
+                }
     } else {
         price_all(&g, now, run, open);
     }
     ws->was_open = ws->open_wall;
     ws->open_wall = now;
+    return closing;
 }
 
 /* RouteDecoder.route: a route's nodes (`nodes`, their `times`) decoded into moves and the wall points crossed.
@@ -604,7 +662,7 @@ static const int32_t STEP_X[8] = {1, 1, 0, -1, -1, -1, 0, 1}, STEP_Y[8] = {0, 1,
  * prices of its straights of n steps (n < 2k) braking to turn speed and free over the goal line, of k steps
  * speeding up, and of one step at top speed; per turn shape (in fastpath.build.turn_shapes' order) its headings
  * in and out, the parity of its entry point's X, its wall points and its time; the start's edges; the goal cells;
- * the wall at each point; and the query's constants (maze/fastpath/query.py). */
+ * the wall at each point; and the slack for rounding in reduced times (maze/fastpath/query.py). */
 typedef struct {
     int32_t size, has[8], k[8], max_n;
     const double *to_turn, *to_goal;  /* [h * max_n + n] */
@@ -618,8 +676,7 @@ typedef struct {
     int32_t ngoals;
     const int32_t *goal_cells;  /* y * size + x */
     const int32_t *wall_at;     /* per point; walls + 1 (closed) where there is none */
-    double growth, slack, hint_margin, min_limit;
-    int32_t tries, narrow_from;
+    double slack;
 } spec_t;
 
 typedef struct {
@@ -634,20 +691,17 @@ typedef struct {
     int32_t nstart, *start_first_wall, *start_run_from, *start_open_needed;
     int16_t *run;
     /* the bound (TimeBound) */
-    double *times, *reduced;
-    int32_t *rindptr, *rsrc, *redge, cost;
+    double *times;  /* the bound: per node, a lower bound of the time to the goal */
+    int32_t *rindptr, *rsrc, *redge, cost;  /* cost: the edges the last find scanned (fp_bound) */
     double *rprice;  /* the prices and open flags in the reversed rows' order: a search back reads them in turn */
-    uint8_t *ropen;
     uint8_t *valid_for;
-    int has_bound, has_hint;
+    int has_bound;
     int64_t spent;
-    double hint;
     /* decoding */
     int64_t *turn_keys;
     int32_t *turn_key_shape, *offsets, *noffsets, stride[8];
     double unit[8];
-    double growth, slack, hint_margin, min_limit;
-    int32_t tries, narrow_from;
+    double slack;
     workspace *ws;
 } graph_t;
 
@@ -724,8 +778,8 @@ static void graph_free(graph_t *g) {
     void *owned[] = {g->wall_at, g->indptr, g->indices, g->rows, g->nodes, g->local_of, g->goal_nodes, g->price,
                      g->open, g->outer, g->line_walls, g->line_len, g->line_nodes, g->run_from, g->open_needed,
                      g->turn_walls, g->turn_shape, g->start_first_wall, g->start_run_from, g->start_open_needed,
-                     g->run, g->times, g->reduced, g->rindptr, g->rsrc, g->redge, g->valid_for, g->turn_keys,
-                     g->turn_key_shape, g->offsets, g->noffsets, g->rprice, g->ropen};
+                     g->run, g->times, g->rindptr, g->rsrc, g->redge, g->valid_for, g->turn_keys,
+                     g->turn_key_shape, g->offsets, g->noffsets, g->rprice};
     for (size_t i = 0; i < sizeof owned / sizeof owned[0]; i++) free(owned[i]);
     fp_free(g->ws);
     free(g);
@@ -799,8 +853,7 @@ void *fp_graph(const spec_t *s) {
     if (!g) return NULL;
     int32_t size = s->size, side = 2 * size + 1, L = 8 * side * side;
     g->size = size, g->side = side, g->layer = L, g->start_node = LAYERS * L, g->walls = 2 * size * (size + 1);
-    g->growth = s->growth, g->slack = s->slack, g->hint_margin = s->hint_margin, g->min_limit = s->min_limit;
-    g->tries = s->tries, g->narrow_from = s->narrow_from;
+    g->slack = s->slack;
     g->wall_at = malloc(sizeof(int32_t) * side * side);
     edge_list straight = {0}, chain = {0}, turn = {0}, ahead = {0};
     int32_t *order = NULL, *turn_order = NULL, *used_rows = NULL, *used_cols = NULL;
@@ -993,11 +1046,9 @@ void *fp_graph(const spec_t *s) {
         g->rindptr = calloc((size_t)g->n + 1, sizeof(int32_t));
         g->rsrc = malloc(sizeof(int32_t) * (m + 1));
         g->times = malloc(sizeof(double) * g->n);
-        g->reduced = malloc(sizeof(double) * (m + 1));
         g->valid_for = malloc((size_t)g->walls + 1);
         g->rprice = malloc(sizeof(double) * (m + 1));
-        g->ropen = malloc((size_t)m + 1);
-        ok = by_dst && g->rindptr && g->rsrc && g->times && g->reduced && g->valid_for && g->rprice && g->ropen;
+        ok = by_dst && g->rindptr && g->rsrc && g->times && g->valid_for && g->rprice;
         if (ok) {
             for (int64_t e = 0; e < m; e++) g->rindptr[g->indices[e] + 1]++;
             for (int32_t i = 0; i < g->n; i++) g->rindptr[i + 1] += g->rindptr[i];
@@ -1029,6 +1080,12 @@ void *fp_graph(const spec_t *s) {
         g->ws = fp_new(g->n, m);
         ok = g->ws != NULL;
     }
+    if (ok) {
+        edges_t e = {g->outer, g->line_walls, g->line_len, g->line_nodes, g->run_from, g->open_needed, g->turn_walls,
+                     g->start_first_wall, g->start_run_from, g->start_open_needed, g->nouter, g->nlines, g->width,
+                     g->nstraight, g->before, g->nturns, CROSSINGS, g->nstart, g->layer};
+        ok = index_walls(g->ws, &e, g->walls);
+    }
     drop(&straight); drop(&chain); drop(&turn); drop(&ahead);
     free(order); free(turn_order); free(used_rows); free(used_cols); free(walls_of);
     if (!ok) {
@@ -1042,33 +1099,36 @@ int32_t fp_graph_nodes(void *p) { return ((graph_t *)p)->n; }
 
 /* One query (MoveGraph.fastest up to decoding): which edges the walls `blocked` leave open; the bound found again
  * where it is stale (none yet, a wall it had closed is open, or A* has spent as much under it as finding it again
- * costs); A* from a limit over the last answer, then the exact search. Writes the route's nodes (global numbers,
- * the start first) and times; returns their count, 0 when the goal cannot be reached. */
+ * costs: the ski-rental rule of maze/fastpath/bound.py, both counted in the edges they scan, which is what their
+ * work per node is, where a count of nodes would weigh a node the find settles as one A* merely forgets); A*
+ * resumed from the last query's (`invalidate`) where only walls closed under the same bound, else from scratch;
+ * then the exact search. Writes the route's nodes (global numbers, the start first) and times; returns their
+ * count, 0 when the goal cannot be reached. */
 int32_t fp_query(void *p, const uint8_t *blocked, int32_t *route, double *times) {
     graph_t *g = p;
-    fp_price(g->ws, blocked, g->walls, g->outer, g->nouter, g->line_walls, g->line_len, g->nlines, g->width,
-             g->line_nodes, g->run, g->layer, g->nstraight, g->before, g->run_from, g->open_needed, g->nturns,
-             CROSSINGS, g->turn_walls, g->nstart, g->start_first_wall, g->start_run_from, g->start_open_needed,
-             g->open);
+    workspace *ws = g->ws;
+    int closing = fp_price(ws, blocked, g->walls, g->outer, g->nouter, g->line_walls, g->line_len, g->nlines,
+                           g->width, g->line_nodes, g->run, g->layer, g->nstraight, g->before, g->run_from,
+                           g->open_needed, g->nturns, CROSSINGS, g->turn_walls, g->nstart, g->start_first_wall,
+                           g->start_run_from, g->start_open_needed, g->open);
     int stale = !g->has_bound || g->spent > g->cost;
     for (int32_t w = 0; w < g->walls && !stale; w++) stale = g->valid_for[w] > blocked[w];
     if (stale) {
-        for (int64_t j = 0; j < g->m; j++) g->ropen[j] = g->open[g->redge[j]];
-        g->cost = fp_bound(g->ws, g->rindptr, g->rsrc, g->rprice, g->ropen, g->rows, g->indices, g->price,
-                           g->goal_nodes, g->ngoals, g->times, g->reduced);
+        astar_reset(ws);
+        g->cost = fp_bound(ws, g->rindptr, g->rsrc, g->rprice, g->redge, g->indptr, g->indices, g->open,
+                           g->goal_nodes, g->ngoals, g->times);
         memcpy(g->valid_for, blocked, (size_t)g->walls);
-        g->has_bound = 1, g->spent = 0, g->has_hint = 0;  /* the last answer was under another bound */
+        g->has_bound = 1, g->spent = 0;
     }
-    double limit0 = (g->has_hint ? g->hint : 0.0) * g->hint_margin;
-    if (limit0 < g->min_limit) limit0 = g->min_limit;
-    int64_t spent = 0;
-    double hint = 0.0;
-    int32_t length = fp_search(g->ws, g->indptr, g->indices, g->reduced, g->price, g->open, g->goal_lo, g->goal_hi,
-                               limit0, g->growth, g->tries, g->times[g->n - 1], g->slack, g->narrow_from, &spent,
-                               &hint, route, times);
-    g->spent += spent;
-    if (!length) return 0;
-    g->hint = hint, g->has_hint = 1;
+    if (stale || !closing) {
+        astar_reset(ws);
+    } else {
+        g->spent += invalidate(ws, g->indptr, g->indices, g->price, g->times, g->open, g->rindptr, g->rsrc, g->redge,
+                               ws->closed, ws->nclosed);
+    }
+    int32_t length = fp_search(ws, g->indptr, g->indices, g->times, g->price, g->open, g->rindptr, g->rsrc,
+                               g->redge, g->goal_lo, g->goal_hi, g->times[g->n - 1], g->slack, &g->spent, route,
+                               times);
     for (int32_t i = 0; i < length; i++) route[i] = g->nodes[route[i]];
     return length;
 }

@@ -24,16 +24,11 @@ from ..mouseparams import MouseParams
 from ..route import Move, Route
 from .compiled import Spec
 from .graph import (
-    HINT_MARGIN,
-    LIMIT_GROWTH,
-    LIMIT_TRIES,
     MAX_CROSSINGS,
     MAX_QUERY_GRAPHS,
-    NARROW_FROM,
     TIME_SLACK,
     chain_prices,
     chain_steps,
-    first_limit_floor,
     start_edges,
     straight_prices,
     turn_shapes,
@@ -101,8 +96,7 @@ class NativeGraph:
                           speed_up=(ctypes.c_double * 8)(*(s for s, _ in chain)),
                           cruise=(ctypes.c_double * 8)(*(c for _, c in chain)),
                           unit=(ctypes.c_double * 8)(*(unit(h) for h in range(8))), nshapes=len(self.shapes),
-                          growth=LIMIT_GROWTH, slack=TIME_SLACK, hint_margin=HINT_MARGIN,
-                          min_limit=first_limit_floor(mouse), tries=LIMIT_TRIES, narrow_from=NARROW_FROM)
+                          slack=TIME_SLACK)
         self._graphs: dict[tuple[Cell, tuple[Cell, ...]], _Graph] = {}
         self._turns = [(s.token, TURNS[s.name].cells) for s in self.shapes]  # per shape: its move's token, cells
         self._tokens: tuple[dict[int, str], ...] = ({}, {}, {}, {})  # per kind of move: its value's token, once made
