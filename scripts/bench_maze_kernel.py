@@ -35,7 +35,8 @@ import click
 from bench_maze_explore import ENTRY
 
 DEV = ["japan2009hef", "japan2019hef"]
-HELD_OUT = ["japan2008hef", "japan2011hef", "japan2014hef", "japan2017hef"]
+HELD_OUT = ["japan2008hef", "japan2011hef", "japan2014hef", "japan2017hef"]  # measured, never tuned on
+# Every other maze of the --held-out folder is "fresh": measured for the first time once issue 49's changes were done.
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -114,7 +115,7 @@ def kerikun_query(exe: Path, maze_path: Path, repeat: int) -> float:
 @click.option("--kerikun", type=click.Path(exists=True, dir_okay=False, path_type=Path), default=None,
               help="The maze_timing driver scripts/build_maze_library.sh built.")
 @click.option("--held-out", "held_out", type=click.Path(exists=True, file_okay=False, path_type=Path), default=None,
-              help="A folder with the held-out mazes (../shared/mazes/halfsize).")
+              help="A folder with the held-out mazes (../shared/mazes/halfsize); its others are measured too.")
 @click.option("--repeat", type=click.IntRange(min=1), default=21, show_default=True, help="Queries per median.")
 @click.option("--runs", type=click.IntRange(min=1), default=3, show_default=True, help="Processes per median.")
 @click.option("--rounds", type=click.IntRange(min=1), default=1, show_default=True,
@@ -130,6 +131,8 @@ def main(worker_maze: Path | None, before: Path | None, kerikun: Path | None, he
     kerikun, held_out = (p.resolve() if p else None for p in (kerikun, held_out))  # the runs are from a temp folder
     mazes = [(builtin_path(n), "dev") for n in DEV]
     mazes += [(held_out / f"{n}.txt", "held out") for n in HELD_OUT if held_out and (held_out / f"{n}.txt").is_file()]
+    if held_out:
+        mazes += [(p, "fresh") for p in sorted(held_out.glob("*.txt")) if p.stem not in {*DEV, *HELD_OUT}]
     versions = {"before": before.resolve()} if before else {}
     versions["after"] = ROOT
     envs = {v: dict(os.environ, PYTHONPATH=str(root)) for v, root in versions.items()}
