@@ -161,7 +161,7 @@ class PhysicsServer:
 
     def _read_noise(self) -> NoiseDraw | None:
         """This test's noise from the seed and scale the controller wrote; None for scale 0 (or a scale that
-        is not a finite number >= 0, which is logged: the controller's `TrialRunner` never writes one)."""
+        is not a finite number >= 0, which is logged: the controller's `TestRunner` never writes one)."""
         seed, scale = self.slots.noise_request()
         if scale == 0:
             return None

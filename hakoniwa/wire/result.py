@@ -118,7 +118,7 @@ class TestResult:
         return what
 
     def to_dict(self) -> dict:
-        """The fields a person or a script reads (`hako trial --json`, the journal)."""
+        """The fields a person or a script reads (`hako try --json`, the journal)."""
         d: dict[str, Any] = {
             "event": self.event.name, "lap_time_s": self.lap_time_s, "goal_time_us": self.goal_time_us,
             "sync": self.sync.name.lower(), "checkpoints": self.checkpoints, "distance_m": self.distance_m,
