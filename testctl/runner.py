@@ -46,6 +46,8 @@ class PhysicsGone(HakoError, RuntimeError):
 
 
 class TestRunner:
+    __test__ = False  # not a pytest class
+
     @classmethod
     def attach(cls, run_dir: Path, physics: subprocess.Popen, timeout_s: float = 60.0) -> TestRunner:
         """Connect to a physics process that is still starting: its files appear once its world is built.
