@@ -38,8 +38,9 @@ PatchWriter = Callable[[Path, dict[str, float]], "PatchInfo"]
 
 class InBackground:
     """Runs the calls of `fn` in order on a thread of its own, so that the campaign's loop never waits for them.
-    The study mirror reruns each set that improves on the best on the campaign's own bench and draws it
-    (a test and a picture, about a second); with one set proposed at a time, every bench sat idle meanwhile.
+    The study mirror draws each set that improves on the best (a picture; a test too on the campaign's own bench
+    for a resumed campaign's earlier sets, about a second); with one set proposed at a time, every bench sat
+    idle meanwhile.
     An exception there is raised in the caller's thread, at its next call or at `join`. The thread lives as
     long as the process: the bench's physics process it may start dies with the thread that started it
     (`PR_SET_PDEATHSIG` follows the thread), and the campaign's end reruns the best set on that bench."""
@@ -211,20 +212,28 @@ def _load_course(folder: Path) -> Course:
 
 def draw_set(config: CampaignConfig, s: SetResult, test_once: TestOnce, course: CourseOnce, out: Path,
              what: str = "", film: Path | None = None) -> Path:
-    """Run set `s`'s test again and draw its trajectory into `out` (and, with `film`, film it there) on the
-    campaign's `course`, loaded once for all its pictures."""
-    from hakoniwa.pictures.plot import draw_trajectory, read_trajectory
+    """Draw set `s`'s test (its first success) into `out` on the campaign's `course`, loaded once for all its
+    pictures: from the path its result brought where it has one, else (a resumed campaign's earlier set, or
+    with `film`, which needs the test's replay) by running the test again, and filming it there."""
+    from hakoniwa.pictures.plot import draw_trajectory, read_trajectory, trajectory_points
     from hakoniwa.wire.rundir import TRAJECTORY_FILE
 
-    result, run_dir = test_for_picture(test_once, set_spec(config, s))
+    result = next(t.result for t in s.tests if t.result.success)
+    run_dir = None
+    if result.trajectory and film is None:
+        points = trajectory_points(result.trajectory.splitlines())
+    else:
+        result, run_dir = test_for_picture(test_once, set_spec(config, s))
+        points = read_trajectory(run_dir / TRAJECTORY_FILE)
     m = config.measure
     test = m.format(result.cost) if result.cost is not None else result.event.name
     names = " ".join(f"{k}={v:.3f}" for k, v in config.space.to_named(s.x).items())
-    draw_trajectory(course(), read_trajectory(run_dir / TRAJECTORY_FILE), out,
+    draw_trajectory(course(), points, out,
                     title=f"{what}set {s.number}, {names}: {test} (mean of the set {m.format(s.value)})")
     if film is not None:
         from testctl.film import film_run
 
+        assert run_dir is not None
         film_run(run_dir, film, f"{what}set {s.number}, {names}")
     return out
 
