@@ -43,7 +43,7 @@ from hakoniwa.wire.result import TestResult
 from hakoniwa.wire.timebase import US_PER_S
 from testctl.bench_options import BenchOptions, load_bench
 from testctl.paper import BEST_GAINS, GAIN_RANGE, line_trace_params
-from testctl.runner import TrialRunner
+from testctl.runner import TestRunner
 
 REPO = Path(__file__).resolve().parents[1]
 WORKSPACE = REPO.parent / "shared" / "third_party" / "ev3rt" / "ev3rt-athrill-v850e2m" / "sdk" / "workspace"
@@ -115,7 +115,7 @@ class RecordingBench:
         self.server.env.drive = record
         self._thread = threading.Thread(target=self.server.serve, daemon=True)
         self._thread.start()
-        self.runner = TrialRunner(Path(self._tmp.name))
+        self.runner = TestRunner(Path(self._tmp.name))
 
     def run(self, params: dict[int, float], noise_seed: int, noise: float) -> Run:
         self.commands = []

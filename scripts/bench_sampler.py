@@ -22,7 +22,7 @@ from typing import Protocol
 import click
 import numpy as np
 
-from testctl.campaign.objective import PAPER_PENALTY_S as PENALTY_S
+from testctl.campaign.repetition import PAPER_PENALTY_S as PENALTY_S
 from testctl.search.sampler import LIES, GPyOptSampler, RandomSampler
 from testctl.search.space import ParameterSpace
 

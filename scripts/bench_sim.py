@@ -49,7 +49,7 @@ from hakoniwa.physics.world import World
 from hakoniwa.wire.protocol import MappedFile, Rx, SyncMode, Tx, open_athrill, open_unity
 from testctl.bench_options import DEFAULT_COURSE, BenchOptions
 from testctl.paper import BEST_GAINS, line_trace_params
-from testctl.runner import TrialRunner
+from testctl.runner import TestRunner
 
 PAPER = line_trace_params(*BEST_GAINS)
 REPO = Path(__file__).resolve().parents[1]
@@ -90,7 +90,7 @@ def trial_rate(bench: BenchOptions, tests: int, *, warm_up: bool = True) -> tupl
         run_dir = Path(tmp)
         proc = subprocess.Popen(bench.physics_command(run_dir, []))
         try:
-            runner = TrialRunner.attach(run_dir, proc)
+            runner = TestRunner.attach(run_dir, proc)
             if warm_up:
                 runner.run_test(PAPER)
             results = [runner.run_test(PAPER) for _ in range(tests)]

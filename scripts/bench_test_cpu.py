@@ -73,7 +73,7 @@ def one_round(tree: Path, tests: int, app: str) -> tuple[float, float, str]:
 @click.command(context_settings={"help_option_names": ["-h", "--help"]})
 @click.option("--tests", type=click.IntRange(min=1), default=6, show_default=True, help="Tests per round.")
 @click.option("--rounds", type=click.IntRange(min=1), default=3, show_default=True, help="Rounds per tree.")
-@click.option("--app", default="line_trace", show_default=True, help="The program (--app of `hako trial`).")
+@click.option("--app", default="line_trace", show_default=True, help="The program (--app of `hako try`).")
 @click.option("--before", type=click.Path(file_okay=False, exists=True, path_type=Path), default=None,
               help="Another tree of the project (e.g. `git archive` of an older commit), run interleaved.")
 def main(tests: int, rounds: int, app: str, before: Path | None) -> None:

@@ -2,7 +2,7 @@
 per camera and size, and the writers' cost per frame; and what recording the replay costs each test.
 
 Usage: MUJOCO_GL=egl python scripts/bench_video.py [--frames N]
-Runs one noise-free lap of the paper's tracer (`hako trial`) to get a real replay, then renders N frames of
+Runs one noise-free lap of the paper's tracer (`hako try`) to get a real replay, then renders N frames of
 it spread over the lap for each setting (after one unmeasured frame that uploads the textures).
 """
 
@@ -28,7 +28,7 @@ def main(frames: int) -> None:
 
     with tempfile.TemporaryDirectory() as tmp:
         run = Path(tmp) / "run"
-        subprocess.run([sys.executable, "-m", "testctl.hako", "trial", "--noise", "0", "--run-dir", str(run)],
+        subprocess.run([sys.executable, "-m", "testctl.hako", "try", "--noise", "0", "--run-dir", str(run)],
                        check=True, stdout=subprocess.DEVNULL)
         replay = read_replay(run)
         t0 = time.perf_counter()

@@ -14,7 +14,7 @@ from hakoniwa.wire.result import TestResult
 from hakoniwa.wire.rundir import diagnose
 from testctl.bench_options import BenchOptions
 from testctl.executor import TestSpec
-from testctl.runner import PhysicsGone, TrialRunner
+from testctl.runner import PhysicsGone, TestRunner
 
 
 class Bench:
@@ -26,9 +26,9 @@ class Bench:
         self.physics_args = physics_args
         self.exit_status: int | None = None  # how the last physics process ended, once one has
         self._proc: subprocess.Popen | None = None
-        self._runner: TrialRunner | None = None
+        self._runner: TestRunner | None = None
 
-    def start(self) -> TrialRunner:
+    def start(self) -> TestRunner:
         if self._runner is None:
             self.run_dir.mkdir(parents=True, exist_ok=True)
             # A session of its own: a Ctrl-C meant for the campaign must not reach a physics process that the
@@ -40,7 +40,7 @@ class Bench:
                                           stderr=self.log, stdin=subprocess.DEVNULL, start_new_session=True,
                                           preexec_fn=die_with_parent)
             try:
-                self._runner = TrialRunner.attach(self.run_dir, self._proc)
+                self._runner = TestRunner.attach(self.run_dir, self._proc)
             except Exception:
                 self.close()
                 raise

@@ -2,7 +2,7 @@
 (`hakoniwa.physics`) and the robot program (`athrill_sim`) alike.
 
 This is the one declaration of the bench options and their defaults. `hakoniwa-physics` parses them,
-`hako trial` and `hako run` offer the same options to the user, and the controller turns a `BenchOptions`
+`hako try` and `hako run` offer the same options to the user, and the controller turns a `BenchOptions`
 back into the command line that starts a bench (`physics_command`), so the three can never disagree. It
 lives with the controller, above both peers its options configure.
 """

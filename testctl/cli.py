@@ -1,5 +1,5 @@
 """`testctl`: the test controller attached to one running physics process (the paper's arrangement: the
-physics process starts it with $HAKO_RUN_DIR set). `hako trial` uses it for its one test; a campaign on
+physics process starts it with $HAKO_RUN_DIR set). `hako try` uses it for its one test; a campaign on
 several benches is `hako run`."""
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from testctl import paper
 from testctl.bench_options import ObjectiveKey
 from testctl.executor import SerialExecutor, TestSpec
 from testctl.options import campaign_options, noise_options, plan
-from testctl.runner import TrialRunner
+from testctl.runner import TestRunner
 
 RUN_DIR_OPTION = click.option("--run-dir", envvar=RUN_DIR_ENV, required=True,
                               type=click.Path(file_okay=False, exists=True, path_type=Path),
@@ -27,7 +27,7 @@ def main() -> None:
     """Drive tests on a running physics process through the mapped files."""
 
 
-@main.command(context_settings=HELP)
+@main.command("try", context_settings=HELP)
 @RUN_DIR_OPTION
 @click.option("--kp", type=Float32(), required=True)
 @click.option("--ki", type=Float32(), required=True)
@@ -37,9 +37,10 @@ def main() -> None:
 @noise_options
 @click.option("--out", type=click.Path(dir_okay=False, path_type=Path), required=True,
               help="Where to write the result as JSON.")
-def trial(run_dir: Path, kp: float, ki: float, kd: float, power: float, seed: int, noise: float, out: Path) -> None:
+def try_once(run_dir: Path, kp: float, ki: float, kd: float, power: float, seed: int, noise: float,
+             out: Path) -> None:
     """Run one test with the given parameters, write its result, and end the physics process."""
-    runner = TrialRunner(run_dir)
+    runner = TestRunner(run_dir)
     try:
         result = runner.run_test(paper.line_trace_params(kp, ki, kd, power), noise_seed=seed, noise_scale=noise)
     finally:
@@ -68,7 +69,7 @@ def campaign(run_dir: Path, course: str, time_limit: float, objective: str, **op
         raise click.ClickException("--space: define, symbol, file and source parameters need a bench that knows "
                                    "where they go, which this one was started without: run the campaign with "
                                    "hako run")
-    runner = TrialRunner(run_dir)
+    runner = TestRunner(run_dir)
     one_at_a_time = threading.Lock()  # the study mirror draws improving sets on this bench from a thread of its own
 
     def run_test(spec: TestSpec):
@@ -78,7 +79,7 @@ def campaign(run_dir: Path, course: str, time_limit: float, objective: str, **op
 
     try:
         run_campaign(p, SerialExecutor(run_test, name=str(run_dir)), bench_info={},
-                     trial_once=lambda spec: (run_test(spec), runner.run_dir),
+                     test_once=lambda spec: (run_test(spec), runner.run_dir),
                      course_folder=Path(course))
     finally:
         runner.end()

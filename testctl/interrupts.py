@@ -1,5 +1,5 @@
 """How a command of the bench stops when the user stops it: Ctrl-C or SIGTERM, one line and the status a
-shell expects (130, 143), within a second, never a traceback or click's "Aborted!". Light, for `hako trial`,
+shell expects (130, 143), within a second, never a traceback or click's "Aborted!". Light, for `hako try`,
 `hako run`, `hako test` and `hako dashboard`.
 
 Python's own Ctrl-C raises KeyboardInterrupt in whatever Python code runs when the signal comes, and that

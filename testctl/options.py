@@ -97,7 +97,7 @@ _NOISE_OPTIONS = [
 
 
 campaign_options = option_group(_OPTIONS)
-noise_options = option_group(_NOISE_OPTIONS)  # for one test: `hako trial`, `testctl trial`
+noise_options = option_group(_NOISE_OPTIONS)  # for one test: `hako try`, `testctl try`
 
 
 @dataclass(frozen=True)

@@ -27,7 +27,7 @@ from testctl.bench_options import BenchOptions, bench_options, load_bench
 @click.option("--run-dir", type=click.Path(file_okay=False, path_type=Path), required=True,
               help="Folder for unity_mmap.bin, athrill_mmap.bin, logs and the last trajectory (one run each).")
 @click.option("--view", "view_speed", type=float, default=None, hidden=True,
-              help="Show the tests in MuJoCo's viewer, paced at this speed (hako trial --view).")
+              help="Show the tests in MuJoCo's viewer, paced at this speed (hako try --view).")
 @bench_options
 @click.argument("controller", nargs=-1, type=click.UNPROCESSED)
 def main(run_dir: Path, controller: tuple[str, ...], view_speed: float | None, **bench) -> None:

@@ -45,9 +45,11 @@ class PhysicsGone(HakoError, RuntimeError):
         self.stalled = stalled
 
 
-class TrialRunner:
+class TestRunner:
+    __test__ = False  # not a pytest class
+
     @classmethod
-    def attach(cls, run_dir: Path, physics: subprocess.Popen, timeout_s: float = 60.0) -> TrialRunner:
+    def attach(cls, run_dir: Path, physics: subprocess.Popen, timeout_s: float = 60.0) -> TestRunner:
         """Connect to a physics process that is still starting: its files appear once its world is built.
         Files an earlier run left in the directory are not its files: they name another physics process."""
         deadline = time.monotonic() + timeout_s

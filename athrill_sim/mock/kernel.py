@@ -5,7 +5,7 @@ passes. It publishes the task's outputs together with the time it will wake up (
 `Tx.ANSWER_SEQ`), then waits until the physics process has published the sensor snapshot for exactly that
 instant (the unity time in the RX header reaches it). Computation takes zero simulated time, except that each
 call reading a clock or a device spends `CALL_COST_US` (a loop that polls without sleeping then sees time pass,
-and moves on to the next physics step once it has spent a whole one), so the result of a trial depends only on
+and moves on to the next physics step once it has spent a whole one), so the result of a test depends only on
 the parameters, never on how fast either process happens to run. This is the native runtime's clock
 (runtime/src/sim_time.h, kernel.c), for one task. See `hakoniwa/physics/sync.py` for the physics side.
 """

@@ -76,7 +76,7 @@ def find_app(path: Path) -> AppSources:
 
 def program_makefile(root: Path) -> MakeVars:
     """What the workspace folder's `Makefile.inc` sets. A folder without one is built as if it had an empty
-    one: EV3RT's samples with nothing to add ship it empty, so its absence says nothing else. `hako trial`
+    one: EV3RT's samples with nothing to add ship it empty, so its absence says nothing else. `hako try`
     (native) and `hako build` (v850) both read a program through this, so they take the same folders."""
     return evaluate(root / MAKEFILE_INC) if (root / MAKEFILE_INC).is_file() else NO_MAKEFILE
 

@@ -161,7 +161,7 @@ class PhysicsServer:
 
     def _read_noise(self) -> NoiseDraw | None:
         """This test's noise from the seed and scale the controller wrote; None for scale 0 (or a scale that
-        is not a finite number >= 0, which is logged: the controller's `TrialRunner` never writes one)."""
+        is not a finite number >= 0, which is logged: the controller's `TestRunner` never writes one)."""
         seed, scale = self.slots.noise_request()
         if scale == 0:
             return None
@@ -225,14 +225,16 @@ class PhysicsServer:
         if crash is not None and crash.kind == CrashKind.PROGRAM and proc is not None and proc.poll() is not None:
             self._program_output = self.launcher.last_lines(proc, PROGRAM_OUTPUT_LINES)
         score = env.score()
+        path = self._trajectory_csv()
         result = TestResult(env.event, env.event_us if env.event == Event.GOAL else 0, time.monotonic() - wall_start,
                             len(env.task.passed_us), env.task.distance_mm, self._max_diff_us, self.launcher.sync,
                             crash.kind if crash else CrashKind.NONE, crash.detail if crash else 0,
                             "\n".join(self._program_output).strip() if crash else "", env.completed_us or 0,
                             self.objective, crash.cause if crash else BenchCause.NONE, None if crash else score,
-                            env.event_us if out else 0, (round(x * 1000), round(y * 1000)) if out else (0, 0))
+                            env.event_us if out else 0, (round(x * 1000), round(y * 1000)) if out else (0, 0),
+                            path)
         draw_screen(self.run_dir)  # before the report: whoever sees the event sees the screen
-        self._write_trajectory()  # before the report too: whoever sees the event reads this test's files
+        self._replace_file(TRAJECTORY_FILE, path)  # before the report too: whoever sees the event reads it
         write_replay(self.run_dir / REPLAY_FILE, self.env.replay(self.objective.key))
         self._replace_file(RESULT_FILE, result.encode())
         self.slots.publish_event(result.event, result.goal_time_us)
@@ -255,12 +257,13 @@ class PhysicsServer:
         tmp.write_text(text, newline="")
         tmp.replace(self.run_dir / name)
 
-    def _write_trajectory(self) -> None:
+    def _trajectory_csv(self) -> str:
+        """The test's path, for its run directory and its result."""
         out = io.StringIO()
         w = csv.writer(out)
         w.writerow(["time_us", "x", "y", "yaw"])
         w.writerows((t, f"{x:.5f}", f"{y:.5f}", f"{yaw:.5f}") for t, x, y, yaw in self.env.trajectory)
-        self._replace_file(TRAJECTORY_FILE, out.getvalue())
+        return out.getvalue()
 
     def reset(self) -> None:
         """start = 0: stop Athrill, restore the saved initial state, clear event and goal time."""

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 import math
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
@@ -14,16 +15,22 @@ FIGURE_PIXELS = 4_000_000  # of the floor drawn under a figure: more than its ow
 
 
 def read_trajectory(path: Path) -> list[tuple[float, float]]:
-    """The path's points; where two share a time the robot was carried (a scenario's place), and a point of
-    NaNs between them makes the drawn path jump there instead of crossing the course."""
+    """The points of a run directory's trajectory.csv (`trajectory_points`)."""
+    with open(path, newline="") as f:
+        return trajectory_points(f)
+
+
+def trajectory_points(lines: Iterable[str]) -> list[tuple[float, float]]:
+    """The path's points from its CSV lines (a file's, or a result's `trajectory`); where two share a time the
+    robot was carried (a scenario's place), and a point of NaNs between them makes the drawn path jump there
+    instead of crossing the course."""
     points: list[tuple[float, float]] = []
     last_us = None
-    with open(path, newline="") as f:
-        for r in csv.DictReader(f):
-            if r["time_us"] == last_us:
-                points.append((math.nan, math.nan))
-            points.append((float(r["x"]), float(r["y"])))
-            last_us = r["time_us"]
+    for r in csv.DictReader(lines):
+        if r["time_us"] == last_us:
+            points.append((math.nan, math.nan))
+        points.append((float(r["x"]), float(r["y"])))
+        last_us = r["time_us"]
     return points
 
 

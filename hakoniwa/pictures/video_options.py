@@ -1,4 +1,4 @@
-"""The options that film a test (`hako trial --video`, `hako replay`), declared once and imported cheaply: the
+"""The options that film a test (`hako try --video`, `hako replay`), declared once and imported cheaply: the
 renderer itself (`video.py`: MuJoCo's OpenGL, the video writer) loads only when a film is made."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""`hako trial --view`: MuJoCo's interactive viewer on the test as it runs, paced at real time or a speed.
+"""`hako try --view`: MuJoCo's interactive viewer on the test as it runs, paced at real time or a speed.
 
 The viewer shows the render scene (`scene.py`), not the physics model: each look copies the robot's state
 into it, so the physics is only read. Looks come from a scheduler stream of the environment, between two

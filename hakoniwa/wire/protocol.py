@@ -12,7 +12,7 @@ own lockstep and our test reports need live in body bytes the real layout leaves
 EV3RT program never look there.
 
 Only the standard library is imported here: the mock Athrill is started once per test, and its start-up
-time is part of every trial.
+time is part of every test.
 """
 
 from __future__ import annotations

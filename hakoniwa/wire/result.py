@@ -36,6 +36,10 @@ class TestResult:
     result points and their parts); `lap_time_s` is then the LAP gate's time, and `cost` minus the score.
     A test that ends COURSE_OUT says when the robot left the course (`out_time_us`) and where its axle centre
     was then (`out_xy_mm`); both are 0 for every other event.
+    `trajectory` is the path the robot drove, as the run directory's trajectory.csv holds it: a campaign draws a
+    set from the test that measured it instead of running the test again. The journal leaves it out (it is the
+    size of all the rest many times over), so a resumed campaign's earlier sets have none; no result compares
+    by it.
     """
 
     __test__ = False  # not a pytest class
@@ -56,6 +60,7 @@ class TestResult:
     score: Score | None = None
     out_time_us: int = 0
     out_xy_mm: tuple[int, int] = (0, 0)
+    trajectory: str = field(default="", compare=False, repr=False)
 
     @classmethod
     def spoiled(cls, cause: BenchCause, detail: int, wall_s: float) -> TestResult:
@@ -118,7 +123,7 @@ class TestResult:
         return what
 
     def to_dict(self) -> dict:
-        """The fields a person or a script reads (`hako trial --json`, the journal)."""
+        """The fields a person or a script reads (`hako try --json`, the journal)."""
         d: dict[str, Any] = {
             "event": self.event.name, "lap_time_s": self.lap_time_s, "goal_time_us": self.goal_time_us,
             "sync": self.sync.name.lower(), "checkpoints": self.checkpoints, "distance_m": self.distance_m,

@@ -1,7 +1,7 @@
 """Simulation time constants and the tick-quantized scheduler.
 
 Time is an integer number of microseconds everywhere, so that no float drift can make two runs of the same
-trial differ. The scheduler follows rcssserver's StandardTimer: a stream with period P fires at the first
+test differ. The scheduler follows rcssserver's StandardTimer: a stream with period P fires at the first
 tick whose elapsed time reaches P x count, so a 37.5 ms stream on a 10 ms tick fires at 40, 80, 120, 150,
 190, 230, 270 and 300 ms of every 300 ms.
 """
@@ -31,7 +31,7 @@ CLOCK_EPOCH_S = 1_767_225_600
 
 def on_tick_s(seconds: float) -> float:
     """A time in seconds on the bench's tick (the physics step): a mean of laps, 28.209999999999997 as its sum
-    divided, read as 28.21, as every lap it is made of and as `hako trial` prints one."""
+    divided, read as 28.21, as every lap it is made of and as `hako try` prints one."""
     return round(seconds * US_PER_S / PHYSICS_STEP_US) * PHYSICS_STEP_US / US_PER_S
 
 @dataclass

@@ -3,7 +3,7 @@ a clear word, never in a hang.
 
 Everything the bench waits for is measured in simulated time (a test's time limit, the image check's first
 200 ms), and simulated time moves only as fast as the program lets it: an emulated clock that never
-advances (a v850 image whose start-up blocks) made `hako trial` wait for ever with empty logs. So each such
+advances (a v850 image whose start-up blocks) made `hako try` wait for ever with empty logs. So each such
 wait gets a ceiling in wall time, derived from how far simulated time must get and the rate this machine
 is measured to run it at over the wait's first MEASURE_S (sim-s per wall-s), times a generous FACTOR, and
 never below FLOOR_S: a loaded machine slows a run down a few times, not a hundred. A clock that has not

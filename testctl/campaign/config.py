@@ -15,7 +15,7 @@ from hakoniwa.wire.measure import Measure
 from hakoniwa.wire.objective import DEFAULT, Objective, objective_named
 from hakoniwa.wire.protocol import MAX_NOISE_SCALE
 from testctl.campaign.journal import JournalError
-from testctl.campaign.objective import RepetitionRule
+from testctl.campaign.repetition import RepetitionRule
 from testctl.search.optimizers import OPTIMIZERS
 from testctl.search.space import ParameterSpace
 

@@ -44,7 +44,7 @@ from testctl.campaign.journal import (
     now_timestamp,
     read_journal,
 )
-from testctl.campaign.objective import Verdict
+from testctl.campaign.repetition import Verdict
 from testctl.executor import Executor, SerialExecutor, TestSpec
 from testctl.noise_seed import noise_seed
 from testctl.search.optimizers import make_sampler

@@ -12,7 +12,7 @@ from collections.abc import Callable
 
 from hakoniwa.wire.measure import LAP_TIME, Measure
 from testctl.campaign.loop import Progress
-from testctl.campaign.objective import RepetitionRule
+from testctl.campaign.repetition import RepetitionRule
 from testctl.time_left import RecentRate, expected_tests_left, time_left
 
 PLAIN_EVERY_TESTS = 10

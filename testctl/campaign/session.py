@@ -30,7 +30,7 @@ if TYPE_CHECKING:
 
 BEST_TRAJECTORY_PNG = "best_trajectory.png"
 # Runs one test on a local bench and returns its result and the run directory holding its trajectory.
-TrialOnce = Callable[[TestSpec], tuple[TestResult, Path]]
+TestOnce = Callable[[TestSpec], tuple[TestResult, Path]]
 CourseOnce = Callable[[], "Course"]  # the campaign's course, loaded at its first picture and kept
 # Writes best.patch for the best set's values ({name: value}) and says what it sets (testctl.campaign.patch.PatchInfo).
 PatchWriter = Callable[[Path, dict[str, float]], "PatchInfo"]
@@ -38,8 +38,9 @@ PatchWriter = Callable[[Path, dict[str, float]], "PatchInfo"]
 
 class InBackground:
     """Runs the calls of `fn` in order on a thread of its own, so that the campaign's loop never waits for them.
-    The study mirror reruns each set that improves on the best on the campaign's own bench and draws it
-    (a test and a picture, about a second); with one set proposed at a time, every bench sat idle meanwhile.
+    The study mirror draws each set that improves on the best (a picture; a test too on the campaign's own bench
+    for a resumed campaign's earlier sets, about a second); with one set proposed at a time, every bench sat
+    idle meanwhile.
     An exception there is raised in the caller's thread, at its next call or at `join`. The thread lives as
     long as the process: the bench's physics process it may start dies with the thread that started it
     (`PR_SET_PDEATHSIG` follows the thread), and the campaign's end reruns the best set on that bench."""
@@ -79,13 +80,13 @@ def resume_hint(out_dir: Path) -> str:
     return f"every finished test is in {out_dir / JOURNAL_FILE}; continue with: hako run --resume {out_dir}"
 
 
-def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial_once: TrialOnce,
+def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, test_once: TestOnce,
                  course_folder: Path, failures: tuple[type[Exception], ...] = (), validate: int = 0,
                  write_patch: PatchWriter | None = None, benches_done: Callable[[], None] | None = None) -> None:
     """Run the campaign `p` on `executor`, write the report (and, with `write_patch`, best.patch: the best
     values in the program's own files), validate the best set on `validate` fresh noise draws, draw the
     best set, and print the summary. `benches_done` is called once `executor` has run its last test (the
-    best set is drawn and filmed on the local bench of `trial_once`). Every way it can stop short is a
+    best set is drawn and filmed on the local bench of `test_once`). Every way it can stop short is a
     one-line error with a non-zero exit and the command that continues it."""
     from testctl.campaign.patch import BEST_PATCH
     from testctl.campaign.report import BEST_JSON, format_summary, write_best_json, write_report
@@ -101,7 +102,7 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
         with click.progressbar(length=p.config.total_sets, label=label, show_eta=False,
                                item_show_func=lambda s: s, file=sys.stderr) as bar:
             plain = None if sys.stderr.isatty() else lambda line: click.echo(f"{label}: {line}", err=True)
-            mirror = StudyMirror(p.out_dir, lambda s, png: draw_set(p.config, s, trial_once, course, png))
+            mirror = StudyMirror(p.out_dir, lambda s, png: draw_set(p.config, s, test_once, course, png))
             mirror_update = InBackground(mirror.update)
             progress = ProgressLine(bar, plain=plain, measure=p.config.measure, repeats=p.config.repeats)
             summary = Campaign(p.config, p.out_dir, executor, on_progress=progress,
@@ -130,7 +131,7 @@ def run_campaign(p: CampaignPlan, executor: Executor, *, bench_info: dict, trial
         if summary.best is not None:
             from testctl.film import LAP_VIDEO
 
-            png, lap = draw_best(summary, trial_once, course, p.out_dir / BEST_TRAJECTORY_PNG,
+            png, lap = draw_best(summary, test_once, course, p.out_dir / BEST_TRAJECTORY_PNG,
                                  p.out_dir / LAP_VIDEO)
             for f in (png, lap):
                 if f is not None:
@@ -180,7 +181,7 @@ def set_spec(config: CampaignConfig, s: SetResult) -> TestSpec:
     return TestSpec(s.index, first.rep, space.to_offsets(s.x), first.noise_seed, config.noise, space.slot_types)
 
 
-def trial_for_picture(trial_once: TrialOnce, spec: TestSpec, tries: int = 2) -> tuple[TestResult, Path]:
+def test_for_picture(test_once: TestOnce, spec: TestSpec, tries: int = 2) -> tuple[TestResult, Path]:
     """The campaign's own bench reruns a set for its picture; a bench fault there (its physics process killed,
     a damaged file) says nothing of the set, so the test runs again on the rebuilt bench before the campaign
     gives up with one line."""
@@ -189,7 +190,7 @@ def trial_for_picture(trial_once: TrialOnce, spec: TestSpec, tries: int = 2) -> 
 
     for attempt in range(1, tries + 1):
         try:
-            result, run_dir = trial_once(spec)
+            result, run_dir = test_once(spec)
         except (LayoutError, PhysicsGone) as e:
             if attempt == tries:
                 raise PhysicsGone(f"the campaign's own bench, rerunning set {spec.set_index} for its picture: "
@@ -209,29 +210,37 @@ def _load_course(folder: Path) -> Course:
     return load_course(folder)
 
 
-def draw_set(config: CampaignConfig, s: SetResult, trial_once: TrialOnce, course: CourseOnce, out: Path,
+def draw_set(config: CampaignConfig, s: SetResult, test_once: TestOnce, course: CourseOnce, out: Path,
              what: str = "", film: Path | None = None) -> Path:
-    """Run set `s`'s test again and draw its trajectory into `out` (and, with `film`, film it there) on the
-    campaign's `course`, loaded once for all its pictures."""
-    from hakoniwa.pictures.plot import draw_trajectory, read_trajectory
+    """Draw set `s`'s test (its first success) into `out` on the campaign's `course`, loaded once for all its
+    pictures: from the path its result brought where it has one, else (a resumed campaign's earlier set, or
+    with `film`, which needs the test's replay) by running the test again, and filming it there."""
+    from hakoniwa.pictures.plot import draw_trajectory, read_trajectory, trajectory_points
     from hakoniwa.wire.rundir import TRAJECTORY_FILE
 
-    result, run_dir = trial_for_picture(trial_once, set_spec(config, s))
+    result = next(t.result for t in s.tests if t.result.success)
+    run_dir = None
+    if result.trajectory and film is None:
+        points = trajectory_points(result.trajectory.splitlines())
+    else:
+        result, run_dir = test_for_picture(test_once, set_spec(config, s))
+        points = read_trajectory(run_dir / TRAJECTORY_FILE)
     m = config.measure
     test = m.format(result.cost) if result.cost is not None else result.event.name
     names = " ".join(f"{k}={v:.3f}" for k, v in config.space.to_named(s.x).items())
-    draw_trajectory(course(), read_trajectory(run_dir / TRAJECTORY_FILE), out,
+    draw_trajectory(course(), points, out,
                     title=f"{what}set {s.number}, {names}: {test} (mean of the set {m.format(s.value)})")
     if film is not None:
         from testctl.film import film_run
 
+        assert run_dir is not None
         film_run(run_dir, film, f"{what}set {s.number}, {names}")
     return out
 
 
-def draw_best(summary: CampaignSummary, trial_once: TrialOnce, course: CourseOnce, out: Path,
+def draw_best(summary: CampaignSummary, test_once: TestOnce, course: CourseOnce, out: Path,
               film: Path) -> tuple[Path, Path | None]:
     """The best set's trajectory, and its film (None where none can be made here)."""
     assert summary.best is not None
-    png = draw_set(summary.config, summary.best, trial_once, course, out, what="best: ", film=film)
+    png = draw_set(summary.config, summary.best, test_once, course, out, what="best: ", film=film)
     return png, film if film.is_file() else None

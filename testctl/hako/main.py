@@ -1,13 +1,14 @@
 """`hako`: the user's entry point to the test bench.
 
 It parses, checks and launches benches (`testctl.bench.Bench`: the physics and the program run in processes of
-their own), and controls their tests: `hako trial` its one test on one bench, as a campaign does on many.
+their own), and controls their tests: `hako try` its one test on one bench, as a campaign does on many.
 Nothing heavy (NumPy, MuJoCo, GPyOpt, matplotlib) is imported here except where a command draws, so
 `hako --help` and a bad option answer at once.
 """
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import datetime as dt
 import functools
@@ -83,7 +84,7 @@ main.add_command(course)
 main.add_command(patch)
 
 
-@main.command(context_settings=HELP)
+@main.command("try", context_settings=HELP)
 @click.option("--kp", type=Float32(), default=paper.BEST_GAINS[0], show_default=True, help="Proportional gain.")
 @click.option("--ki", type=Float32(), default=paper.BEST_GAINS[1], show_default=True, help="Integral gain.")
 @click.option("--kd", type=Float32(), default=paper.BEST_GAINS[2], show_default=True, help="Derivative gain.")
@@ -101,9 +102,9 @@ main.add_command(patch)
 @click.option("--view", is_flag=True,
               help="Watch the test live in MuJoCo's viewer, paced at --speed (needs a display).")
 @film_options
-def trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: float, run_dir: Path | None,
-          as_json: bool, trajectory: Path | None, video: Path | None, view: bool, camera: str, fps: int,
-          speed: float, **bench) -> None:
+def try_once(kp: float, ki: float, kd: float, power: float, seed: int, noise: float, run_dir: Path | None,
+             as_json: bool, trajectory: Path | None, video: Path | None, view: bool, camera: str, fps: int,
+             speed: float, **bench) -> None:
     """Run one test with the given parameters and print the event and lap time."""
     from testctl.interrupts import stopped_by
 
@@ -117,10 +118,17 @@ def trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: float
     ctx = click.get_current_context()
     given = any(ctx.get_parameter_source(g) == click.core.ParameterSource.COMMANDLINE for g in GAINS)
     try:
-        _trial(kp, ki, kd, power, seed, noise, run_dir, as_json, trajectory, options, film,
-               speed if view else None, gains_read=given or reads_paper_gains(options.app))
+        _try_once(kp, ki, kd, power, seed, noise, run_dir, as_json, trajectory, options, film,
+                  speed if view else None, gains_read=given or reads_paper_gains(options.app))
     except KeyboardInterrupt as e:
         stopped_by(e)
+
+
+# `hako trial` was this command's name until "trial" came to mean one thing only: a set the search tries
+# (`--trials`, Optuna's trials; docs/GLOSSARY.md). The old name still works, hidden and deprecated.
+renamed = copy.copy(try_once)
+renamed.name, renamed.hidden, renamed.deprecated = "trial", True, "use hako try"
+main.add_command(renamed)
 
 
 def check_display() -> None:
@@ -157,7 +165,7 @@ def make_film(run_dir: Path, film: VideoOptions, title: str = "") -> int:
         raise click.ClickException(f"cannot write {film.path}: {e.strerror or e}") from None
 
 
-GAINS = ("kp", "ki", "kd", "power")  # the paper's parameters, which `hako trial` writes into their slots
+GAINS = ("kp", "ki", "kd", "power")  # the paper's parameters, which `hako try` writes into their slots
 
 
 def reads_paper_gains(app: str) -> bool:
@@ -169,9 +177,9 @@ def reads_paper_gains(app: str) -> bool:
     return app in (*BUILTIN, *C_BUILTIN)
 
 
-def _trial(kp: float, ki: float, kd: float, power: float, seed: int, noise: float, run_dir: Path | None,
-           as_json: bool, trajectory: Path | None, options: BenchOptions, film: VideoOptions | None = None,
-           view_speed: float | None = None, gains_read: bool = True) -> None:
+def _try_once(kp: float, ki: float, kd: float, power: float, seed: int, noise: float, run_dir: Path | None,
+              as_json: bool, trajectory: Path | None, options: BenchOptions, film: VideoOptions | None = None,
+              view_speed: float | None = None, gains_read: bool = True) -> None:
     from hakoniwa.wire.protocol import LayoutError
     from testctl.bench import Bench
     from testctl.executor import TestSpec
@@ -328,7 +336,7 @@ def _run(benches: int | None, scheduler: ClusterAddress | None, validate: int | 
     local = Bench(bench, run_dir)
     last: list = []  # [spec, (result, run_dir)] of the local bench's last sound test
 
-    def trial_once(spec: TestSpec) -> tuple[TestResult, Path]:
+    def test_once(spec: TestSpec) -> tuple[TestResult, Path]:
         """The best set is drawn twice in a row (as an improvement, then at the end, with its film): the run
         folder still holds that very test, which would come out the same, so it runs once."""
         if not last or last[0] != spec:
@@ -343,7 +351,7 @@ def _run(benches: int | None, scheduler: ClusterAddress | None, validate: int | 
     closing = threading.Thread(target=executor.close, name="cluster-close")
     try:
         run_campaign(p, executor, bench_info={**bench_info(bench), FILES_KEY: files},
-                     trial_once=trial_once, course_folder=Path(bench.course),
+                     test_once=test_once, course_folder=Path(bench.course),
                      failures=(ClusterError,), validate=validate, write_patch=patch_writer(program),
                      benches_done=closing.start)
     finally:
@@ -421,7 +429,7 @@ def _test(test_file: Path, benches: int | None, scheduler: ClusterAddress | None
                    "g++-aarch64-linux-gnu and qemu-user.")
 def build(app: Path, sdk: Path | None, toolchain: Path | None, raspike_art: bool) -> None:
     """Build APP (an EV3RT app.c or workspace folder) into a v850 image for the real athrill2 and print its
-    path. Images are cached by their sources, the SDK and the compiler; `hako trial --app APP --emulator
+    path. Images are cached by their sources, the SDK and the compiler; `hako try --app APP --emulator
     athrill2` builds and runs in one go. With --raspike-art, APP is a team's RasPike-ART workspace folder and
     the product is its asp."""
     announce = (lambda what: click.echo(what + " ...", err=True)) if sys.stderr.isatty() else None
@@ -445,7 +453,7 @@ def build(app: Path, sdk: Path | None, toolchain: Path | None, raspike_art: bool
               help="The .mp4 or .gif to film the run's last test into.")
 @film_options
 def replay(run_dir: Path, video: Path, camera: str, fps: int, speed: float) -> None:
-    """Film the last test of RUN_DIR: a trial's --run-dir, a campaign folder (its best set's run), or a
+    """Film the last test of RUN_DIR: hako try's --run-dir, a campaign folder (its best set's run), or a
     failing case's folder of hako test (its worst run), from the replay the test left there."""
     from hakoniwa.physics.replay import REPLAY_FILE
 

@@ -193,7 +193,7 @@ class ParameterSpace:
         return tuple(float(round(v)) if p.integer else float(v) for p, v in zip(self.params, x, strict=True))
 
     def to_offsets(self, x: Sequence[float]) -> dict[int, float]:
-        """What the trial runner writes: {slot offset: value} for a point `x` (in `names` order) plus the fixed
+        """What the test runner writes: {slot offset: value} for a point `x` (in `names` order) plus the fixed
         parameters; the slots' types are `slot_types`."""
         if len(x) != self.dim:
             raise ValueError(f"point has {len(x)} coordinates, the space has {self.dim}")

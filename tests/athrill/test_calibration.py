@@ -22,8 +22,8 @@ SPIKE_SCENARIO = DOCS / "examples" / "calibrate-then-start-spike.toml"
 
 
 def trial(run_dir: Path, app: Path | str, *args: str) -> tuple[str, str]:
-    """`hako trial --json`: its output, and the program's log."""
-    out = hako("trial", "--app", str(app), "--json", "--run-dir", str(run_dir), *args, timeout=600)
+    """`hako try --json`: its output, and the program's log."""
+    out = hako("try", "--app", str(app), "--json", "--run-dir", str(run_dir), *args, timeout=600)
     assert out.returncode == 0, out.stderr
     return out.stdout, (run_dir / "athrill.log").read_text(errors="replace")
 

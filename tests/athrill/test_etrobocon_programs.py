@@ -22,7 +22,7 @@ PRESS_TOUCH_1 = '[[press]]\nsensor = "touch"\nport = 1\nat_s = 0.5\nfor_s = 0.2\
 
 def trial(tmp_path, *args: str) -> dict:
     need_cc()
-    r = hako("trial", "--noise", "0", "--json", "--run-dir", str(tmp_path / "run"), *args, timeout=600)
+    r = hako("try", "--noise", "0", "--json", "--run-dir", str(tmp_path / "run"), *args, timeout=600)
     assert r.returncode == 0, r.stderr
     return json.loads(r.stdout)
 

@@ -28,7 +28,7 @@ def test_the_sample_runs_unmodified(name, tmp_path):
     need_cc()
     expect = CORPUS[name]
     app = shutil.copytree(WORKSPACE / name, tmp_path / name)
-    args = ["trial", "--app", str(app), "--json", "--run-dir", str(tmp_path / "run"),
+    args = ["try", "--app", str(app), "--json", "--run-dir", str(tmp_path / "run"),
             "--time-limit", str(expect.time_limit_s)]
     if expect.scenario is not None:
         (tmp_path / "scenario.toml").write_text(expect.scenario)

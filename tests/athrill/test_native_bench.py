@@ -50,7 +50,7 @@ def test_the_unmodified_ev3rt_sample_follows_the_line_natively(tmp_path):
     need_cc()
     if not BLE_SAMPLE.is_dir():
         pytest.skip(needs_shared("the EV3RT sample", BLE_SAMPLE, EV3RT_SAMPLE_IMAGE))
-    out = hako("trial", "--app", str(BLE_SAMPLE / "app.c"), "--json", "--run-dir", str(tmp_path))
+    out = hako("try", "--app", str(BLE_SAMPLE / "app.c"), "--json", "--run-dir", str(tmp_path))
     assert out.returncode == 0, out.stderr
     result = json.loads(out.stdout)
     assert result["sync"] == "lockstep" and result["event"] == "TIME_OVER" and result["distance_m"] >= 0.5
@@ -62,9 +62,9 @@ def test_the_unmodified_ev3rt_sample_follows_the_line_natively(tmp_path):
 def test_the_ev3rt_sample_runs_natively_as_it_runs_in_the_real_emulator(athrill2, tmp_path):
     need_cc()
     # the unpatched athrill2, so TOPPERS' own protocol (the repeatable mode needs the patched one)
-    real = hako("trial", "--app", str(ASP_IMAGE), "--athrill2", str(athrill2), "--sync", "hakoniwa", "--json",
+    real = hako("try", "--app", str(ASP_IMAGE), "--athrill2", str(athrill2), "--sync", "hakoniwa", "--json",
                 "--run-dir", str(tmp_path / "real"))
-    native = hako("trial", "--app", str(BLE_SAMPLE), "--json", "--run-dir", str(tmp_path / "native"))
+    native = hako("try", "--app", str(BLE_SAMPLE), "--json", "--run-dir", str(tmp_path / "native"))
     assert real.returncode == 0 and native.returncode == 0, real.stderr + native.stderr
     real, native = json.loads(real.stdout), json.loads(native.stdout)
     assert native["event"] == real["event"]

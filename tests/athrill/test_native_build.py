@@ -168,11 +168,11 @@ def test_without_a_c_compiler_a_c_app_is_a_one_line_error(tmp_path, monkeypatch)
         resolve_program(str(tmp_path / "app.c"))
 
 
-def test_hako_trial_with_a_broken_c_app_fails_before_any_test(tmp_path):
+def test_hako_try_with_a_broken_c_app_fails_before_any_test(tmp_path):
     need_cc()
     (tmp_path / "broken.c").write_text("void main_task(long u) { undeclared(); = }\n")
     run_dir = tmp_path / "run"
-    out = hako("trial", "--app", str(tmp_path / "broken.c"), "--run-dir", str(run_dir), timeout=120)
+    out = hako("try", "--app", str(tmp_path / "broken.c"), "--run-dir", str(run_dir), timeout=120)
     assert out.returncode != 0
     assert "Traceback" not in out.stderr and len(out.stderr.strip().splitlines()) == 1
     assert "broken.c does not build: broken.c:1:" in out.stderr and "error:" in out.stderr
@@ -188,7 +188,7 @@ def test_an_unwritable_cache_names_the_variable_that_moves_it(tmp_path, variable
     blocked = tmp_path / "a-file"
     blocked.write_text("")
     env = {**os.environ, "XDG_CACHE_HOME": "", variable: str(blocked)}
-    r = hako("trial", "--app", str(app), "--time-limit", "1", env=env, timeout=120)
+    r = hako("try", "--app", str(app), "--time-limit", "1", env=env, timeout=120)
     assert r.returncode != 0 and "Traceback" not in r.stderr
     (line,) = [line for line in r.stderr.splitlines() if line.startswith("Error:")]
     assert line.startswith(f"Error: cannot write the build cache at {blocked}")

@@ -146,7 +146,7 @@ def test_the_main_file_must_be_the_one_srclang_has_ev3rt_build(tmp_path):
 
 
 def trial(tmp_path: Path, app: Path, *args: str) -> dict:
-    out = hako("trial", "--app", str(app), "--noise", "0", "--json", "--run-dir", str(tmp_path / "run"), *args,
+    out = hako("try", "--app", str(app), "--noise", "0", "--json", "--run-dir", str(tmp_path / "run"), *args,
                timeout=600)
     assert out.returncode == 0, out.stderr
     return json.loads(out.stdout)
@@ -199,7 +199,7 @@ def test_et_robocons_hackev_layout_builds_with_and_without_its_variable_and_driv
         etrobo = str(tmp_path / "etrobo")
     if etrobo is not None:
         env["ETROBO_HRP3_WORKSPACE"] = etrobo
-    out = hako("trial", "--app", str(HACKEV), "--robot", "hackev", "--scenario", str(press(tmp_path, 1)),
+    out = hako("try", "--app", str(HACKEV), "--robot", "hackev", "--scenario", str(press(tmp_path, 1)),
                "--noise", "0", "--json", "--run-dir", str(tmp_path / "run"), env=env, timeout=600)
     assert out.returncode == 0, out.stderr
     result = json.loads(out.stdout)
@@ -246,9 +246,9 @@ def test_without_a_cpp_compiler_a_cpp_app_names_what_to_install(tmp_path, monkey
         resolve_program(str(TRACER))
 
 
-def test_hako_trial_with_a_broken_makefile_inc_fails_before_any_test(tmp_path):
+def test_hako_try_with_a_broken_makefile_inc_fails_before_any_test(tmp_path):
     app = workspace(tmp_path, "SRCLANG := c++\nAPPL_CXXOBJS += $(shell ls /nonexistent/*.cpp)\n", {"app.cpp": ""})
     run_dir = tmp_path / "run"
-    one_line_error(hako("trial", "--app", str(app), "--run-dir", str(run_dir), timeout=120), "Makefile.inc",
+    one_line_error(hako("try", "--app", str(app), "--run-dir", str(run_dir), timeout=120), "Makefile.inc",
                    "$(shell ls /nonexistent/*.cpp) failed")
     assert not (run_dir / "physics.log").exists()

@@ -1,5 +1,5 @@
 """ET Robocon's end of a run: `ETRoboc_notifyCompletedToSimulator()` is recorded with the time it came, and
-`--objective completed` (bench option of `hako trial`, `hako run`, `hako test`) scores a test by that time:
+`--objective completed` (bench option of `hako try`, `hako run`, `hako test`) scores a test by that time:
 the goal line no longer ends the test, a test the notice never comes to fails, and the journal records the
 objective."""
 
@@ -14,7 +14,7 @@ from hakoniwa.wire.objective import objective_named
 from hakoniwa.wire.protocol import Event
 from hakoniwa.wire.result import TestResult
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
-from testctl.campaign.objective import RepetitionRule
+from testctl.campaign.repetition import RepetitionRule
 from testctl.lapstats import LapStats
 from testctl.suite.expect import parse_expectation
 from tests.helpers.commands import hako
@@ -88,7 +88,7 @@ def done_app(tmp_path) -> dict:
 
 
 def trial(env: dict, *args: str) -> dict:
-    out = hako("trial", "--app", "done_app:main_task", "--noise", "0", "--json", *args, env=env, timeout=300)
+    out = hako("try", "--app", "done_app:main_task", "--noise", "0", "--json", *args, env=env, timeout=300)
     assert out.returncode == 0, out.stderr
     return json.loads(out.stdout)
 
@@ -104,7 +104,7 @@ def test_the_notice_is_recorded_with_its_time_and_ends_the_run_under_the_complet
 
 
 def test_an_unknown_objective_is_one_line():
-    r = hako("trial", "--objective", "fastest", timeout=60)
+    r = hako("try", "--objective", "fastest", timeout=60)
     assert r.returncode == 2 and "Traceback" not in r.stderr
     assert "'fastest' is not one of 'lap', 'completed'" in r.stderr
 

@@ -37,7 +37,7 @@ def exits(api):
 def trial(tmp_path: Path, app: str, *extra: str) -> subprocess.CompletedProcess:
     (tmp_path / "failing_apps.py").write_text(APPS)
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(tmp_path), os.environ.get("PYTHONPATH", "")]))
-    return hako("trial", "--app", app, "--time-limit", "2", "--json", *extra, env=env)
+    return hako("try", "--app", app, "--time-limit", "2", "--json", *extra, env=env)
 
 
 def test_a_python_program_that_raises_shows_its_own_error(tmp_path):
@@ -68,7 +68,7 @@ def test_exit_3_in_a_c_program_is_the_programs_outcome(tmp_path):
     need_cc()
     app.write_text('#include <stdlib.h>\n#include "ev3api.h"\n'
                    'void main_task(intptr_t u) { tslp_tsk(100000); exit(3); }\n')
-    result = json.loads(hako("trial", "--app", str(app), "--time-limit", "2", "--json").stdout)
+    result = json.loads(hako("try", "--app", str(app), "--time-limit", "2", "--json").stdout)
     assert (result["event"], result["crash"], result["crash_detail"]) == ("CRASH", "program", 3)
 
 
@@ -130,7 +130,7 @@ def test_a_program_that_prints_without_end_leaves_a_capped_log(tmp_path):
                                            '        print("x" * 65535, flush=True)\n        api.tslp_tsk(100_000)\n')
     env = dict(os.environ, PYTHONPATH=str(tmp_path))
     run_dir = tmp_path / "run"
-    r = hako("trial", "--app", "noisy_app:main_task", "--time-limit", "20", "--run-dir", str(run_dir), env=env)
+    r = hako("try", "--app", "noisy_app:main_task", "--time-limit", "20", "--run-dir", str(run_dir), env=env)
     assert r.returncode == 0, r.stderr
     log = (run_dir / "athrill.log").read_bytes()
     assert LOG_CAP_BYTES < len(log) < LOG_CAP_BYTES + 1000
@@ -140,5 +140,5 @@ def test_a_program_that_prints_without_end_leaves_a_capped_log(tmp_path):
 def test_an_empty_c_program_is_told_it_defines_no_task_function(tmp_path):
     need_cc()
     (tmp_path / "app.c").write_text("")
-    one_line_error(hako("trial", "--app", str(tmp_path / "app.c")),
+    one_line_error(hako("try", "--app", str(tmp_path / "app.c")),
                    "defines no function main_task, a task or handler function that app.cfg names")

@@ -1,4 +1,4 @@
-"""`hako trial --emulator raspike-art`: a team's RasPike-ART workspace built into RasPike-ART's own `asp`, run
+"""`hako try --emulator raspike-art`: a team's RasPike-ART workspace built into RasPike-ART's own `asp`, run
 under qemu-user on the bench's clock, with the physics side playing its SPIKE hub on a pseudo-terminal
 (hakoniwa/physics/hub_relay.py); and what the hub's link does when it fails."""
 
@@ -36,13 +36,13 @@ def test_hackspis_hub_has_its_wheels_and_sensors_where_the_robot_says():
 
 
 def test_an_ev3_robot_is_refused_in_one_line(tmp_path):
-    r = hako("trial", "--app", str(workspace(tmp_path / "app")), "--emulator", "raspike-art", "--robot", "hackev")
+    r = hako("try", "--app", str(workspace(tmp_path / "app")), "--emulator", "raspike-art", "--robot", "hackev")
     one_line_error(r, "--emulator raspike-art", "SPIKE")
 
 
 def test_a_file_is_refused_in_one_line(tmp_path):
     app = workspace(tmp_path / "app") / "app.c"
-    r = hako("trial", "--app", str(app), "--emulator", "raspike-art", "--robot", "hackspi")
+    r = hako("try", "--app", str(app), "--emulator", "raspike-art", "--robot", "hackspi")
     one_line_error(r, "RasPike-ART workspace folder")
 
 
@@ -146,7 +146,7 @@ def test_asp_killed_from_outside_mid_test_is_the_benchs_fault_and_the_bench_stay
 
 
 def trial(course: str, emulator: str) -> dict:
-    r = hako("trial", "--app", str(SAMPLE), "--emulator", emulator, "--robot", "hackspi", "--course", course,
+    r = hako("try", "--app", str(SAMPLE), "--emulator", emulator, "--robot", "hackspi", "--course", course,
              "--scenario", str(FORCE_START), "--noise", "0", "--json")
     assert r.returncode == 0, r.stderr
     return json.loads(r.stdout)
@@ -167,7 +167,7 @@ def test_raspike_arts_own_sample_laps_as_its_native_build_does_and_the_same_twic
 
 
 def threads_trial(emulator: str) -> dict:
-    r = hako("trial", "--app", str(PROGRAMS / "team_spike_threads"), "--emulator", emulator, "--robot", "hackspi",
+    r = hako("try", "--app", str(PROGRAMS / "team_spike_threads"), "--emulator", emulator, "--robot", "hackspi",
              "--course", "etrobocon-r", "--scenario", str(FORCE_START), "--noise", "0", "--json")
     assert r.returncode == 0, r.stderr
     return json.loads(r.stdout)
@@ -183,7 +183,7 @@ def test_a_program_that_computes_without_a_call_moves_the_bench_and_ends_at_its_
     scenario = tmp_path / "press.toml"
     scenario.write_text('[[press]]\nsensor = "force"\nat_s = 2.5\nfor_s = 0.2\n')
     run = tmp_path / "run"
-    r = hako("trial", "--app", str(PROGRAMS / "raspike_spin"), "--emulator", "raspike-art", "--robot", "hackspi",
+    r = hako("try", "--app", str(PROGRAMS / "raspike_spin"), "--emulator", "raspike-art", "--robot", "hackspi",
              "--course", "etrobocon-r", "--scenario", str(scenario), "--noise", "0", "--time-limit", "5", "--json",
              "--run-dir", str(run))
     assert r.returncode == 0, r.stderr
@@ -217,7 +217,7 @@ COMMAND_TRACER = PROGRAMS / "raspike_command_tracer"  # a RasPike-ART workspace,
 def traced(emulator: str, run_dir: Path) -> tuple[dict, int]:
     """raspike_command_tracer's trial on etrobocon-r, and the distance by its wheel counts where it said it met
     the blue section."""
-    r = hako("trial", "--app", str(COMMAND_TRACER), "--emulator", emulator, "--robot", "hackspi", "--course",
+    r = hako("try", "--app", str(COMMAND_TRACER), "--emulator", emulator, "--robot", "hackspi", "--course",
              "etrobocon-r", "--scenario", str(FORCE_START), "--noise", "0", "--json", "--run-dir", str(run_dir))
     assert r.returncode == 0, r.stderr
     said = (run_dir / ATHRILL_LOG).read_text()
@@ -246,7 +246,7 @@ HSV_TRACER = PROGRAMS / "raspike_hsv_tracer"  # a RasPike-ART workspace reading 
 def hsv_traced(emulator: str, run_dir: Path) -> tuple[dict, list[tuple[int, int]], int]:
     """raspike_hsv_tracer's trial on etrobocon-r; how long its first readings took (reflection, HSV) [us]; and
     the distance by its wheel counts where its HSV rule first saw blue."""
-    r = hako("trial", "--app", str(HSV_TRACER), "--emulator", emulator, "--robot", "hackspi", "--course",
+    r = hako("try", "--app", str(HSV_TRACER), "--emulator", emulator, "--robot", "hackspi", "--course",
              "etrobocon-r", "--scenario", str(FORCE_START), "--noise", "0", "--json", "--run-dir", str(run_dir))
     assert r.returncode == 0, r.stderr
     said = (run_dir / ATHRILL_LOG).read_text()

@@ -14,7 +14,7 @@ from tests.helpers.paths import needs_shared
 
 
 def hako_trial(*args: str) -> tuple[subprocess.CompletedProcess, dict | None]:
-    out = hako("trial", *args, timeout=300)
+    out = hako("try", *args, timeout=300)
     return out, json.loads(out.stdout) if out.returncode == 0 and "--json" in args else None
 
 

@@ -26,7 +26,7 @@ def test_a_cpp_image_is_stripped_of_the_debug_information_athrill2_cannot_read(r
     image = build(TRACER)
     assert (image.parent / "asp.debug").is_file()
     assert b".debug_info" not in image.read_bytes() and b".debug_info" in (image.parent / "asp.debug").read_bytes()
-    one_line_error(hako("trial", "--app", str(image.parent / "asp.debug"), "--athrill2", str(repeatable_athrill2),
+    one_line_error(hako("try", "--app", str(image.parent / "asp.debug"), "--athrill2", str(repeatable_athrill2),
                         "--run-dir", str(tmp_path / "run"), timeout=300),
                    "cannot read a C++ image's debug information", "--strip-debug")
 
@@ -34,7 +34,7 @@ def test_a_cpp_image_is_stripped_of_the_debug_information_athrill2_cannot_read(r
 @pytest.mark.slow
 def test_the_cpp_tracer_image_laps_in_the_real_emulator_after_the_touch_press(repeatable_athrill2, tmp_path):
     image = build(TRACER)
-    out = hako("trial", "--app", str(image), "--athrill2", str(repeatable_athrill2), "--noise", "0", "--json",
+    out = hako("try", "--app", str(image), "--athrill2", str(repeatable_athrill2), "--noise", "0", "--json",
                "--scenario", str(press(tmp_path, 4)), "--run-dir", str(tmp_path / "run"), timeout=600)
     assert out.returncode == 0, out.stderr
     result = json.loads(out.stdout)
@@ -44,7 +44,7 @@ def test_the_cpp_tracer_image_laps_in_the_real_emulator_after_the_touch_press(re
 @pytest.mark.slow
 def test_the_cpp_features_image_prints_what_the_native_build_prints(repeatable_athrill2, tmp_path):
     image = build(FEATURES)
-    out = hako("trial", "--app", str(image), "--athrill2", str(repeatable_athrill2), "--noise", "0", "--json",
+    out = hako("try", "--app", str(image), "--athrill2", str(repeatable_athrill2), "--noise", "0", "--json",
                "--time-limit", "0.5", "--run-dir", str(tmp_path / "run"), timeout=600)
     assert out.returncode == 0, out.stderr
     assert program_lines(tmp_path / "run") == FEATURE_LINES
@@ -63,7 +63,7 @@ def test_hako_build_takes_the_spike_sdk_for_a_spike_program_and_its_image_laps(r
     assert out.returncode == 0, out.stderr
     assert "SPIKE SDK at" in out.stderr or not out.stderr  # announced when it builds; a cached image is silent
     image = Path(out.stdout.strip())
-    run = hako("trial", "--app", str(image), "--athrill2", str(repeatable_athrill2), "--robot", "hackspi",
+    run = hako("try", "--app", str(image), "--athrill2", str(repeatable_athrill2), "--robot", "hackspi",
                "--scenario", str(press(tmp_path, "force")), "--noise", "0", "--json", "--run-dir",
                str(tmp_path / "run"), timeout=600)
     assert run.returncode == 0, run.stderr

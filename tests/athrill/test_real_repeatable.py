@@ -23,7 +23,7 @@ TRIAL = ("--kp", "2.5", "--ki", "0.5", "--kd", "3", "--seed", "11", "--noise", "
 
 
 def trial(run_dir: Path, *args: str) -> tuple[str, bytes]:
-    out = hako("trial", *args, *TRIAL, "--run-dir", str(run_dir), timeout=600)
+    out = hako("try", *args, *TRIAL, "--run-dir", str(run_dir), timeout=600)
     assert out.returncode == 0, out.stderr
     return out.stdout, (run_dir / "trajectory.csv").read_bytes()
 
@@ -66,7 +66,7 @@ def test_an_athrill2_that_exits_at_once_is_one_line(tmp_path):
     fake = tmp_path / "athrill2"
     fake.write_text(f"#!/bin/sh\n# claims {SYNC_WAIT_KEY}\necho 'cannot map athrill_mmap.bin'\nexit 3\n")
     fake.chmod(0o755)
-    one_line_error(hako("trial", "--app", str(ASP_IMAGE), "--athrill2", str(fake), "--json", timeout=120),
+    one_line_error(hako("try", "--app", str(ASP_IMAGE), "--athrill2", str(fake), "--json", timeout=120),
                    "exited at once", "status 3", "cannot map")
 
 
@@ -76,7 +76,7 @@ def test_an_unpatched_athrill2_is_refused_for_the_repeatable_mode(tmp_path):
     plain = tmp_path / "athrill2"
     plain.write_text("#!/bin/sh\nexit 0\n")
     plain.chmod(0o755)
-    one_line_error(hako("trial", "--app", str(ASP_IMAGE), "--athrill2", str(plain), "--json", timeout=120),
+    one_line_error(hako("try", "--app", str(ASP_IMAGE), "--athrill2", str(plain), "--json", timeout=120),
                    "repeatable-sync patch", "build_athrill2.sh --repeatable", "--sync hakoniwa")
 
 
@@ -89,7 +89,7 @@ def test_an_image_that_never_touches_the_mapped_files_is_one_line(repeatable_ath
     image = tmp_path / "spin.elf"
     subprocess.run([str(find_tools().gcc), "-mv850e2v3", "-nostdlib", "-Wl,-Ttext=0,-e,0", "-O1", "-gdwarf-2", "-o",
                     str(image), str(tmp_path / "spin.c")], check=True, capture_output=True)
-    one_line_error(hako("trial", "--app", str(image), "--athrill2", str(repeatable_athrill2), "--json", timeout=300),
+    one_line_error(hako("try", "--app", str(image), "--athrill2", str(repeatable_athrill2), "--json", timeout=300),
                    "wrote nothing to the mapped files")
 
 
@@ -109,7 +109,7 @@ def test_a_gyro_reset_does_not_kill_the_patched_athrill2(repeatable_athrill2, tm
         "        tslp_tsk(10000);\n"
         "    }\n"
         "}\n")
-    out = hako("trial", "--app", str(tmp_path), "--emulator", "athrill2", "--athrill2", str(repeatable_athrill2),
+    out = hako("try", "--app", str(tmp_path), "--emulator", "athrill2", "--athrill2", str(repeatable_athrill2),
                "--time-limit", "2", "--noise", "0", "--json", timeout=900)
     assert out.returncode == 0, out.stderr
     result = json.loads(out.stdout)

@@ -37,14 +37,14 @@ def sample_image() -> Path:
 def test_the_official_spike_sample_laps_the_oval_on_hackspi(sample_image, repeatable_athrill2, tmp_path):
     scenario = tmp_path / "start.toml"
     scenario.write_text('[[press]]\nsensor = "force"\nat_s = 1.0\nfor_s = 0.5\n')
-    out = hako("trial", "--app", str(sample_image), "--robot", "hackspi", "--scenario", str(scenario),
+    out = hako("try", "--app", str(sample_image), "--robot", "hackspi", "--scenario", str(scenario),
                "--athrill2", str(repeatable_athrill2), "--noise", "0", "--json", timeout=600)
     assert out.returncode == 0, out.stderr
     result = json.loads(out.stdout)
     assert result["event"] == "GOAL" and result["checkpoints"] == 4, result
     assert 1.0 < result["lap_time_s"] < 60 and result["sync"] == "repeatable", result
     # Without the press the sample waits for the force sensor: no start, no metre driven.
-    waiting = hako("trial", "--app", str(sample_image), "--robot", "hackspi", "--athrill2", str(repeatable_athrill2),
+    waiting = hako("try", "--app", str(sample_image), "--robot", "hackspi", "--athrill2", str(repeatable_athrill2),
                    "--noise", "0", "--time-limit", "3", "--json", timeout=600)
     assert waiting.returncode == 0, waiting.stderr
     assert json.loads(waiting.stdout)["distance_m"] < 0.01

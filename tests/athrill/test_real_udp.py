@@ -40,7 +40,7 @@ def etroboc_config(tmp_path: Path) -> Path:
 
 
 def lap(run_dir: Path, *args: str) -> float:
-    out = hako("trial", *GAINS, "--noise", "0", "--json", "--run-dir", str(run_dir), *args, timeout=300)
+    out = hako("try", *GAINS, "--noise", "0", "--json", "--run-dir", str(run_dir), *args, timeout=300)
     assert out.returncode == 0, out.stderr
     result = json.loads(out.stdout)
     assert result["event"] == "GOAL" and result["sync"] == "hakoniwa", result
@@ -71,7 +71,7 @@ def test_a_port_in_use_is_one_line_before_any_test(athrill2, tmp_path):
     port = int(re.search(r"TX_PORTNO\s+(\d+)", config.read_text()).group(1))
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as taken:
         taken.bind(("127.0.0.1", port))
-        one_line_error(hako("trial", "--app", str(ASP_IMAGE), "--athrill2", str(athrill2), "--device-config",
+        one_line_error(hako("try", "--app", str(ASP_IMAGE), "--athrill2", str(athrill2), "--device-config",
                             str(config), "--run-dir", str(tmp_path / "run"), timeout=120),
                        f"127.0.0.1:{port}", "in use")
     assert not (tmp_path / "run" / "result.json").exists()

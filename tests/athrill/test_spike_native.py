@@ -653,7 +653,7 @@ PRESS_FIRST_TOUCH_SLOT = '[[press]]\nsensor = "touch"\nport = 3\nat_s = 1.0\nfor
 
 
 def trial(tmp_path, app, *args: str) -> tuple[dict, str]:
-    out = hako("trial", "--app", str(app), "--json", "--noise", "0", "--run-dir", str(tmp_path / "run"), *args)
+    out = hako("try", "--app", str(app), "--json", "--noise", "0", "--run-dir", str(tmp_path / "run"), *args)
     assert out.returncode == 0, out.stderr
     return json.loads(out.stdout), (tmp_path / "run" / "athrill.log").read_text()
 

@@ -209,7 +209,7 @@ def test_our_headers_declare_every_function_of_spike_rts_on_the_hub():
 
 def trial(run_dir: Path, app: Path, lane: str) -> dict:
     need_cc()
-    r = hako("trial", "--noise", "0", "--json", "--run-dir", str(run_dir), "--course", lane, "--app", str(app),
+    r = hako("try", "--noise", "0", "--json", "--run-dir", str(run_dir), "--course", lane, "--app", str(app),
              "--robot", "basic", "--scenario", str(PRESS_FORCE), timeout=600)
     assert r.returncode == 0, r.stderr
     return json.loads(r.stdout)

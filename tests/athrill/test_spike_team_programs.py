@@ -26,7 +26,7 @@ BLUE_M = 0.25
 
 def run(tmp_path, lane: str, app: str, objective: str = "lap") -> tuple[dict, str]:
     need_cc()
-    r = hako("trial", "--noise", "0", "--json", "--run-dir", str(tmp_path / "run"), "--course", lane, "--robot",
+    r = hako("try", "--noise", "0", "--json", "--run-dir", str(tmp_path / "run"), "--course", lane, "--robot",
              "hackspi", "--scenario", str(FORCE_START), "--objective", objective, "--app", str(PROGRAMS / app),
              timeout=600)
     assert r.returncode == 0, r.stderr

@@ -30,7 +30,7 @@ def test_c_int_is_x86_64s_conversion():
 
 def test_overflowing_gains_give_the_c_tracers_result():
     need_cc()
-    args = ("trial", "--kp", "3e38", "--kd", "-3e38", "--noise", "0", "--time-limit", "5", "--json")
+    args = ("try", "--kp", "3e38", "--kd", "-3e38", "--noise", "0", "--time-limit", "5", "--json")
     python, native = hako(*args, "--app", "line_trace"), hako(*args, "--app", "line_trace_c")
     assert python.returncode == 0 and native.returncode == 0, python.stderr + native.stderr
     assert json.loads(python.stdout) == json.loads(native.stdout)

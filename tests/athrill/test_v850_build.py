@@ -113,7 +113,7 @@ def sdk_whose_make(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, rules: str) 
 def test_a_workspace_folder_without_makefile_inc_builds_with_an_empty_one(tmp_path, monkeypatch):
     sdk_whose_make(tmp_path, monkeypatch, "all:\n\tcp $(img)/Makefile.inc asp\n")
     folder = workspace(tmp_path / "app")
-    (folder / "Makefile.inc").unlink()  # app.c, app.h and app.cfg only: `hako trial` takes the same folder
+    (folder / "Makefile.inc").unlink()  # app.c, app.h and app.cfg only: `hako try` takes the same folder
     image = build_image(folder)
     assert image.read_text() == "" and not (folder / "Makefile.inc").exists()  # staged in the copy, not written here
 
@@ -141,12 +141,12 @@ def test_a_truncated_image_is_refused_before_athrill2_sees_it(tmp_path):
     cut.write_bytes(ASP_IMAGE.read_bytes()[:100_000])
     with pytest.raises(ImageError, match="truncated"):
         check_image(cut)
-    r = hako("trial", "--app", str(cut), "--json", timeout=120)
+    r = hako("try", "--app", str(cut), "--json", timeout=120)
     one_line_error(r, "truncated")
 
 
 def test_another_cpus_elf_as_app_is_one_line():
-    one_line_error(hako("trial", "--app", "/bin/ls", "--json", timeout=120), "ELF for", "not a v850 image")
+    one_line_error(hako("try", "--app", "/bin/ls", "--json", timeout=120), "ELF for", "not a v850 image")
 
 
 def test_no_sdk_is_one_line_naming_it(tmp_path):

@@ -84,12 +84,12 @@ def test_leftovers_of_a_crashed_run_do_not_confuse_a_new_one(tmp_path):
 
 
 def hako_trial_json(*extra: str, env=None) -> dict:
-    out = hako("trial", "--json", *extra, timeout=300, env=env)
+    out = hako("try", "--json", *extra, timeout=300, env=env)
     assert out.returncode == 0, out.stderr
     return json.loads(out.stdout)
 
 
-def test_hako_trial_cli_prints_event_and_lap_time(tmp_path):
+def test_hako_try_cli_prints_event_and_lap_time(tmp_path):
     png = tmp_path / "path.png"
     result = hako_trial_json("--trajectory", str(png))
     assert result["event"] == "GOAL" and result["lap_time_s"] > 0
@@ -98,8 +98,8 @@ def test_hako_trial_cli_prints_event_and_lap_time(tmp_path):
     assert png.stat().st_size > 10_000
 
 
-def test_hako_trial_rejects_bad_course():
-    out = hako("trial", "--course", "/nonexistent", timeout=60)
+def test_hako_try_rejects_bad_course():
+    out = hako("try", "--course", "/nonexistent", timeout=60)
     assert out.returncode != 0
     assert "no course at /nonexistent" in out.stderr and "Traceback" not in out.stderr
 

@@ -213,30 +213,30 @@ def test_the_campaigns_own_bench_failing_under_a_picture_reruns_it(tmp_path):
     """A killed physics process on the bench that reruns a set for its picture once ended the campaign with a
     traceback; now the set runs again on the rebuilt bench."""
     from hakoniwa.wire.protocol import LayoutError
-    from testctl.campaign.session import trial_for_picture
+    from testctl.campaign.session import test_for_picture
 
     outcomes = [LayoutError("unity_mmap.bin: no such file"), result(Event.GOAL, 31.0)]
 
-    def trial_once(s: TestSpec):
+    def test_once(s: TestSpec):
         outcome = outcomes.pop(0)
         if isinstance(outcome, Exception):
             raise outcome
         return outcome, tmp_path
 
-    assert trial_for_picture(trial_once, spec(ZERO)) == (result(Event.GOAL, 31.0), tmp_path)
+    assert test_for_picture(test_once, spec(ZERO)) == (result(Event.GOAL, 31.0), tmp_path)
     assert outcomes == []
 
 
 def test_the_campaigns_own_bench_failing_twice_is_one_bench_error(tmp_path):
-    from testctl.campaign.session import trial_for_picture
+    from testctl.campaign.session import test_for_picture
     from testctl.executor import BenchFault
     from testctl.runner import PhysicsGone
 
     spoiled = TestResult(Event.CRASH, 0, 0.01, crash_kind=CrashKind.BENCH, bench_cause=BenchCause.FILE_DAMAGED)
     with pytest.raises(BenchFault, match="spoiled set 0's picture twice"):
-        trial_for_picture(lambda s: (spoiled, tmp_path), spec(ZERO))
+        test_for_picture(lambda s: (spoiled, tmp_path), spec(ZERO))
 
     def gone(s):
         raise PhysicsGone("physics process 1 is gone")
     with pytest.raises(PhysicsGone, match="rerunning set 0 for its picture"):
-        trial_for_picture(gone, spec(ZERO))
+        test_for_picture(gone, spec(ZERO))

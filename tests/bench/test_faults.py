@@ -84,7 +84,7 @@ def start_idle(tmp_path: Path, command: tuple[str, ...], *extra: str) -> subproc
 
 
 def start_trial(tmp_path: Path) -> subprocess.Popen:
-    return start_idle(tmp_path, ("testctl.hako", "trial"))
+    return start_idle(tmp_path, ("testctl.hako", "try"))
 
 
 def pid_of(module: str, run_dir: Path, timeout_s: float = 60) -> int:
@@ -128,7 +128,7 @@ def test_a_killed_physics_process_is_named(tmp_path):
 def test_a_killed_controller_is_named(tmp_path):
     """In the paper's arrangement, where the physics process starts the controller given after `--`."""
     controller_args = ("--kp", "1", "--ki", "0", "--kd", "0", "--out", str(tmp_path / "run" / "result.json"))
-    proc = start_idle(tmp_path, ("testctl.physics_process",), "--", sys.executable, "-m", "testctl.cli", "trial",
+    proc = start_idle(tmp_path, ("testctl.physics_process",), "--", sys.executable, "-m", "testctl.cli", "try",
                       *controller_args)
     wait_for_test(tmp_path / "run")
     controller = pid_of("testctl.cli", tmp_path / "run")

@@ -31,7 +31,7 @@ TEAM_PROGRAMS = {  # name: (robot, scenario, a file the program writes into its 
 
 def trial(name: str, run_dir: Path) -> str:
     robot, scenario, _ = TEAM_PROGRAMS[name]
-    out = hako("trial", "--app", str(PROGRAMS / name), "--robot", robot, "--scenario", str(SCENARIOS / scenario),
+    out = hako("try", "--app", str(PROGRAMS / name), "--robot", robot, "--scenario", str(SCENARIOS / scenario),
                "--seed", "3", "--json", "--run-dir", str(run_dir))
     assert out.returncode == 0, out.stderr
     return out.stdout
@@ -82,7 +82,7 @@ def test_a_team_program_is_tuned_in_its_command_file_and_best_patch_gives_its_la
     added = [line[1:] for line in lines if line.startswith("+") and not line.startswith("+++")]
     assert len(removed) == len(added) and 0 < len(added) <= len(best["params"])
     assert [NUMBER.sub("#", line) for line in removed] == [NUMBER.sub("#", line) for line in added]  # cells alone
-    trial = hako("trial", "--app", str(copy), *world, "--json", "--run-dir", str(tmp_path / "patched"))
+    trial = hako("try", "--app", str(copy), *world, "--json", "--run-dir", str(tmp_path / "patched"))
     assert trial.returncode == 0, trial.stderr
     assert json.loads(trial.stdout)["lap_time_s"] == best["lap_time_s"]
 

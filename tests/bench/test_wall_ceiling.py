@@ -46,7 +46,7 @@ def fake_athrill2(tmp_path: Path) -> Path:
 
 def hako_trial(tmp_path: Path, image: str, *extra: str) -> tuple[subprocess.CompletedProcess, float]:
     started = time.monotonic()
-    r = subprocess.run([sys.executable, "-m", "testctl.hako", "trial", "--app", str(v850_image(tmp_path / image)),
+    r = subprocess.run([sys.executable, "-m", "testctl.hako", "try", "--app", str(v850_image(tmp_path / image)),
                         "--athrill2", str(fake_athrill2(tmp_path)), "--sync", "hakoniwa", "--run-dir",
                         str(tmp_path / "run"), *extra], capture_output=True, text=True, timeout=120)
     return r, time.monotonic() - started
@@ -150,7 +150,7 @@ def test_a_real_image_whose_initialization_blocks_is_refused_before_any_test(tmp
     built = hako("build", str(app), timeout=900)
     assert built.returncode == 0, built.stderr
     started = time.monotonic()
-    r = hako("trial", "--app", built.stdout.strip(), "--athrill2", str(athrill2), "--sync", "hakoniwa",
+    r = hako("try", "--app", built.stdout.strip(), "--athrill2", str(athrill2), "--sync", "hakoniwa",
              "--run-dir", str(tmp_path / "run"), timeout=300)
     one_line_error(r, "the program wrote nothing to the mapped files")
     assert time.monotonic() - started < 60

@@ -11,7 +11,7 @@ import pytest
 from hakoniwa.wire.protocol import Event
 from testctl.campaign.journal import JOURNAL_FILE, read_journal
 from testctl.campaign.loop import Campaign, CampaignConfig, Progress, SetResult
-from testctl.campaign.objective import RepetitionRule
+from testctl.campaign.repetition import RepetitionRule
 from testctl.campaign.report import best_so_far, format_summary, l1_changes, write_report
 from tests.helpers.campaign_doubles import ScriptedBench, SyntheticBench, result
 

@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 
 from hakoniwa.wire.protocol import Event
 from hakoniwa.wire.result import TestResult
-from testctl.campaign.objective import PAPER_PENALTY_S, RepetitionRule
+from testctl.campaign.repetition import PAPER_PENALTY_S, RepetitionRule
 from tests.helpers.campaign_doubles import result
 
 G, T, W, C = Event.GOAL, Event.TIME_OVER, Event.HIT_WALL, Event.CRASH
@@ -27,7 +27,7 @@ def test_three_successes_decide_success_with_mean_lap() -> None:
 
 
 def test_a_sets_mean_lap_is_on_the_benchs_tick() -> None:
-    """best.json read 28.209999999999997 where each lap, and `hako trial` of the patched program, read 28.21."""
+    """best.json read 28.209999999999997 where each lap, and `hako try` of the patched program, read 28.21."""
     assert judge(RepetitionRule(), [G, G, G], lap=28.21).value == 28.21
     v = RepetitionRule().judge([result(G, 28.21), result(G, 28.211), result(G, 28.213)])
     assert v.value == 28.211  # 28.2113...: the mean, to the physics step (1 ms)

@@ -18,7 +18,7 @@ BENCH = ("--course", "etrobocon-l", "--robot", "hackev", "--objective", "etroboc
 
 
 def score_of(app, run_dir) -> float:
-    r = hako("trial", "--app", str(app), *BENCH, "--json", "--run-dir", str(run_dir), timeout=600)
+    r = hako("try", "--app", str(app), *BENCH, "--json", "--run-dir", str(run_dir), timeout=600)
     assert r.returncode == 0, r.stderr
     return json.loads(r.stdout)["score"]["total"]
 

@@ -14,7 +14,7 @@ from hakoniwa.wire.objective import objective_named
 from hakoniwa.wire.protocol import CrashKind, Event, Rx
 from hakoniwa.wire.result import TestResult
 from testctl.campaign.loop import Campaign, CampaignConfig
-from testctl.campaign.objective import RepetitionRule
+from testctl.campaign.repetition import RepetitionRule
 from testctl.campaign.report import best_dict, fig8, format_summary, write_report
 from testctl.search.space import Parameter, ParameterSpace
 from tests.helpers.campaign_doubles import ScriptedBench

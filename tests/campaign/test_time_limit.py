@@ -30,8 +30,8 @@ def test_the_override_wins_and_the_course_is_the_default() -> None:
 
 
 @pytest.mark.slow
-def test_hako_trial_obeys_the_courses_time_limit(tmp_path) -> None:
-    r = hako("trial", "--course", str(short_course(tmp_path, 3)), "--noise", "0", "--json", timeout=300)
+def test_hako_try_obeys_the_courses_time_limit(tmp_path) -> None:
+    r = hako("try", "--course", str(short_course(tmp_path, 3)), "--noise", "0", "--json", timeout=300)
     assert r.returncode == 0, r.stderr
     result = json.loads(r.stdout)
     assert result["event"] == "TIME_OVER"

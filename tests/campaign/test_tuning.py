@@ -25,7 +25,7 @@ from athrill_sim.tuning.tune import apply_edits
 from hakoniwa.wire.params import PARAM_END, slot_size
 from hakoniwa.wire.protocol import open_athrill, open_unity
 from testctl.campaign.patch import unified_diff
-from testctl.runner import TrialRunner
+from testctl.runner import TestRunner
 from testctl.search.space import ParameterSpace, SpaceError
 from tests.helpers.commands import hako, one_line_error
 from tests.helpers.native_fixtures import need_cc
@@ -129,7 +129,7 @@ def test_the_slots_go_through_the_wire_with_their_types(tmp_path: Path) -> None:
               '[[param]]\nname = "w"\noffset = 548\ntype = "f64"\nlow = 0\nhigh = 1\n')
     open_unity(tmp_path, create=True).close()
     open_athrill(tmp_path, create=True).close()
-    runner = TrialRunner(tmp_path)
+    runner = TestRunner(tmp_path)
     x = (0.1, -3.0, 0.3)
     runner.write_params(s.to_offsets(x), s.slot_types)
     u = runner.unity

@@ -62,7 +62,7 @@ def test_each_kind_tunes_the_tracer_as_the_offset_version_and_patches_it(kind, t
     r = subprocess.run(["git", "apply", str(out / "best.patch")], cwd=copy / f"tracer_{kind}", capture_output=True,
                        text=True)
     assert r.returncode == 0, r.stderr
-    trial = hako("trial", "--app", str(copy / f"tracer_{kind}"), "--noise", "0", "--json", "--run-dir",
+    trial = hako("try", "--app", str(copy / f"tracer_{kind}"), "--noise", "0", "--json", "--run-dir",
                  str(out.parent / "patched"), timeout=300)
     assert trial.returncode == 0, trial.stderr
     assert json.loads(trial.stdout)["lap_time_s"] == best["lap_time_s"]
@@ -287,7 +287,7 @@ def test_the_et_robocon_style_cpp_tracer_is_tuned_as_its_team_wrote_it(tmp_path)
     applied = subprocess.run(["git", "apply", str(out / "best.patch")], cwd=copy, capture_output=True, text=True)
     assert applied.returncode == 0, applied.stderr
     assert (copy / "unit" / "Pid.h").read_text() != (team / "unit" / "Pid.h").read_text()
-    trial = hako("trial", "--app", str(copy), "--scenario", str(press), "--noise", "0", "--json", "--run-dir",
+    trial = hako("try", "--app", str(copy), "--scenario", str(press), "--noise", "0", "--json", "--run-dir",
                  str(tmp_path / "patched"), timeout=300)
     assert trial.returncode == 0, trial.stderr
     assert json.loads(trial.stdout)["lap_time_s"] == json.loads((out / "best.json").read_text())["lap_time_s"]

@@ -24,8 +24,8 @@ from tests.helpers.commands import run_module as run
     (["--app", "nosuch"], ["--app nosuch", "not a built-in app"]),
     (["--app", "nosuch_module:main_task"], ["cannot load app", "nosuch_module"]),
 ])
-def test_hako_trial_refuses_bad_values_before_running(args, words):
-    one_line_error(run("testctl.hako", "trial", *args), *words)
+def test_hako_try_refuses_bad_values_before_running(args, words):
+    one_line_error(run("testctl.hako", "try", *args), *words)
 
 
 @pytest.mark.parametrize("args, words", [
@@ -45,13 +45,13 @@ def test_out_under_a_file_or_in_proc_is_one_line(tmp_path):
 
 
 def test_testctl_trial_refuses_non_finite_gains(tmp_path):
-    one_line_error(run("testctl.cli", "trial", "--run-dir", str(tmp_path), "--kp", "nan", "--ki", "0", "--kd", "0",
+    one_line_error(run("testctl.cli", "try", "--run-dir", str(tmp_path), "--kp", "nan", "--ki", "0", "--kd", "0",
                        "--out", str(tmp_path / "r.json")), "--kp")
 
 
 @pytest.mark.parametrize("module, args", [
-    ("testctl.hako", []), ("testctl.hako", ["trial"]), ("testctl.hako", ["run"]), ("testctl.physics_process", []),
-    ("testctl.cli", []), ("testctl.cli", ["trial"]), ("testctl.cli", ["campaign"]), ("athrill_sim.mock.main", []),
+    ("testctl.hako", []), ("testctl.hako", ["try"]), ("testctl.hako", ["run"]), ("testctl.physics_process", []),
+    ("testctl.cli", []), ("testctl.cli", ["try"]), ("testctl.cli", ["campaign"]), ("athrill_sim.mock.main", []),
 ])
 def test_dash_h_is_help_everywhere(module, args):
     r = run(module, *args, "-h")

@@ -11,7 +11,7 @@ import pytest
 
 from testctl.bench_options import BenchOptions
 from testctl.campaign.benches import campaign_benches, usable_cores
-from testctl.campaign.objective import RepetitionRule
+from testctl.campaign.repetition import RepetitionRule
 
 WAVE = RepetitionRule().still_needed([])  # 3 of the default 5: the tests of a set that run at once
 

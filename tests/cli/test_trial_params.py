@@ -1,4 +1,4 @@
-"""`hako trial --json`'s `params` holds only what reached the program: it showed the paper's gains (kp 1.539,
+"""`hako try --json`'s `params` holds only what reached the program: it showed the paper's gains (kp 1.539,
 ...) for a team's program that reads its gains from a CSV and never saw them."""
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ IDLE_C = '#include "ev3api.h"\nvoid main_task(intptr_t unused) { while (1) tslp_
 
 
 def trial_params(*args: str) -> dict:
-    r = hako("trial", "--noise", "0", "--time-limit", "0.5", "--json", *args, timeout=300)
+    r = hako("try", "--noise", "0", "--time-limit", "0.5", "--json", *args, timeout=300)
     assert r.returncode == 0, r.stderr
     return json.loads(r.stdout)["params"]
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 from testctl.bench_options import BenchOptions
 from testctl.paper import BEST_GAINS, line_trace_params
-from testctl.runner import TrialRunner
+from testctl.runner import TestRunner
 
 PAPER = line_trace_params(*BEST_GAINS)
 ZERO = line_trace_params(0.0, 0.0, 0.0)
@@ -19,14 +19,14 @@ ZERO = line_trace_params(0.0, 0.0, 0.0)
 @contextmanager
 def physics(run_dir: Path, *, extra_env: dict[str, str] | None = None, app: str = "line_trace",
             athrill_timeout_s: float = 10.0,
-            bench: BenchOptions | None = None) -> Iterator[tuple[subprocess.Popen, TrialRunner]]:
+            bench: BenchOptions | None = None) -> Iterator[tuple[subprocess.Popen, TestRunner]]:
     """A physics process serving `run_dir` with no controller of its own: the test is the controller. `bench`,
     where given, stands for `app` and `athrill_timeout_s`."""
     env = dict(os.environ, **(extra_env or {}))
     bench = bench or BenchOptions(app=app, athrill_timeout_s=athrill_timeout_s)
     proc = subprocess.Popen(bench.physics_command(run_dir, []), env=env)
     try:
-        runner = TrialRunner.attach(run_dir, proc)
+        runner = TestRunner.attach(run_dir, proc)
         yield proc, runner
         runner.end()
         assert proc.wait(timeout=30) == 0

@@ -145,14 +145,14 @@ def test_a_file_or_folder_named_oval_does_not_shadow_the_builtin_course(tmp_path
         load_course("./oval")  # the local one, named as a path
 
 
-def test_hako_trial_takes_the_builtin_course_beside_a_folder_named_oval(tmp_path):
+def test_hako_try_takes_the_builtin_course_beside_a_folder_named_oval(tmp_path):
     import json
 
     from tests.helpers.commands import hako
 
     (tmp_path / "oval").mkdir()
     (tmp_path / "line_trace").write_text("")  # nor does a file shadow a built-in app
-    r = hako("trial", "--course", "oval", "--time-limit", "1", "--noise", "0", "--json", cwd=tmp_path)
+    r = hako("try", "--course", "oval", "--time-limit", "1", "--noise", "0", "--json", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     assert json.loads(r.stdout)["event"] == "TIME_OVER"
 

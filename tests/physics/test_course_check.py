@@ -99,10 +99,10 @@ def test_a_gap_narrower_than_the_robot_walls_the_checkpoints_off(tmp_path):
     check(folder, HACKSPI_BODY)
 
 
-def test_hako_trial_refuses_the_course_before_any_test(tmp_path):
+def test_hako_try_refuses_the_course_before_any_test(tmp_path):
     folder = course_with(tmp_path, start_at(0.0, 0.0))
     run_dir = tmp_path / "run"
-    r = subprocess.run([sys.executable, "-m", "testctl.hako", "trial", "--course", str(folder), "--run-dir",
+    r = subprocess.run([sys.executable, "-m", "testctl.hako", "try", "--course", str(folder), "--run-dir",
                         str(run_dir)], capture_output=True, text=True, timeout=120)
     one_line_error(r, str(folder / "course.toml"), "wall 'island'")
     assert not (run_dir / "unity_mmap.bin").exists()  # no bench was started

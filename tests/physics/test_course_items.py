@@ -79,9 +79,9 @@ def test_bad_items_are_one_line_errors(tmp_path, extra, message):
     assert "\n" not in str(e.value)
 
 
-def test_hako_trial_says_a_bad_object_in_one_line(tmp_path):
+def test_hako_try_says_a_bad_object_in_one_line(tmp_path):
     folder = oval_with(tmp_path, BOTTLE.replace("x = 1.2\ny = 0.5", "x = 0.0\ny = 0.0"))
-    r = hako("trial", "--course", str(folder), "--noise", "0", "--time-limit", "1")
+    r = hako("try", "--course", str(folder), "--noise", "0", "--time-limit", "1")
     assert r.returncode != 0 and "Traceback" not in r.stderr
     assert r.stderr.strip().count("\n") == 0 and "stands inside wall 'island'" in r.stderr
 

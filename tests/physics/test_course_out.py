@@ -30,8 +30,8 @@ from hakoniwa.wire.objective import objective_named
 from hakoniwa.wire.protocol import Event
 from hakoniwa.wire.result import TestResult
 from hakoniwa.wire.rundir import RESULT_FILE
-from testctl.campaign.objective import RepetitionRule
-from testctl.runner import TrialRunner
+from testctl.campaign.repetition import RepetitionRule
+from testctl.runner import TestRunner
 from tests.helpers.commands import hako, one_line_error
 from tests.helpers.environments import environment
 from tests.helpers.native_fixtures import need_cc
@@ -105,7 +105,7 @@ def test_an_out_of_bounds_area_counts_from_the_margin_inside_it(tmp_path):
 ])
 def test_a_bad_out_of_bounds_table_is_one_line_from_hako_trial(tmp_path, extra, words):
     folder = lane_copy(tmp_path, extra)
-    r = hako("trial", "--course", str(folder), "--run-dir", str(tmp_path / "run"), timeout=120)
+    r = hako("try", "--course", str(folder), "--run-dir", str(tmp_path / "run"), timeout=120)
     one_line_error(r, "course.toml", *words)
 
 
@@ -155,7 +155,7 @@ def test_an_edge_needs_the_start_and_is_one_of_three():
 
 def test_an_unknown_edge_is_one_line_from_hako_trial(tmp_path):
     (tmp_path / "s.toml").write_text('[[place]]\nat_s = 0\nover = "start"\nedge = "center-left"\n')
-    r = hako("trial", "--course", "etrobocon-l", "--scenario", str(tmp_path / "s.toml"), "--run-dir",
+    r = hako("try", "--course", "etrobocon-l", "--scenario", str(tmp_path / "s.toml"), "--run-dir",
              str(tmp_path / "run"), timeout=120)
     one_line_error(r, "s.toml", "place 1", "edge must be one of 'left', 'right', 'centre', got 'center-left'")
 
@@ -199,7 +199,7 @@ def test_when_and_where_travel_to_the_controller(tmp_path):
     """The physics side's result, read back as the controller reads it; the next test's result replaces it."""
     out = TestResult(Event.COURSE_OUT, 0, 0.0, 1, 3325, out_time_us=(1 << 32) + 5, out_xy_mm=(-430, 1824))
     Slots(tmp_path)
-    runner = TrialRunner(tmp_path)
+    runner = TestRunner(tmp_path)
     try:
         (tmp_path / RESULT_FILE).write_text(out.encode())
         assert runner.read_result() == out
@@ -221,7 +221,7 @@ def test_a_program_that_drives_straight_leaves_the_mat_and_the_run_ends_there(tm
     """It used to drive on for 17 m, until the time limit, and `--objective etrobocon` gave it points for it."""
     runs = {}
     for objective in ("lap", "etrobocon"):
-        r = hako("trial", "--course", lane, "--app", "straight_app:main_task", "--noise", "0", "--json",
+        r = hako("try", "--course", lane, "--app", "straight_app:main_task", "--noise", "0", "--json",
                  "--objective", objective, "--run-dir", str(tmp_path / objective), env=straight_app, timeout=300)
         assert r.returncode == 0, r.stderr
         runs[objective] = json.loads(r.stdout)
@@ -250,7 +250,7 @@ def test_a_left_edge_tracer_set_down_on_the_left_edge_follows_the_line(tmp_path,
     (tmp_path / "left.toml").write_text(LEFT_EDGE_START)
     runs = {}
     for name, scenario in (("left", tmp_path / "left.toml"), ("start", PROGRAMS / "scenarios" / "force-start.toml")):
-        r = hako("trial", "--course", lane, "--app", str(PROGRAMS / "spike_left_edge"), "--robot", "hackspi",
+        r = hako("try", "--course", lane, "--app", str(PROGRAMS / "spike_left_edge"), "--robot", "hackspi",
                  "--scenario", str(scenario), "--noise", "0", "--json", "--time-limit", "12",
                  "--run-dir", str(tmp_path / name), timeout=600)
         assert r.returncode == 0, r.stderr

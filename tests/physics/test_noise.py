@@ -13,7 +13,7 @@ from hakoniwa.physics.world import World
 from hakoniwa.wire.protocol import ColorId, Rx, open_athrill, open_unity
 from testctl.bench_options import DEFAULT_COURSE
 from testctl.noise_seed import noise_seed
-from testctl.runner import TrialRunner
+from testctl.runner import TestRunner
 
 
 @pytest.fixture(scope="module")
@@ -122,7 +122,7 @@ def test_noise_seed_is_a_pure_u32_function_of_its_place():
 def test_the_runner_writes_seed_and_scale_and_refuses_bad_ones(tmp_path):
     open_unity(tmp_path, create=True).close()
     open_athrill(tmp_path, create=True).close()
-    runner = TrialRunner(tmp_path)
+    runner = TestRunner(tmp_path)
     runner.write_noise(4_000_000_000, 0.5)
     assert (runner.unity.read_u32(Rx.NOISE_SEED), runner.unity.read_f32(Rx.NOISE_SCALE)) == (4_000_000_000, 0.5)
     for seed, scale in ((-1, 1.0), (2**32, 1.0), (0, -0.5), (0, math.nan), (0, math.inf)):

@@ -1,7 +1,7 @@
 """Calibration and start-up by hand: a scenario's `[[place]]` sets the robot down over black, white, the start or
 a pose, exactly at its time; `[[hand]]` holds a hand in front of the ultrasonic sensor; a SPIKE hub's buttons
 by name. What the program sees (encoders counting on, the gyro following the turn, the hand's distance), what
-the task counts (no carried distance), and the one line each bad entry gets, from `hako trial` too."""
+the task counts (no carried distance), and the one line each bad entry gets, from `hako try` too."""
 
 from __future__ import annotations
 
@@ -196,7 +196,7 @@ def given_file(tmp_path: Path, arg: str) -> str:
 def test_each_bad_entry_is_one_line_naming_it_from_hako_trial(tmp_path, scenario, args, words):
     (tmp_path / "bad.toml").write_text(scenario)
     given = [given_file(tmp_path, a) for a in args]
-    r = hako("trial", "--scenario", str(tmp_path / "bad.toml"), *given, "--run-dir", str(tmp_path / "run"),
+    r = hako("try", "--scenario", str(tmp_path / "bad.toml"), *given, "--run-dir", str(tmp_path / "run"),
              timeout=120)
     one_line_error(r, "bad.toml", *words)
     assert not (tmp_path / "run" / "unity_mmap.bin").exists()  # refused before any bench started

@@ -65,7 +65,7 @@ def test_two_devices_on_one_port_are_refused():
 def test_two_devices_on_one_port_are_one_line_before_any_test(tmp_path):
     robot = tmp_path / "twice.toml"
     robot.write_text('[[sensor]]\nport = 2\nkind = "touch"\n[[sensor]]\nport = 2\nkind = "gyro"\n')
-    one_line_error(hako("trial", "--robot", str(robot), "--json", timeout=120),
+    one_line_error(hako("try", "--robot", str(robot), "--json", timeout=120),
                    "two devices on sensor port 2: touch and gyro")
 
 

@@ -202,10 +202,10 @@ def test_only_a_spike_robot_gets_the_spike_slots_written(tmp_path):
         slots.athrill.close()
 
 
-def test_hako_trial_refuses_a_port_letter_a_hub_lacks_in_one_line(tmp_path):
+def test_hako_try_refuses_a_port_letter_a_hub_lacks_in_one_line(tmp_path):
     robot = tmp_path / "robot.toml"
     robot.write_text('hub = "spike"\n[[sensor]]\nport = "G"\nkind = "color"\n')
-    one_line_error(hako("trial", "--robot", str(robot), timeout=60), "robot.toml sensor 1", "port 'G' does not exist")
+    one_line_error(hako("try", "--robot", str(robot), timeout=60), "robot.toml sensor 1", "port 'G' does not exist")
 
 
 @pytest.mark.parametrize("floor, basic, hackspi", [((255, 255, 255), 80, 40), ((0, 0, 0), 10, 10)])

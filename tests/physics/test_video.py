@@ -193,7 +193,7 @@ def test_replay_of_a_folder_without_one_is_one_line(tmp_path: Path) -> None:
     (["--video", "no/such/folder/lap.gif"], ["does not exist"]),
 ])
 def test_bad_video_options_are_one_line_before_any_test(tmp_path: Path, args: list[str], words: list[str]) -> None:
-    r = hako("trial", "--run-dir", str(tmp_path / "run"), *args, cwd=tmp_path)
+    r = hako("try", "--run-dir", str(tmp_path / "run"), *args, cwd=tmp_path)
     one_line_error(r, *words)
     assert not (tmp_path / "run" / REPLAY_FILE).exists()
 
@@ -206,7 +206,7 @@ def test_view_without_a_display_is_one_line_and_exit_1_within_a_second(tmp_path:
     hako("--help")
     startup = time.monotonic() - start
     start = time.monotonic()
-    r = hako("trial", "--view", "--run-dir", str(tmp_path), env=env, timeout=10)
+    r = hako("try", "--view", "--run-dir", str(tmp_path), env=env, timeout=10)
     assert time.monotonic() - start < max(1.0, startup + 0.2)
     assert r.returncode == 1
     one_line_error(r, "--view", "display")
@@ -215,8 +215,8 @@ def test_view_without_a_display_is_one_line_and_exit_1_within_a_second(tmp_path:
 @pytest.mark.slow
 def test_filming_a_trial_changes_nothing_it_reports_and_makes_a_five_second_clip(video, tmp_path: Path) -> None:
     """The paper's tracer with its best gains, as the README shows it: the whole lap at 6.5x is a 5 s clip."""
-    plain = hako("trial", "--json", "--run-dir", str(tmp_path / "a"))
-    filmed = hako("trial", "--json", "--run-dir", str(tmp_path / "b"), "--video", str(tmp_path / "lap.gif"),
+    plain = hako("try", "--json", "--run-dir", str(tmp_path / "a"))
+    filmed = hako("try", "--json", "--run-dir", str(tmp_path / "b"), "--video", str(tmp_path / "lap.gif"),
                   "--speed", "6.5x", "--fps", "10")
     assert plain.returncode == 0 and filmed.returncode == 0, filmed.stderr
     assert plain.stdout == filmed.stdout  # byte for byte
@@ -257,9 +257,9 @@ def test_view_paces_the_lockstep_and_changes_nothing_it_reports(tmp_path: Path) 
     try:
         time.sleep(1)
         env = {**{k: v for k, v in os.environ.items() if k != "MUJOCO_GL"}, "DISPLAY": display}
-        plain = hako("trial", "--json", "--run-dir", str(tmp_path / "a"))
+        plain = hako("try", "--json", "--run-dir", str(tmp_path / "a"))
         start = time.monotonic()
-        viewed = hako("trial", "--json", "--view", "--speed", "8x", "--run-dir", str(tmp_path / "b"), env=env)
+        viewed = hako("try", "--json", "--view", "--speed", "8x", "--run-dir", str(tmp_path / "b"), env=env)
         wall = time.monotonic() - start
     finally:
         xvfb.terminate()

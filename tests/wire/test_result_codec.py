@@ -22,12 +22,13 @@ results = st.builds(
     TestResult, st.sampled_from(Event), U64, st.floats(0, 1e6, allow_nan=False), st.integers(0, 1000), U64, U64,
     st.sampled_from(SyncMode), st.sampled_from(CrashKind), I32, st.text(max_size=200), U64,
     st.sampled_from(sorted(BUILT_IN)).map(objective_named), st.sampled_from(BenchCause), st.none() | scores, U64,
-    st.tuples(I32, I32))
+    st.tuples(I32, I32), st.text(max_size=500))
 
 
 @given(results)
 def test_every_field_survives_the_trip(result):
-    assert TestResult.decode(result.encode()) == result
+    back = TestResult.decode(result.encode())
+    assert back == result and back.trajectory == result.trajectory  # the one field equality leaves out
 
 
 @pytest.mark.parametrize("text", ["", "[]", "{}", '{"event": "GOAL"}'])

@@ -105,7 +105,7 @@ def test_a_non_local_address_is_one_line_before_anything_is_built(tmp_path):
     path = config(tmp_path, UDP_BASE + "DEBUG_FUNC_VDEV_TX_IPADDR 10.0.0.5\n")
     with pytest.raises(ProgramError, match="10.0.0.5 is not this machine's loopback"):
         resolve_program("line_trace_c", emulator="athrill2", device_config=str(path))
-    one_line_error(hako("trial", "--app", "line_trace_c", "--emulator", "athrill2", "--device-config", str(path),
+    one_line_error(hako("try", "--app", "line_trace_c", "--emulator", "athrill2", "--device-config", str(path),
                         timeout=60), "DEBUG_FUNC_VDEV_TX_IPADDR 10.0.0.5", "loopback")
 
 
