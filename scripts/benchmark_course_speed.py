@@ -7,7 +7,7 @@ contacts in every MuJoCo step, and a ray at each snapshot) and no walls. Both be
 with the same time limit, so every test covers the same simulated time whatever the program does on the
 course (on etrobocon-l, calibrated for the oval, it circles): the rate compares the physics, not the laps.
 Rounds alternate between the courses so that a change in the machine's load falls on both; each bench's
-own start is left out (once per campaign), as `bench_sim.py`, whose trials these are, leaves it out.
+own start is left out (once per campaign), as `benchmark_sim.py`, whose trials these are, leaves it out.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import os
 import platform
 
 import click
-from bench_sim import trial_rate  # scripts/ is on the path of a script run from it
+from benchmark_sim import trial_rate  # scripts/ is on the path of a script run from it
 
 from testctl.bench_options import BenchOptions
 

@@ -3,7 +3,7 @@
 average before each (the machine is shared, so a figure means little without it) and the tests' own wall
 time from the JSON results (what the benches spent, without start-up and pictures).
 
-    python scripts/bench_hako_test.py [--benches 1,2] [--repeat 1] [--file docs/examples/hako-tests.toml]
+    python scripts/benchmark_hako_test.py [--benches 1,2] [--repeat 1] [--file docs/examples/hako-tests.toml]
 """
 
 from __future__ import annotations

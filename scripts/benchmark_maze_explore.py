@@ -3,7 +3,7 @@ interleaved run by run so that both see the same machine load (issue 17's target
 strategy). Prints medians per maze, objective and version, and the load average.
 
 Usage: git archive main maze | tar -x -C /tmp/before   # the version to compare with
-       python scripts/bench_maze_explore.py --before /tmp/before [--runs 5] [MAZE]...
+       python scripts/benchmark_maze_explore.py --before /tmp/before [--runs 5] [MAZE]...
 Without MAZE: the built-in 32x32 mazes (development) and, apart, ../shared/mazes/halfsize (held out).
 """
 

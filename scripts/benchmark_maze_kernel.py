@@ -5,7 +5,7 @@ meet the same machine load.
 
 Usage: git worktree add --detach /tmp/before main            # the version to compare with
        scripts/build_maze_library.sh SOURCE build/kerikun     # the compared library, from source
-       python scripts/bench_maze_kernel.py --before /tmp/before --kerikun build/kerikun/maze_timing \\
+       python scripts/benchmark_maze_kernel.py --before /tmp/before --kerikun build/kerikun/maze_timing \\
            --held-out ../shared/mazes/halfsize
 
 Per maze: (a) a fastest-path query, diagonal, every wall known: the median of --repeat, in process (kerikun:
@@ -32,7 +32,7 @@ import time
 from pathlib import Path
 
 import click
-from bench_maze_explore import ENTRY
+from benchmark_maze_explore import ENTRY
 
 DEV = ["japan2009hef", "japan2019hef"]
 HELD_OUT = ["japan2008hef", "japan2011hef", "japan2014hef", "japan2017hef"]  # measured, never tuned on
@@ -42,7 +42,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def worker(maze_path: Path, repeat: int) -> dict[str, float]:
     """(a) and (b) with the maze package first on sys.path (PYTHONPATH), as JSON."""
-    from bench_maze_speed import search_query_ms
+    from benchmark_maze_speed import search_query_ms
 
     import maze
     from maze.fastpath import fastest_route
@@ -92,7 +92,7 @@ def whole(argv: list[str], env: dict[str, str] | None = None, cwd: Path | None =
 
 def mazelog(args: list[str]) -> list[str]:
     """A whole-process mazelog, with the maze package PYTHONPATH names (run from an empty folder, as
-    scripts/bench_maze_explore.py runs it, so that no checkout shadows it)."""
+    scripts/benchmark_maze_explore.py runs it, so that no checkout shadows it)."""
     return [sys.executable, "-c", ENTRY, *args]
 
 

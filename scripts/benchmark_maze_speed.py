@@ -3,11 +3,11 @@ strategy, one fastest-path query (on the whole maze known, on it all unknown, an
 time objective makes as it finds the walls), and the mms protocol's cost per command; printed for the built-in
 mazes (development) and for held-out mazes (../shared/mazes/halfsize, or --held-out DIR) apart.
 
-Usage: python scripts/bench_maze_speed.py [--repeat N] [--held-out DIR] [--held-out-count N] [--section S]...
+Usage: python scripts/benchmark_maze_speed.py [--repeat N] [--held-out DIR] [--held-out-count N] [--section S]...
 
 The query section runs on an older maze package too, for a before/after table under similar load:
     git archive main maze | tar -x -C /tmp/before
-    cd /tmp && PYTHONPATH=/tmp/before python /path/to/scripts/bench_maze_speed.py --section query
+    cd /tmp && PYTHONPATH=/tmp/before python /path/to/scripts/benchmark_maze_speed.py --section query
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Time `replay` of a full 32x32 wall log in process (target: under 20 ms).
 
-Usage: python scripts/bench_mazelog.py [--maze FILE] [--repeat N]
+Usage: python scripts/benchmark_mazelog.py [--maze FILE] [--repeat N]
 """
 
 from __future__ import annotations

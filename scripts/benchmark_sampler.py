@@ -8,7 +8,7 @@ campaign tests' synthetic bench) were not looked at while choosing. Every campai
 random sets per seed, then runs rounds of q proposals until the budget of sets. The reference is the sampler
 as it was before batches (`PreBatchGPyOpt`).
 
-`time_per_round` is also what scripts/bench_campaign.py reports as the GP's time per round.
+`time_per_round` is also what scripts/benchmark_campaign.py reports as the GP's time per round.
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Search strategies over the real contest mazes, for the fewest cells and for the fastest run, and the flash
 cost of backing a search up.
 
-Usage: python scripts/bench_search.py [--quick] [--jobs N] [--cuts N] [--per-maze/--no-per-maze]
+Usage: python scripts/benchmark_search.py [--quick] [--jobs N] [--cuts N] [--per-maze/--no-per-maze]
                                       [--mazes DIR | --builtin]
 
 Mazes come from ../shared/mazes beside the clone (the micromouseonline/mazefiles collection at commit

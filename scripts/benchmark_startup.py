@@ -1,7 +1,7 @@
 """Whole-process start-up time of the command-line tools, as a new user meets it (target: under 0.3 s for
 `mazelog --help` and a text `mazelog replay` of a 32x32 log).
 
-Usage: python scripts/bench_startup.py [--runs N]
+Usage: python scripts/benchmark_startup.py [--runs N]
 Each command runs once unmeasured (to warm the file cache), then N times; the table gives the median, min and
 max wall-clock seconds of the whole process (interpreter start, imports, work, exit).
 """

@@ -8,9 +8,9 @@ printed, shown as printed). A page line over MAX_LINE characters is refused: a f
 own, not in prose.
 
 Usage:
-  python scripts/bench_tables.py [--check]             render every table into docs/BENCHMARKS.md; with --check
+  python scripts/benchmark_tables.py [--check]             render every table into docs/BENCHMARKS.md; with --check
                                                        write nothing, and exit 1 if a table differs from its data
-  python scripts/bench_tables.py record NAME -- CMD... run CMD (a benchmark script), record what it printed as the
+  python scripts/benchmark_tables.py record NAME -- CMD... run CMD (a benchmark script), record what it printed as the
                                                        data of table NAME, with this machine and today's date, and
                                                        render the page (`tests/project/test_bench_tables.py`
                                                        fails on a table its data no longer gives)

@@ -5,8 +5,8 @@ On a campaign's busy cores CPU per test, not a test's wall time on an idle machi
 campaign's rate: each bench starts the next test's Athrill while the current one runs, which is free on an
 idle core and not on a busy one. CPU time also moves much less with the machine's load than wall time.
 
-    python scripts/bench_test_cpu.py                       # 6 noisy tests of the paper's tracer, 3 rounds
-    python scripts/bench_test_cpu.py --before /tmp/before  # the same, interleaved with another tree's code
+    python scripts/benchmark_test_cpu.py                       # 6 noisy tests of the paper's tracer, 3 rounds
+    python scripts/benchmark_test_cpu.py --before /tmp/before  # the same, interleaved with another tree's code
 
 Each round runs one bench in a process of its own (so each tree's modules are its own), a warm-up test first
 (the bench's start), then the tests measured. The bench's processes' CPU is read from /proc before and after

@@ -11,7 +11,7 @@ import subprocess
 import sys
 
 import click
-from bench_sim import REPO, trial_rate  # scripts/ is this script's folder
+from benchmark_sim import REPO, trial_rate  # scripts/ is this script's folder
 
 from athrill_sim.programs.athrill2 import AthrillTransport, RealSync
 from hakoniwa.conventions import HELP

@@ -1,6 +1,6 @@
 """The controller's resident memory over a long validation, and what submitting every draw at once cost.
 
-Usage: python scripts/bench_validate_memory.py [--draws 10000] [--benches 2] [--time-limit 0.2]
+Usage: python scripts/benchmark_validate_memory.py [--draws 10000] [--benches 2] [--time-limit 0.2]
 
 It runs `hako run --smoke --validate 0` once into a scratch folder (a campaign with a best set), then
 validates that set on --draws draws through `testctl.campaign.validate.validate_best`, the code `hako run --validate`

@@ -1,7 +1,7 @@
 """What filming a test costs: frames rendered per second (MuJoCo offscreen, with and without the overlay),
 per camera and size, and the writers' cost per frame; and what recording the replay costs each test.
 
-Usage: MUJOCO_GL=egl python scripts/bench_video.py [--frames N]
+Usage: MUJOCO_GL=egl python scripts/benchmark_video.py [--frames N]
 Runs one noise-free lap of the paper's tracer (`hako try`) to get a real replay, then renders N frames of
 it spread over the lap for each setting (after one unmeasured frame that uploads the textures).
 """

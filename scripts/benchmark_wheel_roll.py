@@ -9,7 +9,7 @@ takes the larger condim of its two geoms where neither has priority, and the flo
 straight from rest, the path the axle centre drove against the counts' distance, and the part of the shortfall
 lost in the first 0.5 s, while the servo's torque exceeds the tyres' grip and the wheels spin.
 
-Usage: python scripts/bench_wheel_roll.py [--course NAME]
+Usage: python scripts/benchmark_wheel_roll.py [--course NAME]
 """
 
 from __future__ import annotations

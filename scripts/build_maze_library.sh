@@ -1,6 +1,6 @@
 #!/bin/sh
 # Build kerikun11/micromouse-maze-library (the C++ library micromouse users compare mazelog with) from source at a
-# pinned commit, with scripts/kerikun/maze_timing.cpp linked against it, for scripts/bench_maze_kernel.py.
+# pinned commit, with scripts/kerikun/maze_timing.cpp linked against it, for scripts/benchmark_maze_kernel.py.
 # Never vendored: SOURCE is a checkout, a bare mirror or a git URL, cloned into OUT (default build/kerikun).
 #
 #   scripts/build_maze_library.sh SOURCE [OUT]

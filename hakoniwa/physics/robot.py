@@ -18,7 +18,7 @@ from dataclasses import dataclass
 CHASSIS_BACK_M = 0.01  # the chassis box's centre sits this far behind the axle
 # The tyres' contact with the floor, stiff as a tyre on a mat is: MuJoCo's default contact (a 20 ms time
 # constant) let the wheels sink 0.4 mm and roll on a smaller radius than their counts say (issue 45,
-# scripts/bench_wheel_roll.py). 2 ms is the stiffest time constant the 1 ms physics step integrates stably
+# scripts/benchmark_wheel_roll.py). 2 ms is the stiffest time constant the 1 ms physics step integrates stably
 # (MuJoCo asks for at least two steps); the impedance 0.99 makes the contact hard from its first 1 mm.
 TYRE_SOLREF = "0.002 1"
 TYRE_SOLIMP = "0.99 0.99 0.001"

@@ -71,11 +71,11 @@ LIES: dict[str, Callable[[np.ndarray], float]] = {"min": np.min, "mean": np.mean
 """The constant liar's value for a pending point, as a function of the observed (normalized) Y. The min
 (pending points will be as good as the best) keeps a batch near the best set found, in a local basin too;
 once a set has failed, the max is the 60 s penalty, so it pretends that the pending point failed and pushes
-the rest of the batch out of the promising region. The default is the mean, in between: in scripts/bench_sampler.py
+the rest of the batch out of the promising region. The default is the mean, in between: in scripts/benchmark_sampler.py
 (`--lies`) no lie beat the others beyond the spread of the seeds, and the max left the most campaigns far
 from the best after 40 sets."""
 
-# The GP and the acquisition search, chosen with scripts/bench_sampler.py on its `basins` objective.
+# The GP and the acquisition search, chosen with scripts/benchmark_sampler.py on its `basins` objective.
 _GP_RESTARTS = 1  # GPyOpt: 5. One fit from the start below found points as good as 2 did, at half the cost
 _INIT_LENGTHSCALE = 1.0  # the whole range, GPy's default, on the unit cube (0.2 trapped the search more often)
 _ANCHOR_SAMPLES = 1000  # uniform points scored to pick the L-BFGS starts, as GPyOpt does

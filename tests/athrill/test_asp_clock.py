@@ -162,7 +162,7 @@ def test_raspike_arts_own_sample_runs_on_the_bench_clock(probe: tuple[Path, Path
     """sample_c5_spike under the library: past main's sleep(1) and the force-sensor press it drives the motors
     by the reflection (LineTracer.c 52-79; tests/physics/test_raspike_hub.py works the numbers out), at the
     same simulated instants twice: the serial exchange is in the lockstep, not the wall's race (two runs reached
-    the motors at 1.626 s and 2.560 s before it). How fast it runs is scripts/bench_sim.py's to say, not a
+    the motors at 1.626 s and 2.560 s before it). How fast it runs is scripts/benchmark_sim.py's to say, not a
     test's."""
     from athrill_sim.programs.third_party import RASPIKE_ART
     from athrill_sim.raspike_art.build import DEFAULT_FOLDER, build_asp

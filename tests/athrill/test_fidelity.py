@@ -1,4 +1,4 @@
-"""Native runs mean what the real emulator means: a small subset of scripts/bench_fidelity.py (the built-in C
+"""Native runs mean what the real emulator means: a small subset of scripts/benchmark_fidelity.py (the built-in C
 tracer at two of its random gain sets, and the SDK's base_practice_1), natively and in the real athrill2's
 repeatable mode, must give the same event and laps and distances within 2%."""
 
@@ -13,7 +13,7 @@ from tests.helpers.athrill_fixtures import REPO
 
 @pytest.mark.slow
 def test_native_and_real_runs_agree_on_a_subset(base_practice_image, repeatable_athrill2):
-    out = subprocess.run([sys.executable, str(REPO / "scripts" / "bench_fidelity.py"), "--sets", "2",
+    out = subprocess.run([sys.executable, str(REPO / "scripts" / "benchmark_fidelity.py"), "--sets", "2",
                           "--time-limit", "40", "--only", "line_trace_c", "--only", "base_practice_1",
                           "--athrill2", str(repeatable_athrill2)], capture_output=True, text=True, timeout=1200)
     assert "skipped" not in out.stdout, out.stdout
@@ -27,7 +27,7 @@ def test_the_team_style_c_and_cpp_programs_agree_natively_and_in_the_real_emulat
 
     need_v850_tools()
     teams = ("etrobo_cpp_tracer", "cpp_features", "etrobo_hackev", "etrobo_spike_cpp")
-    out = subprocess.run([sys.executable, str(REPO / "scripts" / "bench_fidelity.py"), "--no-corpus",
+    out = subprocess.run([sys.executable, str(REPO / "scripts" / "benchmark_fidelity.py"), "--no-corpus",
                           *(arg for name in teams for arg in ("--only", name)),
                           "--athrill2", str(repeatable_athrill2)], capture_output=True, text=True, timeout=1800)
     assert "skipped" not in out.stdout, out.stdout
@@ -46,7 +46,7 @@ def test_raspike_arts_official_samples_agree_natively_and_in_the_real_emulator(r
         pytest.skip(NEEDS_RASPIKE)
     need_v850_tools()
     samples = ("sample_c5_spike", "sdk sample_c5_spike", "sample_c5")
-    out = subprocess.run([sys.executable, str(REPO / "scripts" / "bench_fidelity.py"), "--no-teams", "--sets", "1",
+    out = subprocess.run([sys.executable, str(REPO / "scripts" / "benchmark_fidelity.py"), "--no-teams", "--sets", "1",
                           *(arg for name in samples for arg in ("--only", name)),
                           "--athrill2", str(repeatable_athrill2)], capture_output=True, text=True, timeout=1800)
     assert "skipped" not in out.stdout and "not run" not in out.stdout, out.stdout

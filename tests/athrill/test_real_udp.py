@@ -19,7 +19,7 @@ from tests.helpers.realemu_fixtures import ETROBOC_DEVICE_CONFIGS, need_v850_too
 TRACER = REPO / "athrill_sim" / "apps" / "line_trace.c"
 RUNS = 3  # per transport: the hakoniwa mode's laps vary from run to run, their medians less
 LAP_TOLERANCE = 0.02
-# A well-damped set (scripts/bench_fidelity.py's 2.526/2.945/0.173): its laps spread 0.6% run to run in either
+# A well-damped set (scripts/benchmark_fidelity.py's 2.526/2.945/0.173): its laps spread 0.6% run to run in either
 # transport here, where the paper's gains (Kd 4.5) amplify the hakoniwa mode's timing to 3%.
 GAINS = ("--kp", "2.526", "--ki", "2.945", "--kd", "0.173")
 

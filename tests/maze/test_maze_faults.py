@@ -158,7 +158,7 @@ def test_bench_search_says_where_its_mazes_come_from(tmp_path: Path) -> None:
     import subprocess
     import sys
 
-    script = SCRIPTS / "bench_search.py"
+    script = SCRIPTS / "benchmark_search.py"
     r = subprocess.run([sys.executable, script, "--mazes", tmp_path / "nothing"], capture_output=True, text=True)
     assert r.returncode == 1
     assert "micromouseonline/mazefiles at commit a71f846897fdd2193e726a1276c6774c9ce9ac67" in r.stderr

@@ -1,5 +1,5 @@
 """The wheels roll as far as their counts say (issue 45): on the real robot a program that measures distance by
-its wheel counts and the nominal wheel size drives that far, within 1-2%. scripts/bench_wheel_roll.py measures
+its wheel counts and the nominal wheel size drives that far, within 1-2%. scripts/benchmark_wheel_roll.py measures
 the same at four powers; this checks one, in a second."""
 
 import math

@@ -92,3 +92,8 @@ def test_hako_trial_still_runs_hidden_and_deprecated():
     old = main.get_command(ctx, "trial")
     assert "try" in shown and "trial" not in shown
     assert old.callback is main.get_command(ctx, "try").callback and "hako try" in str(old.deprecated)
+
+
+def test_a_script_that_measures_is_named_a_benchmark():
+    """A bench is a physics process and its program; a script that prints numbers is a benchmark."""
+    assert sorted(p.name for p in (REPO / "scripts").glob("bench_*.py")) == []
