@@ -8,12 +8,14 @@ printed, shown as printed). A page line over MAX_LINE characters is refused: a f
 own, not in prose.
 
 Usage:
-  python scripts/benchmark_tables.py [--check]             render every table into docs/BENCHMARKS.md; with --check
-                                                       write nothing, and exit 1 if a table differs from its data
-  python scripts/benchmark_tables.py record NAME -- CMD... run CMD (a benchmark script), record what it printed as the
-                                                       data of table NAME, with this machine and today's date, and
-                                                       render the page (`tests/project/test_bench_tables.py`
-                                                       fails on a table its data no longer gives)
+  python scripts/benchmark_tables.py [--check]             render every table into docs/BENCHMARKS.md; with
+                                                           --check write nothing, and exit 1 if a table differs
+                                                           from its data
+  python scripts/benchmark_tables.py record NAME -- CMD... run CMD (a benchmark script), record what it printed
+                                                           as the data of table NAME, with this machine and
+                                                           today's date, and render the page
+                                                           (`tests/project/test_benchmark_tables.py` fails on a
+                                                           table its data no longer gives)
 """
 
 from __future__ import annotations
