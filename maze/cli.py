@@ -17,27 +17,27 @@ import click
 
 from hakoniwa.wire.exits import EXIT_COMMAND_CAP, EXIT_INTERRUPTED
 
-from .builtin import EXAMPLES, builtin_example, builtin_names, builtin_path
-from .compare import WallDiff, compare
 from .direction import LETTER
 from .errors import MazeError, MazelogError
-from .mazefile import dump_maze
-from .mazeio import is_maze_file, read_maze, write_maze
-from .mazejson import maze_to_json
+from .files.builtin import EXAMPLES, builtin_example, builtin_names, builtin_path
+from .files.mazefile import dump_maze
+from .files.mazeio import is_maze_file, read_maze, write_maze
+from .files.mazejson import maze_to_json
+from .log.restore import LoadedLog, load_log, restore, select
+from .log.wallrecord import COORD_LIMIT, RECORD_BYTES, TEXT_HEADER, WallRecord, encode_log, parse_text_records
 from .model import Cell, Maze, central_goals, goals_text, inner_wall_count
-from .mouseparams import MouseParams, load_mouse
 from .outputs import atomic_open, refuse_overwrite, write_bytes, write_text
-from .restore import LoadedLog, load_log, restore, select
-from .strategies import OBJECTIVES, STRATEGIES
-from .wallrecord import COORD_LIMIT, RECORD_BYTES, TEXT_HEADER, WallRecord, encode_log, parse_text_records
+from .scoring.compare import WallDiff, compare
+from .search.strategies import OBJECTIVES, STRATEGIES
+from .timing.mouseparams import MouseParams, load_mouse
 
 if TYPE_CHECKING:
-    from .explorer import SearchResult
     from .fastpath import Route
-    from .film import Replay
-    from .harness import MouseRun
-    from .mmsworld import MmsWorld
-    from .motion import SearchRun
+    from .mouse.harness import MouseRun
+    from .mouse.mmsworld import MmsWorld
+    from .pictures.film import Replay
+    from .search.explorer import SearchResult
+    from .timing.motion import SearchRun
 
 F = TypeVar("F", bound=Callable[..., Any])
 MAX_WARNINGS = 20
@@ -257,7 +257,7 @@ def replay(log: Path, size: int | None, drop_last: int, until: int | None, fmt: 
 
 def draw_replay(log: Path, loaded: LoadedLog, records: list[WallRecord], drop_last: int, truth_path: Path | None,
                 truth: Maze | None, size: int, png: Path | None, gif: Path | None, stride: int | None) -> None:
-    from .film import Replay, default_stride
+    from .pictures.film import Replay, default_stride
 
     def title(replay: Replay) -> list[str]:
         footer = replay_footer(replay.applied, loaded, drop_last, replay.maze, replay.contradictions)
@@ -291,7 +291,7 @@ def show(mazefile: Path, png: Path | None, out: Path | None, strict: bool) -> No
     click.echo(text_view(maze, None, f"{maze.size}x{maze.size}, start {maze.start}, goal {goals_text(maze.goals)}"),
                nl=False)
     if png is not None:
-        from .render import save_png
+        from .pictures.render import save_png
 
         save_png(maze, png, title=[mazefile.name])
 
@@ -456,7 +456,7 @@ def explore(mazefile: Path, program: str | None, strategy: str | None, objective
         explore_mouse(program, truth, mazefile, objective, diagonal, timing, log_path, png, power_cut, max_steps,
                       time_budget, timeout, reset_at, animate)
         return
-    from .explorer import explore as run_search
+    from .search.explorer import explore as run_search
 
     strategy = strategy or DEFAULT_STRATEGY
     result = run_search(truth, strategy, objective, diagonal, timing)
@@ -508,8 +508,8 @@ def explore_mouse(program: str, truth: Maze, mazefile: Path, objective: str, dia
                   time_budget: float | None, timeout: float, reset_at: tuple[int, ...],
                   animate: Path | None) -> None:
     """The user's program as the mouse; whatever happens, the log of what it sensed so far is written."""
-    from .harness import program_argv, run_mouse
-    from .mmsworld import MmsWorld
+    from .mouse.harness import program_argv, run_mouse
+    from .mouse.mmsworld import MmsWorld
 
     if power_cut == "reset" and not reset_at:
         raise click.UsageError("--power-cut reset needs --reset-at")
@@ -534,7 +534,7 @@ def explore_mouse(program: str, truth: Maze, mazefile: Path, objective: str, dia
     echo_mouse_paths(world.sensed, truth, objective, diagonal, timing)
     click.echo(f"stderr:        {files[STDERR]}")
     if png is not None:
-        from .render import Overlay, save_png
+        from .pictures.render import Overlay, save_png
 
         overlay = Overlay(visited=set(world.trace), marks=final_marks(world))
         save_png(world.sensed, png, title=[f"{mazefile.name}: {program}", f"{world.steps} steps, "
@@ -555,7 +555,7 @@ def explore_mouse(program: str, truth: Maze, mazefile: Path, objective: str, dia
 
 
 def final_marks(world: MmsWorld) -> dict[Cell, tuple[str, str]]:
-    from .marks import marks_at
+    from .mouse.marks import marks_at
 
     return marks_at(world.marks, len(world.records))
 
@@ -563,7 +563,7 @@ def final_marks(world: MmsWorld) -> dict[Cell, tuple[str, str]]:
 def write_film(gif: Path, start: Replay, records: list[WallRecord], step: int,
                title: Callable[[Replay], list[str]]) -> int:
     """The GIF of `records` replayed from `start`, a frame per `step`, with a progress bar; frames written."""
-    from .film import film, frame_count, write_gif
+    from .pictures.film import film, frame_count, write_gif
 
     with atomic_open(gif) as fp, click.progressbar(film(start, records, step, title),
                                                   length=frame_count(len(records), step), label="drawing frames",
@@ -572,7 +572,7 @@ def write_film(gif: Path, start: Replay, records: list[WallRecord], step: int,
 
 
 def film_mouse(world: MmsWorld, mazefile: Path, program: str, gif: Path) -> None:
-    from .film import Replay, default_stride
+    from .pictures.film import Replay, default_stride
 
     records = world.records
     step = default_stride(len(records))
@@ -586,7 +586,7 @@ def film_mouse(world: MmsWorld, mazefile: Path, program: str, gif: Path) -> None
 
 def echo_mouse_paths(sensed: Maze, truth: Maze, objective: str, diagonal: bool, timing: MouseParams) -> None:
     """The best run the sensed walls prove, against the true maze's."""
-    from .stepmap import pessimistic, shortest_path
+    from .search.stepmap import pessimistic, shortest_path
 
     if objective == "time":
         from .fastpath import fastest_route
@@ -624,7 +624,7 @@ def write_log(records: list[WallRecord], size: int, log_path: Path, cut: int | N
     if cut is None:
         write_bytes(log_path, data)
         return f"{len(records)} records, {len(data)} bytes{note} -> {log_path}"
-    from .flash import cut_log
+    from .log.flash import cut_log
 
     image, written = cut_log(records, size, cut)
     write_bytes(log_path, image)
@@ -635,7 +635,7 @@ def write_log(records: list[WallRecord], size: int, log_path: Path, cut: int | N
 
 def draw_search(result: SearchResult, truth: Maze, mazefile: Path, strategy: str, objective: str,
                 png: Path) -> None:
-    from .render import Overlay, cell_centres, save_png
+    from .pictures.render import Overlay, cell_centres, save_png
 
     if objective == "time":
         route = result.found_route
@@ -700,7 +700,7 @@ def path(source: Path, size: int | None, objective: str, diagonal: bool, timing_
     Moves: S<n> n cells along the walls, D<n> n diagonal steps (wall to wall, 0.71 cell each), R/L for right and
     left turns: 90s (inside a cell), 90, 180, 45, 135, V90 (slaloms)."""
     from .fastpath import fastest_route, run_of_cells
-    from .stepmap import pessimistic, shortest_path
+    from .search.stepmap import pessimistic, shortest_path
 
     refuse_overwrite({"MAZE_OR_LOG": source, "--maze": truth_path}, {"--png": png})
     maze, kind, assumed = read_maze_or_log(source, size, load_maze(truth_path, strict) if truth_path else None, strict)
@@ -731,7 +731,7 @@ def path(source: Path, size: int | None, objective: str, diagonal: bool, timing_
 
 def wrap_title(text: str, size: int) -> list[str]:
     """Title lines that fit the picture's width, broken between moves."""
-    from .render import text_width, title_width
+    from .pictures.render import text_width, title_width
 
     lines, line = [], ""
     for word in text.split():
@@ -744,7 +744,7 @@ def wrap_title(text: str, size: int) -> list[str]:
 
 
 def draw_path(maze: Maze, route: Route, source: Path, objective: str, png: Path) -> None:
-    from .render import Overlay, save_png
+    from .pictures.render import Overlay, save_png
 
     label = f"{'fastest run' if objective == 'time' else 'fewest cells'}: {route.seconds:.3f} s"
     overlay = Overlay(path=[(x / 2, y / 2) for x, y in route.points], path_label=label)
@@ -771,8 +771,8 @@ def bench(mazes: tuple[Path, ...], programs: tuple[str, ...], strategies: tuple[
     one CSV row per run, totals and who is best where."""
     from multiprocessing import Pool
 
-    from .benchmark import Entrant, Job, default_jobs, entrant_folder, maze_files, run_job, summary, write_csv
-    from .harness import program_argv
+    from .mouse.harness import program_argv
+    from .scoring.benchmark import Entrant, Job, default_jobs, entrant_folder, maze_files, run_job, summary, write_csv
 
     if not programs and not strategies:
         raise click.UsageError("give at least one --mouse or --strategy")

@@ -12,7 +12,7 @@ from typing import NamedTuple
 
 from .direction import DELTA, DIRECTIONS, EAST, NORTH, SOUTH, WEST
 from .errors import MazeError
-from .wallrecord import COORD_LIMIT
+from .log.wallrecord import COORD_LIMIT
 
 Cell = tuple[int, int]
 

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import click
 
-from maze.builtin import builtin_path
+from maze.files.builtin import builtin_path
 
 ROOT = Path(__file__).resolve().parents[1]
 HELD_OUT = ROOT.parent / "shared" / "mazes" / "halfsize"

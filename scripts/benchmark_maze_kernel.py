@@ -46,9 +46,9 @@ def worker(maze_path: Path, repeat: int) -> dict[str, float]:
 
     import maze
     from maze.fastpath import fastest_route
-    from maze.mazefile import parse_maze
-    from maze.mouseparams import load_mouse
-    from maze.stepmap import pessimistic
+    from maze.files.mazefile import parse_maze
+    from maze.search.stepmap import pessimistic
+    from maze.timing.mouseparams import load_mouse
 
     truth = parse_maze(maze_path.read_text())
     mouse = load_mouse(None, truth.size)
@@ -126,7 +126,7 @@ def main(worker_maze: Path | None, before: Path | None, kerikun: Path | None, he
     if worker_maze is not None:
         print(json.dumps(worker(worker_maze, repeat)))
         return
-    from maze.builtin import builtin_path
+    from maze.files.builtin import builtin_path
 
     kerikun, held_out = (p.resolve() if p else None for p in (kerikun, held_out))  # the runs are from a temp folder
     mazes = [(builtin_path(n), "dev") for n in DEV]

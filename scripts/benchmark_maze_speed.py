@@ -24,13 +24,13 @@ import click
 
 import maze
 import maze.fastpath
-from maze.builtin import builtin_path
-from maze.explorer import explore
 from maze.fastpath import fastest_route, move_graph
-from maze.mazefile import parse_maze
+from maze.files.builtin import builtin_path
+from maze.files.mazefile import parse_maze
 from maze.model import Maze
-from maze.mouseparams import MouseParams, load_mouse
-from maze.stepmap import optimistic, pessimistic
+from maze.search.explorer import explore
+from maze.search.stepmap import optimistic, pessimistic
+from maze.timing.mouseparams import MouseParams, load_mouse
 
 ROOT = Path(__file__).resolve().parents[1]
 HELD_OUT = ROOT.parent / "shared" / "mazes" / "halfsize"
@@ -107,8 +107,8 @@ def search_queries(maze_path: Path) -> dict[str, tuple[float, float]]:
 
 def protocol_in_process(repeat: int) -> float:
     """Parsing and answering, per command, on the mms-python template's command stream."""
-    from maze.mms import parse_command
-    from maze.mmsworld import MmsWorld
+    from maze.mouse.mms import parse_command
+    from maze.mouse.mmsworld import MmsWorld
 
     truth = parse_maze(builtin_path("japan2019hef").read_text())
     lines = ["wallLeft", "turnLeft", "wallFront", "turnRight", "wallFront", "moveForward", "setColor 1 1 r",

@@ -12,10 +12,10 @@ from pathlib import Path
 
 import click
 
-from maze.builtin import builtin_path
-from maze.mazefile import parse_maze
-from maze.restore import load_log, records_for, restore
-from maze.wallrecord import encode_log
+from maze.files.builtin import builtin_path
+from maze.files.mazefile import parse_maze
+from maze.log.restore import load_log, records_for, restore
+from maze.log.wallrecord import encode_log
 
 DEFAULT_MAZE = builtin_path("japan2019hef")
 

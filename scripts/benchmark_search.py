@@ -23,13 +23,13 @@ from pathlib import Path
 
 import click
 
-from maze.builtin import builtin_names, builtin_path
-from maze.explorer import explore
-from maze.flash import SECTOR_BYTES, compare_schemes, snapshot_bytes
-from maze.mazefile import parse_maze
+from maze.files.builtin import builtin_names, builtin_path
+from maze.files.mazefile import parse_maze
+from maze.log.flash import SECTOR_BYTES, compare_schemes, snapshot_bytes
+from maze.log.wallrecord import RECORD_BYTES
 from maze.model import inner_wall_count
-from maze.strategies import OPTIMAL_CLAIMED, STRATEGIES
-from maze.wallrecord import RECORD_BYTES
+from maze.search.explorer import explore
+from maze.search.strategies import OPTIMAL_CLAIMED, STRATEGIES
 
 MAZES = Path(__file__).resolve().parents[1].parent / "shared" / "mazes"
 MAZEFILES = "micromouseonline/mazefiles at commit a71f846897fdd2193e726a1276c6774c9ce9ac67"

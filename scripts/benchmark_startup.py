@@ -18,10 +18,10 @@ from pathlib import Path
 
 import click
 
-from maze.builtin import builtin_path
-from maze.mazefile import parse_maze
-from maze.restore import records_for
-from maze.wallrecord import encode_log
+from maze.files.builtin import builtin_path
+from maze.files.mazefile import parse_maze
+from maze.log.restore import records_for
+from maze.log.wallrecord import encode_log
 
 TARGET_S = 0.3
 BIN = Path(sys.executable).parent

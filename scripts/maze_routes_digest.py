@@ -27,13 +27,13 @@ import hashlib
 from collections.abc import Iterator
 from pathlib import Path
 
-from maze.builtin import builtin_dir
-from maze.explorer import explore
 from maze.fastpath import Route, fastest_route, run_of_cells
-from maze.mazeio import read_maze
+from maze.files.builtin import builtin_dir
+from maze.files.mazeio import read_maze
 from maze.model import Maze
-from maze.mouseparams import load_mouse
-from maze.stepmap import optimistic, pessimistic, shortest_path
+from maze.search.explorer import explore
+from maze.search.stepmap import optimistic, pessimistic, shortest_path
+from maze.timing.mouseparams import load_mouse
 
 SHARED = Path(__file__).resolve().parents[1].parent / "shared" / "mazes"
 

@@ -29,8 +29,8 @@ from typing import Protocol
 from ..direction import DELTA
 from ..errors import MazeError
 from ..model import Cell, Maze
-from ..mouseparams import MouseParams
-from ..route import Route
+from ..timing.mouseparams import MouseParams
+from ..timing.route import Route
 from .compiled import kernel
 
 

@@ -19,8 +19,8 @@ import numpy as np
 
 from ..direction import ALONG, DIAGONAL, STEP
 from ..model import point_wall
-from ..motion import turn_seconds
-from ..mouseparams import MouseParams
+from ..timing.motion import turn_seconds
+from ..timing.mouseparams import MouseParams
 from .graph import (
     LAYERS,
     MAX_CROSSINGS,

@@ -1,6 +1,6 @@
-"""The nodes and times a query of the scipy path found (maze/fastpath/query.py) decoded into a Route (maze/route.py):
-its moves, the wall points crossed, the walls and the cells entered. The compiled kernel decodes its own
-(fp_decode in maze/fastpath/kernel.c)."""
+"""The nodes and times a query of the scipy path found (maze/fastpath/query.py) decoded into a Route
+(maze/timing/route.py): its moves, the wall points crossed, the walls and the cells entered. The compiled kernel
+decodes its own (fp_decode in maze/fastpath/kernel.c)."""
 
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ import numpy as np
 
 from ..direction import ALONG, STEP
 from ..model import Cell
-from ..motion import TURNS
-from ..route import Move, Route
+from ..timing.motion import TURNS
+from ..timing.route import Move, Route
 from .build import StaticGraph
 from .graph import B, G
 

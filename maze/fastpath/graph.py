@@ -11,8 +11,8 @@ from math import ceil
 
 from ..direction import ALONG, STEP, opposite
 from ..model import Cell, sides_of
-from ..motion import HALF_DIAGONAL, straight_seconds
-from ..mouseparams import MouseParams
+from ..timing.motion import HALF_DIAGONAL, straight_seconds
+from ..timing.mouseparams import MouseParams
 
 LAYERS = 4  # A, B, G, C
 A, B, G, C = range(LAYERS)

@@ -19,9 +19,9 @@ from typing import Any
 
 from ..direction import ALONG, DIAGONAL
 from ..model import Cell, point_wall
-from ..motion import TURNS, turn_seconds
-from ..mouseparams import MouseParams
-from ..route import Move, Route
+from ..timing.motion import TURNS, turn_seconds
+from ..timing.mouseparams import MouseParams
+from ..timing.route import Move, Route
 from .compiled import Spec
 from .graph import (
     MAX_CROSSINGS,

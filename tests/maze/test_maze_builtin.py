@@ -8,8 +8,8 @@ Tests run on the mazes shipped in the package, so they pass on a fresh clone. Th
 import pytest
 
 from athrill_sim.programs.third_party import MAZES
-from maze.builtin import builtin_dir, builtin_names, builtin_path
-from maze.mazefile import parse_maze
+from maze.files.builtin import builtin_dir, builtin_names, builtin_path
+from maze.files.mazefile import parse_maze
 from tests.helpers.commands import mazelog
 from tests.helpers.paths import SHARED, needs_shared
 

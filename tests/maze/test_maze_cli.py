@@ -7,13 +7,13 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from maze.builtin import builtin_path
 from maze.cli import main
 from maze.direction import NORTH
-from maze.mazefile import dump_maze, parse_maze
+from maze.files.builtin import builtin_path
+from maze.files.mazefile import dump_maze, parse_maze
+from maze.log.restore import records_for
+from maze.log.wallrecord import WallRecord, encode_log
 from maze.model import Maze
-from maze.restore import records_for
-from maze.wallrecord import WallRecord, encode_log
 from tests.helpers.commands import mazelog
 
 CLASSIC = builtin_path("alljapan-001-1980")
@@ -179,7 +179,7 @@ def test_explore_png_is_readable_and_has_a_legend(tmp_path):
     """The picture was 6 inches at 110 dpi, squeezed by a tight bounding box, with no legend for its colours."""
     from PIL import Image
 
-    from maze.render import COLOURS
+    from maze.pictures.render import COLOURS
 
     png = tmp_path / "run.png"
     explored = mazelog("explore", CLASSIC, "--log", tmp_path / "run.bin", "--png", png, "--strategy", "closing")

@@ -1,5 +1,5 @@
-from maze.closing import close_dead_ends, nearest_branch
-from maze.mazefile import parse_maze
+from maze.files.mazefile import parse_maze
+from maze.search.closing import close_dead_ends, nearest_branch
 
 # (1,1)-(2,1) is a pocket whose only way in is the open east side of (0,1); the wall between them is unknown
 POCKET = """\

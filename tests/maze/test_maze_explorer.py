@@ -1,15 +1,15 @@
 import pytest
 
-from maze import explorer
-from maze.builtin import builtin_path
-from maze.compare import compare
 from maze.direction import DELTA, DIRECTIONS, EAST, SOUTH
 from maze.errors import MazeError
-from maze.explorer import explore
-from maze.mazefile import parse_maze
-from maze.restore import restore
-from maze.strategies import OPTIMAL_CLAIMED, STRATEGIES
-from maze.wallrecord import WallRecord
+from maze.files.builtin import builtin_path
+from maze.files.mazefile import parse_maze
+from maze.log.restore import restore
+from maze.log.wallrecord import WallRecord
+from maze.scoring.compare import compare
+from maze.search import explorer
+from maze.search.explorer import explore
+from maze.search.strategies import OPTIMAL_CLAIMED, STRATEGIES
 from tests.maze.test_maze_builtin import builtin_maze_params, large_maze_params
 
 # five built-in 16x16 mazes, spread over the years
@@ -62,7 +62,7 @@ def test_search_invariants(path, strategy):
 
 
 def test_closing_never_seals_the_mouse_in_or_cuts_off_the_goal(monkeypatch):
-    from maze.stepmap import UNREACHED, optimistic, step_map
+    from maze.search.stepmap import UNREACHED, optimistic, step_map
 
     calls = []
     original = explorer.close_dead_ends

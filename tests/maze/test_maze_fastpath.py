@@ -9,13 +9,13 @@ import math
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from maze.builtin import builtin_path
 from maze.fastpath import MoveGraph, move_graph
 from maze.fastpath.graph import G
-from maze.mazefile import parse_maze
+from maze.files.builtin import builtin_path
+from maze.files.mazefile import parse_maze
 from maze.model import Maze
-from maze.mouseparams import load_mouse
-from maze.stepmap import optimistic, pessimistic
+from maze.search.stepmap import optimistic, pessimistic
+from maze.timing.mouseparams import load_mouse
 
 
 def plain_fastest(graph: MoveGraph, maze: Maze) -> float:

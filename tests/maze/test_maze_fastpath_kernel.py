@@ -10,14 +10,14 @@ from unittest import mock
 import pytest
 from hypothesis import given, settings
 
-from maze.builtin import builtin_names, builtin_path
-from maze.explorer import explore
 from maze.fastpath import Graph, MoveGraph, Route, compiled, move_graph
 from maze.fastpath.native import NativeGraph
-from maze.mazefile import parse_maze
+from maze.files.builtin import builtin_names, builtin_path
+from maze.files.mazefile import parse_maze
 from maze.model import Maze
-from maze.mouseparams import load_mouse
-from maze.stepmap import optimistic, pessimistic
+from maze.search.explorer import explore
+from maze.search.stepmap import optimistic, pessimistic
+from maze.timing.mouseparams import load_mouse
 from tests.maze.test_maze_fastpath import maze_series
 
 pytestmark = pytest.mark.skipif(compiled.kernel() is None, reason="no C compiler to build the kernel")

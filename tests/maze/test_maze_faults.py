@@ -9,14 +9,14 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from maze.builtin import builtin_path
 from maze.cli import wrap_title
 from maze.direction import EAST, NORTH
+from maze.files.builtin import builtin_path
+from maze.log.restore import records_for
+from maze.log.wallrecord import WallRecord, encode_log
 from maze.model import Maze
 from maze.outputs import atomic_open
-from maze.render import COLOURS, text_width, title_width
-from maze.restore import records_for
-from maze.wallrecord import WallRecord, encode_log
+from maze.pictures.render import COLOURS, text_width, title_width
 from tests.helpers.commands import mazelog
 from tests.helpers.paths import SCRIPTS
 

@@ -9,12 +9,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from PIL import Image
 
-from maze.builtin import builtin_path
-from maze.explorer import explore
-from maze.film import MAX_FRAMES, default_stride, write_gif
-from maze.mazefile import parse_maze
-from maze.render import COLOURS, PALETTE
-from maze.wallrecord import WallRecord, encode_log
+from maze.files.builtin import builtin_path
+from maze.files.mazefile import parse_maze
+from maze.log.wallrecord import WallRecord, encode_log
+from maze.pictures.film import MAX_FRAMES, default_stride, write_gif
+from maze.pictures.render import COLOURS, PALETTE
+from maze.search.explorer import explore
 from tests.helpers.commands import mazelog
 
 CLASSIC = builtin_path("alljapan-010-1989-fin")

@@ -1,11 +1,11 @@
 import pytest
 from click.testing import CliRunner
 
-from maze.builtin import builtin_path
 from maze.cli import main
 from maze.errors import MazeError
-from maze.explorer import explore
-from maze.flash import (
+from maze.files.builtin import builtin_path
+from maze.files.mazefile import parse_maze
+from maze.log.flash import (
     SCHEMES,
     NorFlash,
     PowerCut,
@@ -18,8 +18,8 @@ from maze.flash import (
     snapshot_bytes,
     unpack_snapshot,
 )
-from maze.mazefile import parse_maze
-from maze.restore import load_log, restore
+from maze.log.restore import load_log, restore
+from maze.search.explorer import explore
 
 CLASSIC = builtin_path("alljapan-010-1989-fin")
 

@@ -6,11 +6,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from maze.builtin import builtin_path
 from maze.direction import EAST
 from maze.errors import MazeError
-from maze.mazefile import parse_maze
-from maze.mazeformats import MAZ_BYTES, dump_maz, dump_num, parse_maz, parse_num
+from maze.files.builtin import builtin_path
+from maze.files.mazefile import parse_maze
+from maze.files.mazeformats import MAZ_BYTES, dump_maz, dump_num, parse_maz, parse_num
 from maze.model import Maze
 from tests.helpers.commands import mazelog
 

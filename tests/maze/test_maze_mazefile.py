@@ -2,11 +2,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from maze.builtin import builtin_path
 from maze.errors import MazeError
-from maze.mazefile import dump_maze, parse_maze
+from maze.files.builtin import builtin_path
+from maze.files.mazefile import dump_maze, parse_maze
 from maze.model import Maze, central_goals
-from maze.stepmap import UNREACHED, pessimistic, shortest_path, step_map
+from maze.search.stepmap import UNREACHED, pessimistic, shortest_path, step_map
 from tests.maze.test_maze_builtin import builtin_maze_params, large_maze_params
 
 

@@ -5,10 +5,10 @@ import pytest
 from athrill_sim.programs.third_party import SEEDS
 from maze.direction import EAST, NORTH, SOUTH
 from maze.errors import MazeError
-from maze.mazefile import dump_maze, parse_maze
+from maze.files.mazefile import dump_maze, parse_maze
+from maze.log.restore import apply_records, load_log, records_for, restore, select
+from maze.log.wallrecord import RECORD_BYTES, WallRecord, encode_log, parse_text_records
 from maze.model import Maze, inner_wall_count
-from maze.restore import apply_records, load_log, records_for, restore, select
-from maze.wallrecord import RECORD_BYTES, WallRecord, encode_log, parse_text_records
 from tests.helpers.paths import SHARED, needs_shared
 from tests.maze.test_maze_builtin import builtin_maze_params, large_maze_params
 

@@ -4,7 +4,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from maze.model import Maze
-from maze.stepmap import (
+from maze.search.stepmap import (
     UNREACHED,
     bit,
     cells_of,

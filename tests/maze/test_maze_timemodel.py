@@ -6,16 +6,16 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from maze.builtin import builtin_path
 from maze.direction import EAST, NORTH, SOUTH, WEST
 from maze.errors import MazeError
 from maze.fastpath import fastest_route, run_of_cells
 from maze.fastpath.graph import ALONG_TURNS, DIAGONAL_TURNS, turn_shapes
-from maze.mazefile import parse_maze
+from maze.files.builtin import builtin_path
+from maze.files.mazefile import parse_maze
 from maze.model import Maze
-from maze.motion import TURNS, search_run, straight_seconds, turn_seconds
-from maze.mouseparams import builtin_table, load_mouse, mouse_from_table
-from maze.stepmap import pessimistic, shortest_path
+from maze.search.stepmap import pessimistic, shortest_path
+from maze.timing.motion import TURNS, search_run, straight_seconds, turn_seconds
+from maze.timing.mouseparams import builtin_table, load_mouse, mouse_from_table
 from tests.helpers.commands import mazelog
 
 # A mouse with round numbers: 1 m cells, 1 m/s^2, turns at 0.5 m/s with no lateral limit unless a test sets one.

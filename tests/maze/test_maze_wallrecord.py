@@ -6,7 +6,7 @@ from hypothesis import strategies as st
 
 from maze.direction import DIRECTIONS, EAST, NORTH, SOUTH, WEST
 from maze.errors import MazeError
-from maze.wallrecord import (
+from maze.log.wallrecord import (
     COORD_LIMIT,
     TERMINATOR,
     WallRecord,

@@ -6,13 +6,13 @@ from pathlib import Path
 
 import pytest
 
-from maze.benchmark import commands_for
-from maze.builtin import builtin_names, builtin_path
-from maze.explorer import explore
-from maze.mazefile import parse_maze
-from maze.mms import parse_command
-from maze.mmsworld import MmsWorld
-from maze.mouseparams import load_mouse
+from maze.files.builtin import builtin_names, builtin_path
+from maze.files.mazefile import parse_maze
+from maze.mouse.mms import parse_command
+from maze.mouse.mmsworld import MmsWorld
+from maze.scoring.benchmark import commands_for
+from maze.search.explorer import explore
+from maze.timing.mouseparams import load_mouse
 from tests.helpers.commands import mazelog
 from tests.helpers.paths import MICE
 

@@ -8,9 +8,9 @@ from pathlib import Path
 
 import pytest
 
-from maze.builtin import builtin_path
-from maze.mazefile import parse_maze
-from maze.restore import load_log, restore
+from maze.files.builtin import builtin_path
+from maze.files.mazefile import parse_maze
+from maze.log.restore import load_log, restore
 from tests.helpers.commands import mazelog
 from tests.helpers.paths import MICE
 from tests.helpers.processes import interruptible
@@ -112,9 +112,9 @@ def test_a_slow_start_up_is_not_a_silence(tmp_path: Path) -> None:
 
 
 def test_a_mouse_that_never_starts_talking_times_out(tmp_path: Path, monkeypatch) -> None:
-    import maze.harness
+    import maze.mouse.harness
 
-    monkeypatch.setattr(maze.harness, "STARTUP_S", 1.0)
+    monkeypatch.setattr(maze.mouse.harness, "STARTUP_S", 1.0)
     r = mazelog("explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'mute.py'}", "--timeout", "0.2",
             "--log", tmp_path / "m.bin")
     assert r.exit_code == 1
@@ -211,10 +211,10 @@ def test_power_cut_at_a_reset_that_never_came_cuts_nothing(tmp_path: Path) -> No
 
 
 def test_a_chatty_mouse_s_stderr_is_capped_keeping_head_and_tail(tmp_path: Path, monkeypatch) -> None:
-    import maze.harness
+    import maze.mouse.harness
 
     cap = 2000
-    monkeypatch.setattr(maze.harness, "LOG_CAP_BYTES", cap)
+    monkeypatch.setattr(maze.mouse.harness, "LOG_CAP_BYTES", cap)
     r = mazelog("explore", "minimaze", "--mouse", f"{PY} {MICE / 'bad' / 'chatty.py'}", "--log", tmp_path / "c.bin")
     assert r.exit_code == 1
     assert "Error: --mouse: the program exited with status 3: last words" in r.output  # read from the kept tail
@@ -226,10 +226,10 @@ def test_a_chatty_mouse_s_stderr_is_capped_keeping_head_and_tail(tmp_path: Path,
 
 
 def test_a_mouse_cut_at_the_command_cap_exits_with_its_own_status(tmp_path: Path, monkeypatch) -> None:
-    import maze.harness
+    import maze.mouse.harness
     from hakoniwa.wire.exits import EXIT_COMMAND_CAP
 
-    monkeypatch.setattr(maze.harness, "MAX_COMMANDS", 300)
+    monkeypatch.setattr(maze.mouse.harness, "MAX_COMMANDS", 300)
     log = tmp_path / "cap.bin"
     r = mazelog("explore", "japan2019hef", "--mouse", f"{PY} {MICE / 'mms_python' / 'Main.py'}", "--log", log)
     assert r.exit_code == EXIT_COMMAND_CAP != 0

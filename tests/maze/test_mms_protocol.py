@@ -5,7 +5,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from maze.direction import EAST, NORTH, SOUTH, WEST
-from maze.mms import COMMANDS, STATS, Command, MmsCommandError, parse_command
+from maze.mouse.mms import COMMANDS, STATS, Command, MmsCommandError, parse_command
 
 
 @pytest.mark.parametrize("line, expected", [

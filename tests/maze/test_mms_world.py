@@ -2,11 +2,11 @@
 scorekeeping, the reset button. Small mazes drawn here, so each answer can be checked by eye."""
 
 from maze.direction import EAST, NORTH
-from maze.mazefile import parse_maze
-from maze.mms import COMMANDS, parse_command
-from maze.mmsworld import MmsWorld, effective_distance
-from maze.mouseparams import load_mouse
-from maze.wallrecord import WallRecord
+from maze.files.mazefile import parse_maze
+from maze.log.wallrecord import WallRecord
+from maze.mouse.mms import COMMANDS, parse_command
+from maze.mouse.mmsworld import MmsWorld, effective_distance
+from maze.timing.mouseparams import load_mouse
 
 # 3x3: a corridor up the west column, then east along the top row to the goal in the north-east corner
 CORRIDOR = """\
@@ -96,7 +96,7 @@ def test_the_world_answers_exactly_the_commands_mms_answers() -> None:
 
 
 def test_marks_as_they_were_at_each_record() -> None:
-    from maze.marks import CLEAR_ALL, Mark, marks_at
+    from maze.mouse.marks import CLEAR_ALL, Mark, marks_at
 
     marks = [Mark(0, (1, 1), colour="r"), Mark(2, (1, 1), text="5"), Mark(3, CLEAR_ALL, colour=""),
              Mark(4, (2, 2), colour="G")]

@@ -195,7 +195,8 @@ def test_the_package_roots_import_nothing() -> None:
     for name in ("hakoniwa", "hakoniwa.physics", "hakoniwa.pictures", "hakoniwa.wire", "testctl.hako", "testctl",
                  "testctl.suite", "testctl.search", "testctl.campaign", "athrill_sim", "athrill_sim.mock",
                  "athrill_sim.programs", "athrill_sim.programs.kinds", "athrill_sim.tuning",
-                 "athrill_sim.tuning.forms"):
+                 "athrill_sim.tuning.forms", "maze", "maze.log", "maze.files", "maze.search", "maze.timing",
+                 "maze.mouse", "maze.pictures", "maze.scoring"):
         path = modules()[name]
         allowed = ROOT_MAY_IMPORT.get(name)
         found = [t for _, t in imports(name, path) if is_ours(t)]
@@ -206,6 +207,14 @@ def test_the_athrill_side_root_holds_folders_only() -> None:
     """`athrill_sim/` is its concepts' folders (the mock, the programs, the tuning, the builders), so no module
     at its root mixes two of them."""
     assert [p.name for p in (REPO / "athrill_sim").glob("*.py")] == ["__init__.py"]
+
+
+def test_the_maze_root_holds_only_what_its_folders_share() -> None:
+    """`maze/` is its concepts' folders (the log, the files, the search, the fast path, the time model, a user's
+    mouse, the pictures, the scoring); its root keeps only the maze, its directions, the errors and writing a file
+    whole, which the folders share, and the `mazelog` command that joins them, so no module there mixes two of them."""
+    assert sorted(p.name for p in (REPO / "maze").glob("*.py")) == [
+        "__init__.py", "cli.py", "direction.py", "errors.py", "model.py", "outputs.py"]
 
 
 def test_the_design_notes_draw_these_packages() -> None:

@@ -6,7 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import NamedTuple
 
-from .model import Cell
+from ..model import Cell
 
 
 class Move(NamedTuple):

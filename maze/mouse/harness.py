@@ -24,7 +24,7 @@ from pathlib import Path
 
 from hakoniwa.wire.output import LOG_CAP_BYTES, CappedOutput
 
-from .errors import MazeError
+from ..errors import MazeError
 from .mms import MmsCommandError, parse_command
 from .mmsworld import MmsWorld
 

@@ -5,11 +5,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .errors import MazeError
+from ..errors import MazeError
+from ..model import Maze
+from ..outputs import write_bytes, write_text
 from .mazefile import dump_maze, parse_maze
 from .mazeformats import Warn, dump_maz, dump_num, parse_maz, parse_num
-from .model import Maze
-from .outputs import write_bytes, write_text
 
 BINARY_SUFFIX, NUM_SUFFIX = ".maz", ".num"
 TEXT_MAZE_STARTS = (b"o", b"+")  # the first post of the common text format

@@ -12,12 +12,13 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from ..direction import DIRECTIONS, NORTH, opposite
+from ..errors import MazeError
+from ..log.wallrecord import WallRecord
+from ..model import Cell, Maze
+from ..timing.motion import SearchRun, search_run
+from ..timing.mouseparams import MouseParams, load_mouse
 from .closing import close_dead_ends, nearest_branch
-from .direction import DIRECTIONS, NORTH, opposite
-from .errors import MazeError
-from .model import Cell, Maze
-from .motion import SearchRun, search_run
-from .mouseparams import MouseParams, load_mouse
 from .stepmap import (
     bit,
     cells_of,
@@ -31,10 +32,9 @@ from .stepmap import (
     topo_cells,
 )
 from .strategies import OBJECTIVES, STRATEGIES, AfterGoal
-from .wallrecord import WallRecord
 
 if TYPE_CHECKING:
-    from .fastpath import Route
+    from ..fastpath import Route
 
 TIME_TOLERANCE = 1e-9  # seconds: two routes of the same moves, summed in another order
 
@@ -223,7 +223,7 @@ def explore(truth: Maze, strategy: str, objective: str = "cells", diagonal: bool
     timed = objective == "time"
 
     def planner(blocked: bytes) -> Route | None:
-        from .fastpath import fastest_route  # numpy and scipy: only the time objective needs them
+        from ..fastpath import fastest_route  # numpy and scipy: only the time objective needs them
 
         return fastest_route(truth, blocked, diagonal, params)
 

@@ -12,9 +12,9 @@ from pathlib import Path
 import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
-from .direction import EAST, NORTH, SOUTH, WEST
-from .model import Cell, Maze, wall_id
-from .outputs import atomic_open
+from ..direction import EAST, NORTH, SOUTH, WEST
+from ..model import Cell, Maze, wall_id
+from ..outputs import atomic_open
 
 COLOURS: dict[str, tuple[int, int, int]] = {
     "background": (255, 255, 255),

@@ -15,11 +15,11 @@ from typing import IO
 import numpy as np
 from PIL import GifImagePlugin, Image
 
-from .marks import Mark, marks_at
-from .model import Cell, Maze
+from ..log.wallrecord import WallRecord
+from ..model import Cell, Maze
+from ..mouse.marks import Mark, marks_at
+from ..search.stepmap import path_down, pessimistic, step_map
 from .render import COLOURS, LEGEND, Overlay, draw_maze
-from .stepmap import path_down, pessimistic, step_map
-from .wallrecord import WallRecord
 
 FRAME_MS = 40
 LAST_FRAME_MS = 3000  # hold the final state before the film loops

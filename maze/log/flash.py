@@ -14,13 +14,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .errors import MazeError
-from .model import Maze, inner_wall_count
+from ..errors import MazeError
+from ..model import Maze, inner_wall_count
 from .restore import apply_records, load_log, restore
 from .wallrecord import ERASED_BYTE, RECORD_BYTES, WallRecord, encode_log
 
 if TYPE_CHECKING:
-    from .explorer import SearchResult
+    from ..search.explorer import SearchResult
 
 SECTOR_BYTES = 2048  # a typical MCU flash page (STM32F1/G4)
 SEQ_BYTES = 2

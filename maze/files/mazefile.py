@@ -6,10 +6,10 @@ a wall character (`|`, ` ` or `.`) then three characters of content (` S `, ` G 
 
 from __future__ import annotations
 
-from .direction import EAST, NORTH, SOUTH, WEST
-from .errors import MazeError
-from .model import Cell, Maze
-from .stepmap import default_goals
+from ..direction import EAST, NORTH, SOUTH, WEST
+from ..errors import MazeError
+from ..model import Cell, Maze
+from ..search.stepmap import default_goals
 
 POSTS = "o+"
 H_WALL, H_OPEN, H_UNKNOWN = "---", "   ", " . "

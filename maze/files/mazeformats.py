@@ -10,11 +10,11 @@ from __future__ import annotations
 from collections.abc import Callable
 from math import isqrt
 
-from .direction import DELTA, EAST, NORTH, SOUTH, WEST, opposite
-from .errors import MazeError
-from .model import Maze
-from .stepmap import default_goals
-from .wallrecord import COORD_LIMIT
+from ..direction import DELTA, EAST, NORTH, SOUTH, WEST, opposite
+from ..errors import MazeError
+from ..log.wallrecord import COORD_LIMIT
+from ..model import Maze
+from ..search.stepmap import default_goals
 
 MAZ_SIDE = 16
 MAZ_BYTES = MAZ_SIDE * MAZ_SIDE

@@ -12,13 +12,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from .direction import ALONG, NORTH, STEP, opposite, rotate
+from ..direction import ALONG, NORTH, STEP, opposite, rotate
+from ..log.wallrecord import WallRecord
+from ..model import Cell, Maze, point_side, point_wall
+from ..timing.motion import SearchRun, search_counts
+from ..timing.mouseparams import MouseParams
 from .marks import CLEAR_ALL, Mark
 from .mms import Command
-from .model import Cell, Maze, point_side, point_wall
-from .motion import SearchRun, search_counts
-from .mouseparams import MouseParams
-from .wallrecord import WallRecord
 
 START_POINT = (1, 1)  # the centre of cell (0, 0), in half cells
 UNSOLVED_SCORE = 2000.0

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from .errors import MazeError
-from .model import Maze
+from ..errors import MazeError
+from ..model import Maze
 
 
 @dataclass

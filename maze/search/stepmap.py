@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Sequence
 from functools import lru_cache
 
-from .model import Cell, Maze, Topology, central_goals
+from ..model import Cell, Maze, Topology, central_goals
 
 UNREACHED = 1 << 30
 

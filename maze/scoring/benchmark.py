@@ -1,6 +1,6 @@
 """`mazelog bench`: mice (mms programs) and built-in strategies over many mazes, in parallel processes.
 
-Both kinds go through the same world (maze/mmsworld.py): a built-in strategy's search is replayed into it as the
+Both kinds go through the same world (maze/mouse/mmsworld.py): a built-in strategy's search is replayed into it as the
 mms commands a mouse would send (at each cell, front, left and right wall queries, then turns and a move), so
 the wall log, mms's statistics and our figures are measured by one piece of code for everybody.
 """
@@ -13,16 +13,16 @@ from collections.abc import Iterator
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
-from .builtin import builtin_names, builtin_path
-from .direction import DELTA, NORTH
-from .errors import MazeError
-from .mazeio import read_maze
-from .mms import parse_command
-from .mmsworld import MmsWorld
-from .model import Cell, Maze
-from .mouseparams import load_mouse
-from .outputs import write_bytes
-from .wallrecord import encode_log
+from ..direction import DELTA, NORTH
+from ..errors import MazeError
+from ..files.builtin import builtin_names, builtin_path
+from ..files.mazeio import read_maze
+from ..log.wallrecord import encode_log
+from ..model import Cell, Maze
+from ..mouse.mms import parse_command
+from ..mouse.mmsworld import MmsWorld
+from ..outputs import write_bytes
+from ..timing.mouseparams import load_mouse
 
 MAZE_SUFFIXES = (".txt", ".num", ".maz")
 TIME_TOLERANCE = 1e-9
@@ -105,13 +105,13 @@ def run_job(job: Job) -> Row:
     name = Path(job.maze).stem
     ended, fault = "", ""
     if job.entrant.program is not None:
-        from .harness import program_argv, run_mouse
+        from ..mouse.harness import program_argv, run_mouse
 
         run = run_mouse(program_argv(job.entrant.program), world, Path(job.out) / f"{name}.stderr.txt",
                         job.max_steps, None, job.timeout)
         ended, fault = run.ended, run.fault or ""
     else:
-        from .explorer import explore
+        from ..search.explorer import explore
 
         assert job.entrant.strategy is not None
         result = explore(truth, job.entrant.strategy, job.objective, job.diagonal, timing)
@@ -129,12 +129,12 @@ def run_job(job: Job) -> Row:
 
 def best_runs(sensed: Maze, truth: Maze, objective: str, diagonal: bool) -> tuple[float, float]:
     """The best run the sensed walls prove, and the true maze's: cells, or seconds under the time model."""
-    from .stepmap import pessimistic, shortest_path
+    from ..search.stepmap import pessimistic, shortest_path
 
     if objective == "cells":
         return (float(len(shortest_path(sensed, pessimistic(sensed))) - 1),
                 float(len(shortest_path(truth, pessimistic(truth))) - 1))
-    from .fastpath import fastest_route
+    from ..fastpath import fastest_route
 
     timing = load_mouse(None, truth.size)
     found = fastest_route(sensed, pessimistic(sensed), diagonal, timing)
@@ -144,7 +144,7 @@ def best_runs(sensed: Maze, truth: Maze, objective: str, diagonal: bool) -> tupl
 
 
 def write_csv(rows: list[Row], path: Path) -> None:
-    from .outputs import atomic_open
+    from ..outputs import atomic_open
 
     with atomic_open(path, "w") as fp:
         writer = csv.DictWriter(fp, fieldnames=[f.name for f in fields(Row)])

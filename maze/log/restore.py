@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .errors import MazeError
-from .model import Cell, Maze, wall_id
+from ..errors import MazeError
+from ..model import Cell, Maze, wall_id
 from .wallrecord import RECORD_BYTES, Anomaly, LogScan, WallRecord, scan_log
 
 

@@ -10,8 +10,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from math import pi, sqrt, tan
 
-from .direction import DELTA, DIRECTIONS, opposite
-from .model import Cell
+from ..direction import DELTA, DIRECTIONS, opposite
+from ..model import Cell
 from .mouseparams import MouseParams
 
 HALF_DIAGONAL = sqrt(2) / 2  # one diagonal step: from a wall's midpoint to the next one's, in cells

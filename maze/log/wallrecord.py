@@ -11,8 +11,8 @@ import struct
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-from .direction import ARROW, DIRECTIONS, parse_direction
-from .errors import MazeError
+from ..direction import ARROW, DIRECTIONS, parse_direction
+from ..errors import MazeError
 
 COORD_BITS = 6
 DIR_BITS = 3

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .model import Cell
+from ..model import Cell
 
 CLEAR_ALL: Cell = (-1, -1)  # the cell of a clearAllColor / clearAllText mark
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from collections import deque
 
-from .model import Maze
+from ..model import Maze
 from .stepmap import UNREACHED, optimistic, step_map
 
 Branch = tuple[int, list[tuple[int, int]]]  # (branch cell, [(wall id, cell beyond), ...])

@@ -11,7 +11,7 @@ from importlib.resources import files
 from pathlib import Path
 from typing import Any
 
-from .errors import MazeError
+from ..errors import MazeError
 
 BUILTIN_FILE = "mice.toml"
 CLASSIC_MAX_SIZE = 16  # mazes up to this side get the classic mouse by default, larger ones the half-size one

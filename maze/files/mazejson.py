@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import json
 
-from .direction import DIRECTIONS, LETTER
-from .model import Maze, inner_wall_count
+from ..direction import DIRECTIONS, LETTER
+from ..model import Maze, inner_wall_count
 
 
 def wall_state(maze: Maze, x: int, y: int, d: int) -> str:

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .direction import EAST, NORTH, SOUTH, WEST
-from .errors import MazeError
+from ..direction import EAST, NORTH, SOUTH, WEST
+from ..errors import MazeError
 
 # name -> (the arguments it takes, whether it gets an answer). "n": an optional count of half-steps or cells;
 # "xy": two cell coordinates; "xyd": coordinates and a wall letter; "xyc": coordinates and a colour letter;
