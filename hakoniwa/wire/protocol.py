@@ -198,7 +198,7 @@ class CrashKind(enum.IntEnum):
 
 
 class BenchCause(enum.IntEnum):
-    """What spoiled a test that is the bench's fault (a CRASH of kind BENCH), at RX BENCH_CAUSE: what a
+    """What spoiled a test that is the bench's fault (a CRASH of kind BENCH), the result's `bench_cause`: what a
     campaign tells the user its reruns were for. The physics side writes the Athrill and file causes; the
     controller's side adds the physics process's own end, which the physics side cannot report."""
 
