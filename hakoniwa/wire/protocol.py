@@ -511,10 +511,6 @@ def goal_time_words(goal_time_us: int) -> tuple[int, int]:
     return (goal_time_us >> 32) & 0xFFFFFFFF, goal_time_us & 0xFFFFFFFF
 
 
-def goal_time_from_words(hi: int, lo: int) -> int:
-    return (hi << 32) | lo
-
-
 def c_header() -> str:
     """The layout as C #defines, for the native runtime: generated, so it cannot disagree with this file."""
     lines = ["/* Generated from hakoniwa/wire/protocol.py by c_header(); do not edit. */",
