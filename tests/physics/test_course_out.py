@@ -31,7 +31,7 @@ from hakoniwa.wire.protocol import Event
 from hakoniwa.wire.result import TestResult
 from hakoniwa.wire.rundir import RESULT_FILE
 from testctl.campaign.repetition import RepetitionRule
-from testctl.runner import TestRunner
+from testctl.runner import PhysicsGone, TestRunner
 from tests.helpers.commands import hako, one_line_error
 from tests.helpers.environments import environment
 from tests.helpers.native_fixtures import need_cc
@@ -205,6 +205,20 @@ def test_when_and_where_travel_to_the_controller(tmp_path):
         assert runner.read_result() == out
         (tmp_path / RESULT_FILE).write_text(TestResult(Event.TIME_OVER, 0, 0.0).encode())
         assert runner.read_result() == TestResult(Event.TIME_OVER, 0, 0.0)
+    finally:
+        runner.close()
+
+
+@pytest.mark.parametrize("text", [None, "", '{"event": "GOAL"}'])
+def test_a_result_the_controller_cannot_read_is_the_benchs_fault(tmp_path, text):
+    """No file, a torn one, one without its fields: PhysicsGone, which the bench turns into a bench fault."""
+    Slots(tmp_path)
+    runner = TestRunner(tmp_path)
+    try:
+        if text is not None:
+            (tmp_path / RESULT_FILE).write_text(text)
+        with pytest.raises(PhysicsGone, match="without its result"):
+            runner.read_result()
     finally:
         runner.close()
 
